@@ -1,0 +1,295 @@
+//! Golden model of the scanline pixel-processor array (seed 001, Matsumoto).
+//!
+//! The hardware of seed 001 section 1 is "one scanline's worth of pixel processors":
+//! processor `p` of a tile based at `base` owns screen column `base + p` and holds a depth
+//! register `ZB`, an intensity register, and the shadow flags DSF and FSF (section 4) plus
+//! the per-pixel counter of section 6. A screen line wider than the array is processed in
+//! tiles: the same span words are fed once per tile.
+//!
+//! The per-clock interface is [`PixelArray::step`]: one [`Command`] in, processor state
+//! after. It is the reference the RTL twin (`rtl::pixel_array`) is compared against, clock
+//! by clock. [`PixelArray::run_line`] and [`crate::render`] are built on `step`.
+//!
+//! Rules, each from the seed:
+//! - OP span (section 3, "scanline Z-buffer"): for `XL ≤ p ≤ XR`, `Z = (ZL + (p − XL)·dZ) >>
+//!   12`; if `Z < ZB` (or `Z ≤ ZB` for a decal span) then `ZB := Z`, `I := I(p)`.
+//! - SP/EV/IF span (section 4, the Pascal-like program): if `attr = IF` then `DSF := ¬DSF`
+//!   on every processor; if `XL ≤ p ≤ XR` and `Z < ZB` then `DSF := ¬DSF`; if `attr = EV`
+//!   then afterwards `FSF := FSF ∨ DSF`. Z and intensity registers are never touched.
+//! - Counter (section 6, extended light source): `AccumulateShadow` adds FSF to the
+//!   per-pixel counter; `ClearFlags` starts the next point light with DSF = FSF = 0.
+
+use pixelproc_formats::{Attr, SpanWord, Z_FAR};
+
+/// One clock's input to the array.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Command {
+    /// Start a new scanline: `ZB := Z_FAR`, intensity := `bg` (packed RGB888), flags and
+    /// counters cleared.
+    ClearLine {
+        /// Background colour, `{R, G, B}` packed as by `pixelproc_formats::pack_rgb`.
+        bg: u32,
+    },
+    /// Expand one span word.
+    Span(SpanWord),
+    /// Start the shadow volumes of the next point light: `DSF := 0; FSF := 0`.
+    ClearFlags,
+    /// End of one point light's volumes: `count := count + FSF` (saturating at 255).
+    AccumulateShadow,
+    /// No operation (a bubble).
+    Nop,
+}
+
+/// The registers of one pixel processor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct ProcState {
+    /// Depth buffer value `ZB` (24 bits).
+    pub zb: u32,
+    /// Intensity, RGB888 packed.
+    pub rgb: u32,
+    /// Shadow decision flag.
+    pub dsf: bool,
+    /// Final shadow flag.
+    pub fsf: bool,
+    /// Number of point lights that shadow this pixel (area lights, section 6).
+    pub count: u8,
+}
+
+/// A row of `width` pixel processors owning screen columns `base .. base + width`.
+#[derive(Clone, Debug)]
+pub struct PixelArray {
+    base: u32,
+    procs: Vec<ProcState>,
+}
+
+impl PixelArray {
+    /// An array of `width` processors for the tile starting at column `base`.
+    pub fn new(width: usize, base: u32) -> PixelArray {
+        assert!(width > 0, "array width must be positive");
+        PixelArray {
+            base,
+            procs: vec![
+                ProcState {
+                    zb: Z_FAR,
+                    ..Default::default()
+                };
+                width
+            ],
+        }
+    }
+
+    /// Number of processors.
+    pub fn width(&self) -> usize {
+        self.procs.len()
+    }
+
+    /// First screen column of the current tile.
+    pub fn base(&self) -> u32 {
+        self.base
+    }
+
+    /// Moves the array to the tile starting at `base` (state is kept; send `ClearLine`).
+    pub fn set_base(&mut self, base: u32) {
+        self.base = base;
+    }
+
+    /// Processor states, processor 0 first.
+    pub fn state(&self) -> &[ProcState] {
+        &self.procs
+    }
+
+    /// One clock: apply `cmd` to every processor.
+    pub fn step(&mut self, cmd: &Command) {
+        match *cmd {
+            Command::ClearLine { bg } => {
+                for s in &mut self.procs {
+                    *s = ProcState {
+                        zb: Z_FAR,
+                        rgb: bg,
+                        dsf: false,
+                        fsf: false,
+                        count: 0,
+                    };
+                }
+            }
+            Command::ClearFlags => {
+                for s in &mut self.procs {
+                    s.dsf = false;
+                    s.fsf = false;
+                }
+            }
+            Command::AccumulateShadow => {
+                for s in &mut self.procs {
+                    s.count = s.count.saturating_add(s.fsf as u8);
+                }
+            }
+            Command::Nop => {}
+            Command::Span(ref w) => match w.attr {
+                Attr::Op => self.op_span(w),
+                _ => self.shadow_span(w),
+            },
+        }
+    }
+
+    /// The processor index range `[lo, hi]` a span covers in this tile, if any.
+    #[inline]
+    fn tile_range(&self, w: &SpanWord) -> Option<(usize, usize)> {
+        let lo = (w.xl as i64).max(self.base as i64);
+        let hi = (w.xr as i64).min(self.base as i64 + self.procs.len() as i64 - 1);
+        (lo <= hi).then(|| {
+            (
+                (lo - self.base as i64) as usize,
+                (hi - self.base as i64) as usize,
+            )
+        })
+    }
+
+    fn op_span(&mut self, w: &SpanWord) {
+        let Some((lo, hi)) = self.tile_range(w) else {
+            return;
+        };
+        let base = self.base as i64;
+        let xl = w.xl as i64;
+        // Accumulators at processor `lo`, then + dZ / + dI per processor: identical to the
+        // closed form (exact integer sums).
+        let mut z = w.zl as i64 + (base + lo as i64 - xl) * w.dz;
+        let mut c = [0i64; 3];
+        for k in 0..3 {
+            c[k] = w.il[k] as i64 + (base + lo as i64 - xl) * w.di[k] as i64;
+        }
+        for s in &mut self.procs[lo..=hi] {
+            let zp = (z >> pixelproc_formats::Z_FRAC) as u32;
+            let pass = if w.decal { zp <= s.zb } else { zp < s.zb };
+            if pass {
+                s.zb = zp;
+                let ch = |v: i64| (v >> pixelproc_formats::I_FRAC).clamp(0, 255) as u32;
+                s.rgb = (ch(c[0]) << 16) | (ch(c[1]) << 8) | ch(c[2]);
+            }
+            z += w.dz;
+            for k in 0..3 {
+                c[k] += w.di[k] as i64;
+            }
+        }
+    }
+
+    fn shadow_span(&mut self, w: &SpanWord) {
+        if w.attr == Attr::If {
+            for s in &mut self.procs {
+                s.dsf = !s.dsf;
+            }
+        }
+        if let Some((lo, hi)) = self.tile_range(w) {
+            let base = self.base as i64;
+            let mut z = w.zl as i64 + (base + lo as i64 - w.xl as i64) * w.dz;
+            for s in &mut self.procs[lo..=hi] {
+                if ((z >> pixelproc_formats::Z_FRAC) as u32) < s.zb {
+                    s.dsf = !s.dsf;
+                }
+                z += w.dz;
+            }
+        }
+        if w.attr == Attr::Ev {
+            for s in &mut self.procs {
+                s.fsf |= s.dsf;
+            }
+        }
+    }
+
+    /// Runs a whole scanline through the current tile: `ClearLine`, then each command.
+    pub fn run_line<'a>(&mut self, bg: u32, cmds: impl IntoIterator<Item = &'a Command>) {
+        self.step(&Command::ClearLine { bg });
+        for c in cmds {
+            self.step(c);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn op(xl: u16, xr: u16, z: u32, dz: i64, rgb: [u32; 3]) -> Command {
+        Command::Span(SpanWord {
+            xl,
+            xr,
+            zl: (z as u64) << 12,
+            dz,
+            il: rgb.map(|c| c << 12),
+            ..Default::default()
+        })
+    }
+
+    #[test]
+    fn op_span_depth_test_keeps_nearest() {
+        let mut a = PixelArray::new(8, 0);
+        a.run_line(
+            0,
+            &[
+                op(0, 7, 1000, 0, [255, 0, 0]),
+                op(2, 5, 500, 0, [0, 255, 0]),
+                op(0, 7, 800, 0, [0, 0, 255]),
+            ],
+        );
+        let rgb: Vec<u32> = a.state().iter().map(|s| s.rgb).collect();
+        assert_eq!(
+            rgb,
+            vec![0xff, 0xff, 0xff00, 0xff00, 0xff00, 0xff00, 0xff, 0xff]
+        );
+        assert_eq!(a.state()[3].zb, 500);
+        assert_eq!(a.state()[0].zb, 800);
+    }
+
+    #[test]
+    fn tiles_see_absolute_columns() {
+        let mut a = PixelArray::new(4, 4);
+        a.run_line(7, &[op(2, 5, 10, 1 << 12, [1, 2, 3])]);
+        let s = a.state();
+        assert_eq!((s[0].zb, s[1].zb, s[2].zb), (12, 13, Z_FAR));
+        assert_eq!(s[2].rgb, 7);
+    }
+
+    #[test]
+    fn parity_program_of_section_4() {
+        // Surface at depth 100 on 0..7; a volume whose front face covers 2..5 at depth 50
+        // and back face covers 2..5 at depth 150 (behind the surface): pixels 2..5 shadowed.
+        let mut a = PixelArray::new(8, 0);
+        let sp = |attr, z| {
+            Command::Span(SpanWord {
+                attr,
+                xl: 2,
+                xr: 5,
+                zl: (z as u64) << 12,
+                ..Default::default()
+            })
+        };
+        a.run_line(
+            0,
+            &[
+                op(0, 7, 100, 0, [9, 9, 9]),
+                Command::ClearFlags,
+                sp(Attr::Sp, 50),
+                sp(Attr::Ev, 150),
+            ],
+        );
+        let f: Vec<bool> = a.state().iter().map(|s| s.fsf).collect();
+        assert_eq!(f, vec![false, false, true, true, true, true, false, false]);
+        // Z and intensity untouched by shadow spans.
+        assert!(a.state().iter().all(|s| s.zb == 100 && s.rgb == 0x090909));
+        // IF inverts every pixel: a viewer inside the volume sees only the back face.
+        let mut b = PixelArray::new(8, 0);
+        b.run_line(
+            0,
+            &[
+                op(0, 7, 100, 0, [9, 9, 9]),
+                sp(Attr::If, 150),
+                Command::Span(SpanWord {
+                    attr: Attr::Ev,
+                    xl: 1,
+                    xr: 0,
+                    ..Default::default()
+                }),
+            ],
+        );
+        assert!(b.state().iter().all(|s| s.fsf));
+    }
+}

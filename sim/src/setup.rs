@@ -1,0 +1,388 @@
+//! Snapping and span setup: screen-space triangles to span words.
+//!
+//! Implements the span data of seed 001 (Matsumoto, section 3: `(attr, XL, XR, ZL, dZ,
+//! IL, dI)`) for the scanline pixel-processor array. Everything here after
+//! [`snap_coord`] is integer arithmetic on the formats of `pixelproc-formats`.
+//!
+//! **Fill convention.** A pixel (i, j) is covered when its centre
+//! `(i + 1/2, j + 1/2)` lies inside the triangle, with the top-left rule on edges: with the
+//! triangle wound so that every edge function `E(p) = A·x + B·y + C` is positive inside, a
+//! centre with `E = 0` belongs to the triangle only if the edge is a *left* edge (`A > 0`)
+//! or a *top* edge (`A = 0, B > 0`; y grows downwards). An edge shared by two triangles has
+//! opposite `(A, B)` in each, so exactly one of them takes centres on it: no gap, no
+//! double cover. Edge functions are evaluated exactly in `i64` on the snapped (Q.8)
+//! coordinates.
+//!
+//! **Depth and intensity.** The plane through the three snapped vertices is
+//! `z(x, y) = z0 + (Nx·(x − x0) + Ny·(y − y0)) / area2`; `ZL` is that value at the centre of
+//! pixel `XL` in Q24.12 and `dZ = Nx·256 / area2` per pixel in Q26.12, each rounded half up
+//! from exact `i128` rationals. Every scanline recomputes `ZL` from the plane, so there is
+//! no drift from one line to the next; along a line the value at pixel `p` is defined as
+//! `ZL + (p − XL)·dZ` (exact integers), so no drift along a span either.
+
+use pixelproc_formats::{
+    Attr, SpanWord, DI_BITS, DZ_BITS, I_FRAC, MAX_COORD_PX, SUBPIXEL_BITS, SUBPIXEL_ONE, Z_FRAC,
+    Z_GEOM_MAX, Z_GEOM_MIN,
+};
+use thiserror::Error;
+
+/// Why a triangle cannot be set up.
+#[derive(Debug, Error, PartialEq)]
+pub enum SetupError {
+    /// A coordinate is NaN or infinite.
+    #[error("coordinate {0} is not a finite number")]
+    NotFinite(f64),
+    /// A coordinate lies outside the fixed-point range.
+    #[error("coordinate {0} px is outside the fixed-point range ±{MAX_COORD_PX} px")]
+    OutOfRange(f64),
+    /// A depth outside the geometric depth range.
+    #[error("depth {0} is outside the 24-bit geometry range {Z_GEOM_MIN}..={Z_GEOM_MAX}")]
+    DepthOutOfRange(i64),
+    /// A span word field would not fit.
+    #[error(transparent)]
+    Field(#[from] pixelproc_formats::FieldRangeError),
+}
+
+/// Snaps a screen coordinate (pixels, f64) to Q.8 fixed point: `round(x · 256)`, ties away
+/// from zero (`f64::round`). This is the one documented float-to-fixed step.
+pub fn snap_coord(x: f64) -> Result<i32, SetupError> {
+    if !x.is_finite() {
+        return Err(SetupError::NotFinite(x));
+    }
+    if x.abs() > MAX_COORD_PX as f64 {
+        return Err(SetupError::OutOfRange(x));
+    }
+    Ok((x * SUBPIXEL_ONE as f64).round() as i32)
+}
+
+/// Converts a linear colour channel in 0..1 to Q8.12 intensity (`round(c·255·4096)`,
+/// clamped to 0..=255·4096).
+pub fn snap_intensity(c: f64) -> u32 {
+    let c = if c.is_finite() {
+        c.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (c * 255.0 * (1u32 << I_FRAC) as f64).round() as u32
+}
+
+/// A triangle after snapping: the input of span setup (and of fragment setup).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct SnappedTri {
+    /// Vertex positions, Q.8 pixels.
+    pub v: [[i32; 2]; 3],
+    /// Vertex depths, 24-bit (0 nearest), within `Z_GEOM_MIN..=Z_GEOM_MAX`.
+    pub z: [u32; 3],
+    /// Vertex intensities per channel, Q8.12.
+    pub c: [[u32; 3]; 3],
+    /// Object tag.
+    pub tag: u16,
+    /// For a decal (pattern), the host face whose depth plane it uses.
+    pub host: Option<HostPlane>,
+}
+
+/// The snapped vertices and depths of a decal's host face.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct HostPlane {
+    /// Host vertex positions, Q.8.
+    pub v: [[i32; 2]; 3],
+    /// Host vertex depths.
+    pub z: [u32; 3],
+}
+
+/// One edge function `E(x, y) = A·x + B·y + C` in Q.8 units (positive inside).
+#[derive(Clone, Copy, Debug)]
+struct Edge {
+    a: i64,
+    b: i64,
+    c: i64,
+    top_left: bool,
+}
+
+impl Edge {
+    fn new(p: [i32; 2], q: [i32; 2]) -> Edge {
+        let a = -((q[1] - p[1]) as i64);
+        let b = (q[0] - p[0]) as i64;
+        let c = -(a * p[0] as i64 + b * p[1] as i64);
+        Edge {
+            a,
+            b,
+            c,
+            top_left: a > 0 || (a == 0 && b > 0),
+        }
+    }
+}
+
+/// A plane `v(x, y) = v0 + (nx·(x − x0) + ny·(y − y0)) / area2`, exact rationals.
+#[derive(Clone, Copy, Debug)]
+struct Plane {
+    v0: i128,
+    x0: i128,
+    y0: i128,
+    nx: i128,
+    ny: i128,
+    area2: i128,
+}
+
+impl Plane {
+    /// Plane through three points; `area2` must be non-zero.
+    fn new(v: [[i32; 2]; 3], val: [i64; 3]) -> Option<Plane> {
+        let (x0, y0) = (v[0][0] as i128, v[0][1] as i128);
+        let (dx1, dy1) = (v[1][0] as i128 - x0, v[1][1] as i128 - y0);
+        let (dx2, dy2) = (v[2][0] as i128 - x0, v[2][1] as i128 - y0);
+        let area2 = dx1 * dy2 - dx2 * dy1;
+        if area2 == 0 {
+            return None;
+        }
+        let dv1 = (val[1] - val[0]) as i128;
+        let dv2 = (val[2] - val[0]) as i128;
+        Some(Plane {
+            v0: val[0] as i128,
+            x0,
+            y0,
+            nx: dv1 * dy2 - dv2 * dy1,
+            ny: dx1 * dv2 - dx2 * dv1,
+            area2,
+        })
+    }
+
+    /// `round(v(x, y) · 2^frac)` at a Q.8 point, half up.
+    fn at(&self, x_q8: i64, y_q8: i64, frac: u32) -> i64 {
+        let num = (self.v0 * self.area2
+            + self.nx * (x_q8 as i128 - self.x0)
+            + self.ny * (y_q8 as i128 - self.y0))
+            << frac;
+        round_div(num, self.area2) as i64
+    }
+
+    /// `round(∂v/∂x · 2^frac)` per pixel, half up.
+    fn ddx_per_px(&self, frac: u32) -> i64 {
+        round_div((self.nx * SUBPIXEL_ONE as i128) << frac, self.area2) as i64
+    }
+}
+
+/// `round(n / d)` with ties toward +∞, exact.
+fn round_div(n: i128, d: i128) -> i128 {
+    let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
+    (2 * n + d).div_euclid(2 * d)
+}
+
+/// `ceil(n / d)` for `d > 0`.
+fn ceil_div(n: i64, d: i64) -> i64 {
+    debug_assert!(d > 0);
+    -((-n).div_euclid(d))
+}
+
+/// Everything per triangle that span setup needs, computed once.
+#[derive(Clone, Debug)]
+pub struct TriSetup {
+    edges: [Edge; 3],
+    z: Plane,
+    c: [Plane; 3],
+    /// First scanline whose centre may be covered (unclamped).
+    pub row_min: i64,
+    /// Last scanline whose centre may be covered (unclamped).
+    pub row_max: i64,
+    /// Object tag.
+    pub tag: u16,
+    decal: bool,
+}
+
+impl TriSetup {
+    /// Prepares a triangle. Returns `Ok(None)` for a zero-area (degenerate) triangle, which
+    /// covers nothing.
+    pub fn new(t: &SnappedTri) -> Result<Option<TriSetup>, SetupError> {
+        for &z in t.z.iter().chain(t.host.iter().flat_map(|h| h.z.iter())) {
+            if !(Z_GEOM_MIN..=Z_GEOM_MAX).contains(&z) {
+                return Err(SetupError::DepthOutOfRange(z as i64));
+            }
+        }
+        let lim = (MAX_COORD_PX as i64) << SUBPIXEL_BITS;
+        for p in t.v.iter().chain(t.host.iter().flat_map(|h| h.v.iter())) {
+            for &k in p {
+                if (k as i64).abs() > lim {
+                    return Err(SetupError::OutOfRange(k as f64 / SUBPIXEL_ONE as f64));
+                }
+            }
+        }
+        let (mut v, mut z, mut c) = (t.v, t.z, t.c);
+        let area2 = (v[1][0] as i64 - v[0][0] as i64) * (v[2][1] as i64 - v[0][1] as i64)
+            - (v[2][0] as i64 - v[0][0] as i64) * (v[1][1] as i64 - v[0][1] as i64);
+        if area2 == 0 {
+            return Ok(None);
+        }
+        if area2 < 0 {
+            v.swap(1, 2);
+            z.swap(1, 2);
+            c.swap(1, 2);
+        }
+        let edges = [
+            Edge::new(v[0], v[1]),
+            Edge::new(v[1], v[2]),
+            Edge::new(v[2], v[0]),
+        ];
+        let zp = match &t.host {
+            Some(h) => Plane::new(h.v, h.z.map(|x| x as i64)),
+            None => Plane::new(v, z.map(|x| x as i64)),
+        };
+        let Some(zp) = zp else { return Ok(None) };
+        let cp = |k: usize| Plane::new(v, [c[0][k] as i64, c[1][k] as i64, c[2][k] as i64]);
+        let (Some(c0), Some(c1), Some(c2)) = (cp(0), cp(1), cp(2)) else {
+            return Ok(None);
+        };
+        let ymin = v.iter().map(|p| p[1]).min().unwrap() as i64;
+        let ymax = v.iter().map(|p| p[1]).max().unwrap() as i64;
+        // Rows whose centre 256·j + 128 lies in [ymin, ymax].
+        let half = (SUBPIXEL_ONE / 2) as i64;
+        let row_min = ceil_div(ymin - half, SUBPIXEL_ONE as i64);
+        let row_max = (ymax - half).div_euclid(SUBPIXEL_ONE as i64);
+        Ok(Some(TriSetup {
+            edges,
+            z: zp,
+            c: [c0, c1, c2],
+            row_min,
+            row_max,
+            tag: t.tag,
+            decal: t.host.is_some(),
+        }))
+    }
+
+    /// The inclusive range of pixel columns whose centres on row `j` the triangle covers,
+    /// clamped to `0..width`, or `None`.
+    pub fn columns(&self, j: i64, width: u32) -> Option<(i64, i64)> {
+        if j < self.row_min || j > self.row_max {
+            return None;
+        }
+        let one = SUBPIXEL_ONE as i64;
+        let yc = j * one + one / 2;
+        let (mut lo, mut hi) = (0i64, width as i64 - 1);
+        for e in &self.edges {
+            let k = e.b * yc + e.c + e.a * (one / 2); // E at column i is 256·A·i + k
+            match e.a.cmp(&0) {
+                std::cmp::Ordering::Greater => lo = lo.max(ceil_div(-k, one * e.a)),
+                std::cmp::Ordering::Less => hi = hi.min(ceil_div(k, -one * e.a) - 1),
+                std::cmp::Ordering::Equal => {
+                    if !(k > 0 || (k == 0 && e.top_left)) {
+                        return None;
+                    }
+                }
+            }
+            if lo > hi {
+                return None;
+            }
+        }
+        Some((lo, hi))
+    }
+
+    /// The OP span word of row `j`, or `None` if the row covers no pixel centre.
+    pub fn span(&self, j: i64, width: u32) -> Option<SpanWord> {
+        let (xl, xr) = self.columns(j, width)?;
+        let one = SUBPIXEL_ONE as i64;
+        let xc = xl * one + one / 2;
+        let yc = j * one + one / 2;
+        let single = xl == xr;
+        let zl = self.z.at(xc, yc, Z_FRAC);
+        let dz = if single { 0 } else { self.z.ddx_per_px(Z_FRAC) };
+        let mut il = [0u32; 3];
+        let mut di = [0i32; 3];
+        for k in 0..3 {
+            il[k] = self.c[k].at(xc, yc, I_FRAC).clamp(0, 255 << I_FRAC) as u32;
+            di[k] = if single {
+                0
+            } else {
+                self.c[k].ddx_per_px(I_FRAC) as i32
+            };
+        }
+        let w = SpanWord {
+            attr: Attr::Op,
+            xl: xl as u16,
+            xr: xr as u16,
+            zl: zl.max(0) as u64,
+            dz,
+            il,
+            di,
+            tag: self.tag,
+            nclass: 0,
+            decal: self.decal,
+        };
+        debug_assert!(w.check().is_ok(), "span word out of range: {w:?}");
+        debug_assert!(
+            dz.abs() < 1 << (DZ_BITS - 1) && di.iter().all(|d| d.abs() < 1 << (DI_BITS - 1))
+        );
+        debug_assert!(w.z_at(xr) < pixelproc_formats::Z_FAR);
+        Some(w)
+    }
+
+    /// Depth of the triangle's plane at a pixel centre, Q24.12 (for debug images and tests).
+    pub fn z_q12_at_centre(&self, i: i64, j: i64) -> i64 {
+        let one = SUBPIXEL_ONE as i64;
+        self.z.at(i * one + one / 2, j * one + one / 2, Z_FRAC)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tri(v: [[f64; 2]; 3]) -> SnappedTri {
+        SnappedTri {
+            v: v.map(|p| p.map(|x| snap_coord(x).unwrap())),
+            z: [1000, 2000, 3000],
+            c: [[255 << 12; 3]; 3],
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn snapping_rounds_half_away_and_rejects_bad_values() {
+        assert_eq!(snap_coord(0.5 / 256.0).unwrap(), 1);
+        assert_eq!(snap_coord(-0.5 / 256.0).unwrap(), -1);
+        assert_eq!(snap_coord(1.0).unwrap(), 256);
+        assert!(matches!(
+            snap_coord(f64::NAN),
+            Err(SetupError::NotFinite(_))
+        ));
+        assert!(matches!(snap_coord(1e9), Err(SetupError::OutOfRange(_))));
+    }
+
+    #[test]
+    fn degenerate_triangle_covers_nothing() {
+        let t = tri([[0.0, 0.0], [5.0, 5.0], [10.0, 10.0]]);
+        assert!(TriSetup::new(&t).unwrap().is_none());
+    }
+
+    #[test]
+    fn square_split_in_two_covers_each_centre_once() {
+        let a = TriSetup::new(&tri([[0.0, 0.0], [4.0, 0.0], [0.0, 4.0]]))
+            .unwrap()
+            .unwrap();
+        let b = TriSetup::new(&tri([[4.0, 0.0], [4.0, 4.0], [0.0, 4.0]]))
+            .unwrap()
+            .unwrap();
+        for j in 0..4 {
+            let mut n = [0; 4];
+            for t in [&a, &b] {
+                if let Some((l, r)) = t.columns(j, 16) {
+                    for k in l..=r {
+                        n[k as usize] += 1;
+                    }
+                }
+            }
+            assert_eq!(n, [1; 4], "row {j}");
+        }
+    }
+
+    #[test]
+    fn plane_values_are_exact_at_vertices_on_centres() {
+        // Vertices on pixel centres: ZL at a vertex equals its depth exactly.
+        let mut t = tri([[0.5, 0.5], [8.5, 0.5], [0.5, 8.5]]);
+        t.z = [100, 900, 500];
+        let s = TriSetup::new(&t).unwrap().unwrap();
+        let w = s.span(0, 16).unwrap();
+        // (8.5, 0.5) lies on the hypotenuse, a right edge: excluded by the top-left rule.
+        assert_eq!((w.xl, w.xr), (0, 7));
+        assert_eq!(w.z_at(0), 100);
+        assert_eq!(w.z_at(7), 800);
+        assert_eq!(w.dz, 100 << 12);
+    }
+}
