@@ -1,1 +1,240 @@
-fn main() {}
+//! `pixelproc`: command-line front of the bit-exact scanline back-end model.
+//!
+//! Thin by design: parse the command line, call the `pixelproc-sim` library, print.
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, Parser, Subcommand};
+use pixelproc_sim::pipeline::{render, Image, RenderOutput};
+use pixelproc_sim::plan::{AaMethod, Aov, Effects, Overrides};
+use pixelproc_sim::scene::{self, LoadedScene};
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+#[derive(Parser)]
+#[command(
+    name = "pixelproc",
+    version,
+    about = "Bit-exact model of a scanline pixel-processor rendering back-end",
+    long_about = "Bit-exact model of a scanline pixel-processor rendering back-end.\n\n\
+        With no command, renders the embedded default scene into pixelproc-out/ and \
+        prints the stages it ran.\nScenes are JSON files (see docs/scenes.md) or a \
+        built-in name: @default, @boxes."
+)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Option<Cmd>,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Render a scene to a PNG.
+    Render(RenderArgs),
+    /// Render a scene several times and print the median time of each stage.
+    Bench(BenchArgs),
+}
+
+#[derive(Args)]
+struct EffectArgs {
+    /// Anti-aliasing method (overrides the scene).
+    #[arg(long, value_name = "METHOD", value_parser = clap::builder::PossibleValuesParser::new(AaMethod::NAMES))]
+    aa: Option<String>,
+    /// Turn shadows off whatever the scene's lights say.
+    #[arg(long)]
+    no_shadows: bool,
+    /// Number of processors in the array (a wider line is processed in tiles).
+    #[arg(long, value_name = "N")]
+    array_width: Option<usize>,
+}
+
+#[derive(Args)]
+struct RenderArgs {
+    /// Scene file (JSON), or @default / @boxes.
+    #[arg(default_value = "@default")]
+    scene: String,
+    /// Output PNG (default: pixelproc-out/<scene name>.png).
+    #[arg(short, long, value_name = "OUT.png")]
+    output: Option<PathBuf>,
+    /// Also write debug images beside the output: depth, shadow, coverage.
+    #[arg(long, value_name = "KIND", value_delimiter = ',')]
+    aov: Vec<String>,
+    #[command(flatten)]
+    fx: EffectArgs,
+}
+
+#[derive(Args)]
+struct BenchArgs {
+    /// Scene file (JSON), or @default / @boxes.
+    #[arg(default_value = "@boxes")]
+    scene: String,
+    /// Timed runs (after one warm-up).
+    #[arg(long, default_value_t = 7)]
+    runs: usize,
+    #[command(flatten)]
+    fx: EffectArgs,
+}
+
+fn load(spec: &str) -> Result<LoadedScene> {
+    Ok(match spec.strip_prefix('@') {
+        Some(name) => scene::load_builtin(name)?,
+        None => scene::load_file(Path::new(spec))?,
+    })
+}
+
+fn overrides(fx: &EffectArgs, aovs: &[String]) -> Result<Overrides> {
+    let aa = match fx.aa.as_deref() {
+        None => None,
+        Some("none") => Some(AaMethod::None),
+        Some(other) => bail!("--aa {other}: unknown method"),
+    };
+    Ok(Overrides {
+        aa,
+        no_shadows: fx.no_shadows,
+        aovs: aovs
+            .iter()
+            .map(|a| Aov::parse(a))
+            .collect::<Result<_, _>>()?,
+        array_width: fx.array_width,
+    })
+}
+
+/// Writes a PNG atomically: a temporary file in the same directory, renamed on success.
+fn write_png(path: &Path, img: &Image) -> Result<()> {
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let tmp = tempfile::Builder::new()
+        .prefix(".pixelproc-")
+        .suffix(".png")
+        .tempfile_in(dir)
+        .with_context(|| format!("cannot write into {}", dir.display()))?;
+    let ct = if img.channels == 3 {
+        image::ExtendedColorType::Rgb8
+    } else {
+        image::ExtendedColorType::L8
+    };
+    image::save_buffer_with_format(
+        tmp.path(),
+        &img.data,
+        img.width,
+        img.height,
+        ct,
+        image::ImageFormat::Png,
+    )
+    .with_context(|| format!("cannot encode {}", path.display()))?;
+    tmp.persist(path)
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    Ok(())
+}
+
+fn scene_stem(spec: &str) -> String {
+    match spec.strip_prefix('@') {
+        Some(n) => n.to_string(),
+        None => Path::new(spec)
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or("out".into()),
+    }
+}
+
+fn print_timings(out: &RenderOutput) {
+    let total: Duration = out.timings.iter().map(|t| t.1).sum();
+    for (st, d) in &out.timings {
+        println!("  {:<34} {:>9.2} ms", st.to_string(), d.as_secs_f64() * 1e3);
+    }
+    println!("  {:<34} {:>9.2} ms", "total", total.as_secs_f64() * 1e3);
+}
+
+fn cmd_render(a: &RenderArgs) -> Result<()> {
+    let ls = load(&a.scene)?;
+    let ov = overrides(&a.fx, &a.aov)?;
+    let fx = Effects::resolve(&ls, &ov)?;
+    let out_path = a.output.clone().unwrap_or_else(|| {
+        PathBuf::from("pixelproc-out").join(format!("{}.png", scene_stem(&a.scene)))
+    });
+    if out_path.extension().map(|e| e != "png").unwrap_or(true) {
+        bail!("output {} must end in .png", out_path.display());
+    }
+    let out = render(&ls, &fx)?;
+    println!(
+        "rendered {} ({}x{}, {} triangles, {} span words, aa {}, array width {})",
+        ls.name,
+        ls.scene.width,
+        ls.scene.height,
+        out.triangles,
+        out.span_words,
+        fx.aa.name(),
+        fx.array_width
+    );
+    print_timings(&out);
+    write_png(&out_path, &out.image)?;
+    println!("wrote {}", out_path.display());
+    for (aov, img) in &out.aovs {
+        let stem = out_path.file_stem().unwrap().to_string_lossy();
+        let p = out_path.with_file_name(format!("{stem}.{}.png", aov.name()));
+        write_png(&p, img)?;
+        println!("wrote {}", p.display());
+    }
+    Ok(())
+}
+
+fn cmd_bench(a: &BenchArgs) -> Result<()> {
+    if a.runs == 0 {
+        bail!("--runs must be at least 1");
+    }
+    let ls = load(&a.scene)?;
+    let fx = Effects::resolve(&ls, &overrides(&a.fx, &[])?)?;
+    let first = render(&ls, &fx)?;
+    let mut runs = Vec::new();
+    for _ in 0..a.runs {
+        runs.push(render(&ls, &fx)?);
+    }
+    println!(
+        "bench {} ({}x{}, {} triangles, aa {}): median of {} runs after 1 warm-up, {} threads",
+        ls.name,
+        ls.scene.width,
+        ls.scene.height,
+        first.triangles,
+        fx.aa.name(),
+        a.runs,
+        rayon::current_num_threads()
+    );
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    for (k, (st, _)) in first.timings.iter().enumerate() {
+        let m = median(runs.iter().map(|r| r.timings[k].1.as_secs_f64()).collect());
+        println!("  {:<34} {:>9.2} ms", st.to_string(), m * 1e3);
+    }
+    let tot = median(
+        runs.iter()
+            .map(|r| r.timings.iter().map(|t| t.1.as_secs_f64()).sum())
+            .collect(),
+    );
+    println!("  {:<34} {:>9.2} ms", "total", tot * 1e3);
+    Ok(())
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let res = match &cli.cmd {
+        None => cmd_render(&RenderArgs {
+            scene: "@default".into(),
+            output: None,
+            aov: vec![],
+            fx: EffectArgs {
+                aa: None,
+                no_shadows: false,
+                array_width: None,
+            },
+        }),
+        Some(Cmd::Render(a)) => cmd_render(a),
+        Some(Cmd::Bench(a)) => cmd_bench(a),
+    };
+    if let Err(e) = res {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}

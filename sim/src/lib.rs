@@ -1,11 +1,17 @@
 //! pixelproc's bit-exact golden model and the renderer around it.
 //!
-//! Data flows one way: scene (float front end) → one snapping step → span setup
-//! ([`setup`]) → the pixel-processor array ([`pixel_array`]) → image. See
+//! Data flows one way: scene ([`scene`]) → float front end ([`frontend`]) → one snapping
+//! step → span setup ([`setup`]) → the pixel-processor array ([`pixel_array`]) → image
+//! ([`pipeline`]). The planner ([`plan`]) decides which stages run. See
 //! `docs/architecture.md` for the whole map and `docs/formats.md` for every bit layout.
 
 #![warn(missing_docs)]
 
+pub mod builtin;
+pub mod frontend;
+pub mod pipeline;
 pub mod pixel_array;
+pub mod plan;
 pub mod render;
+pub mod scene;
 pub mod setup;

@@ -153,10 +153,8 @@ impl PixelArray {
         // Accumulators at processor `lo`, then + dZ / + dI per processor: identical to the
         // closed form (exact integer sums).
         let mut z = w.zl as i64 + (base + lo as i64 - xl) * w.dz;
-        let mut c = [0i64; 3];
-        for k in 0..3 {
-            c[k] = w.il[k] as i64 + (base + lo as i64 - xl) * w.di[k] as i64;
-        }
+        let off = base + lo as i64 - xl;
+        let mut c: [i64; 3] = std::array::from_fn(|k| w.il[k] as i64 + off * w.di[k] as i64);
         for s in &mut self.procs[lo..=hi] {
             let zp = (z >> pixelproc_formats::Z_FRAC) as u32;
             let pass = if w.decal { zp <= s.zb } else { zp < s.zb };
@@ -166,8 +164,8 @@ impl PixelArray {
                 s.rgb = (ch(c[0]) << 16) | (ch(c[1]) << 8) | ch(c[2]);
             }
             z += w.dz;
-            for k in 0..3 {
-                c[k] += w.di[k] as i64;
+            for (ck, dk) in c.iter_mut().zip(w.di) {
+                *ck += dk as i64;
             }
         }
     }

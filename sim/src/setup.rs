@@ -14,15 +14,20 @@
 //! coordinates.
 //!
 //! **Depth and intensity.** The plane through the three snapped vertices is
-//! `z(x, y) = z0 + (Nx·(x − x0) + Ny·(y − y0)) / area2`; `ZL` is that value at the centre of
-//! pixel `XL` in Q24.12 and `dZ = Nx·256 / area2` per pixel in Q26.12, each rounded half up
-//! from exact `i128` rationals. Every scanline recomputes `ZL` from the plane, so there is
-//! no drift from one line to the next; along a line the value at pixel `p` is defined as
-//! `ZL + (p − XL)·dZ` (exact integers), so no drift along a span either.
+//! `z(x, y) = z0 + (Nx·(x − x0) + Ny·(y − y0)) / area2`. Per row, setup rounds (half up,
+//! from exact `i128` rationals) the plane's value at the centre of column 0 to Q24.12,
+//! `Z0`, and its slope to `dZ = round(Nx·256 / area2)` in Q26.12 per pixel, and sends
+//! `ZL = Z0 + XL·dZ`. The value at pixel `p` is then `ZL + (p − XL)·dZ = Z0 + p·dZ`:
+//! exact integers, so no drift along a span however long, and independent of where the
+//! span starts (two spans of one plane agree at every pixel: a pattern ties exactly with
+//! the face it lies on). Every row recomputes `Z0` from the plane, so no drift between
+//! rows either. The distance to the true plane is at most `½ + 4095·½` units of 2^-12,
+//! i.e. below half a depth unit; `Z_GEOM_MIN`/`Z_GEOM_MAX` leave a margin of 16 units so
+//! an in-triangle value never leaves the 24-bit range or reaches `Z_FAR`.
 
 use pixelproc_formats::{
-    Attr, SpanWord, DI_BITS, DZ_BITS, I_FRAC, MAX_COORD_PX, SUBPIXEL_BITS, SUBPIXEL_ONE, Z_FRAC,
-    Z_GEOM_MAX, Z_GEOM_MIN,
+    Attr, SpanWord, DI_BITS, DZ_BITS, IL_BITS, I_FRAC, MAX_COORD_PX, SUBPIXEL_BITS, SUBPIXEL_ONE,
+    Z_FRAC, Z_GEOM_MAX, Z_GEOM_MIN,
 };
 use thiserror::Error;
 
@@ -55,15 +60,16 @@ pub fn snap_coord(x: f64) -> Result<i32, SetupError> {
     Ok((x * SUBPIXEL_ONE as f64).round() as i32)
 }
 
-/// Converts a linear colour channel in 0..1 to Q8.12 intensity (`round(c·255·4096)`,
-/// clamped to 0..=255·4096).
+/// Converts a linear colour channel in 0..1 to Q8.12 intensity with the rounding offset
+/// folded in: `round(c·255·4096) + 2048`. The array reads a channel as `v >> 12`
+/// (truncation), which then yields `round(c·255)` (ties up) for a flat colour.
 pub fn snap_intensity(c: f64) -> u32 {
     let c = if c.is_finite() {
         c.clamp(0.0, 1.0)
     } else {
         0.0
     };
-    (c * 255.0 * (1u32 << I_FRAC) as f64).round() as u32
+    (c * 255.0 * (1u32 << I_FRAC) as f64).round() as u32 + (1 << (I_FRAC - 1))
 }
 
 /// A triangle after snapping: the input of span setup (and of fragment setup).
@@ -278,20 +284,22 @@ impl TriSetup {
     pub fn span(&self, j: i64, width: u32) -> Option<SpanWord> {
         let (xl, xr) = self.columns(j, width)?;
         let one = SUBPIXEL_ONE as i64;
-        let xc = xl * one + one / 2;
         let yc = j * one + one / 2;
         let single = xl == xr;
-        let zl = self.z.at(xc, yc, Z_FRAC);
-        let dz = if single { 0 } else { self.z.ddx_per_px(Z_FRAC) };
+        // Row origin: the plane at the centre of column 0, rounded once; then
+        // value(p) = origin + p·d. Every span of one plane on one row thus gives the same
+        // value at the same pixel, whatever its XL (a decal ties exactly with its face).
+        let x0 = one / 2;
+        let dz_r = self.z.ddx_per_px(Z_FRAC);
+        let zl = self.z.at(x0, yc, Z_FRAC) + xl * dz_r;
+        let dz = if single { 0 } else { dz_r };
         let mut il = [0u32; 3];
         let mut di = [0i32; 3];
         for k in 0..3 {
-            il[k] = self.c[k].at(xc, yc, I_FRAC).clamp(0, 255 << I_FRAC) as u32;
-            di[k] = if single {
-                0
-            } else {
-                self.c[k].ddx_per_px(I_FRAC) as i32
-            };
+            // Vertex intensities are already Q8.12: no extra fractional bits.
+            let d = self.c[k].ddx_per_px(0);
+            il[k] = (self.c[k].at(x0, yc, 0) + xl * d).clamp(0, (1 << IL_BITS) - 1) as u32;
+            di[k] = if single { 0 } else { d as i32 };
         }
         let w = SpanWord {
             attr: Attr::Op,

@@ -1,0 +1,396 @@
+//! Front end (floating point): camera, lighting, clipping, projection, and the one
+//! snapping step into fixed point.
+//!
+//! Everything here is `f64` (glam); its output is [`SnappedTri`]s, after which the model is
+//! integer only. 3-D scenes: world → clip space by `perspective_rh` (depth 0..1) and
+//! `look_at_rh`, Sutherland–Hodgman clipping in homogeneous space against the near and
+//! far planes and a guard band of ±[`GUARD`]·w in x and y (so every snapped coordinate
+//! fits the Q.8 range), perspective divide, viewport (`x_s = (x/w + 1)/2·W`,
+//! `y_s = (1 − y/w)/2·H`, y down), depth `z24 = Z_GEOM_MIN + round(z/w·(Z_GEOM_MAX −
+//! Z_GEOM_MIN))`. Screen-space z, being planar per triangle and mapped affinely, stays
+//! planar; so does perspective `z/w` over a planar face.
+
+use crate::scene::{LoadedScene, SceneError};
+use crate::setup::{snap_coord, snap_intensity, HostPlane, SetupError, SnappedTri};
+use glam::{DMat4, DVec3, DVec4};
+use pixelproc_formats::{Z_GEOM_MAX, Z_GEOM_MIN};
+use thiserror::Error;
+
+/// Guard band in units of w: clip-space |x|, |y| ≤ GUARD·w.
+pub const GUARD: f64 = 2.0;
+
+/// Front-end errors.
+#[derive(Debug, Error)]
+pub enum FrontError {
+    /// Invalid scene content.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// A triangle does not fit the fixed-point formats.
+    #[error("triangle {index}: {source}")]
+    Setup {
+        /// Index of the scene triangle.
+        index: usize,
+        /// Cause.
+        source: SetupError,
+    },
+}
+
+/// Where a snapped triangle came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Origin {
+    /// Screen-space triangle `k` of the scene.
+    Screen(usize),
+    /// Face `face` of mesh `mesh`.
+    Mesh {
+        /// Mesh index.
+        mesh: usize,
+        /// Triangle index within the mesh.
+        face: usize,
+    },
+    /// Pattern `k`.
+    Pattern(usize),
+}
+
+/// The front end's output: snapped triangles in draw order, with their origin.
+#[derive(Clone, Debug, Default)]
+pub struct Projected {
+    /// Snapped triangles, in scene order.
+    pub tris: Vec<SnappedTri>,
+    /// Origin of each triangle.
+    pub origin: Vec<Origin>,
+    /// Triangles dropped because they were entirely clipped away.
+    pub clipped_away: usize,
+}
+
+/// Camera transform and viewport: world points to screen pixels and 24-bit depth.
+#[derive(Clone, Copy, Debug)]
+pub struct Projector {
+    /// World → clip matrix.
+    pub view_proj: DMat4,
+    /// Eye position, world space.
+    pub eye: DVec3,
+    /// Screen width.
+    pub width: f64,
+    /// Screen height.
+    pub height: f64,
+}
+
+/// A clip-space vertex with attributes carried through clipping.
+#[derive(Clone, Copy, Debug)]
+pub struct ClipVert {
+    /// Clip-space position.
+    pub p: DVec4,
+    /// Attributes (intensity RGB, 0..1).
+    pub a: DVec3,
+}
+
+impl Projector {
+    /// Builds the projector of a 3-D scene.
+    pub fn new(ls: &LoadedScene) -> Projector {
+        let s = &ls.scene;
+        let cam = s.camera.as_ref().expect("3-D scene");
+        let eye = DVec3::from(cam.eye);
+        let near = cam.near.unwrap_or(0.1);
+        let far = cam.far.unwrap_or_else(|| {
+            let mut d: f64 = 1.0;
+            for m in &ls.meshes {
+                for p in &m.positions {
+                    d = d.max((DVec3::from(*p) - eye).length());
+                }
+            }
+            (d * 1.05 + 1.0).max(near * 2.0)
+        });
+        let aspect = s.width as f64 / s.height as f64;
+        let proj = DMat4::perspective_rh(cam.fov_y_deg.to_radians(), aspect, near, far);
+        let view = DMat4::look_at_rh(eye, DVec3::from(cam.target), DVec3::from(cam.up));
+        Projector {
+            view_proj: proj * view,
+            eye,
+            width: s.width as f64,
+            height: s.height as f64,
+        }
+    }
+
+    /// World point to clip space.
+    pub fn clip(&self, p: DVec3) -> DVec4 {
+        self.view_proj * p.extend(1.0)
+    }
+
+    /// Clips a convex polygon against near, far and the guard band.
+    pub fn clip_polygon(&self, poly: Vec<ClipVert>) -> Vec<ClipVert> {
+        // Plane functions d(p) ≥ 0 inside.
+        let planes: [fn(&DVec4) -> f64; 6] = [
+            |p| p.z,
+            |p| p.w - p.z,
+            |p| GUARD * p.w - p.x,
+            |p| GUARD * p.w + p.x,
+            |p| GUARD * p.w - p.y,
+            |p| GUARD * p.w + p.y,
+        ];
+        let mut poly = poly;
+        for d in planes {
+            if poly.is_empty() {
+                break;
+            }
+            let mut out = Vec::with_capacity(poly.len() + 2);
+            for i in 0..poly.len() {
+                let a = poly[i];
+                let b = poly[(i + 1) % poly.len()];
+                let (da, db) = (d(&a.p), d(&b.p));
+                if da >= 0.0 {
+                    out.push(a);
+                }
+                if (da >= 0.0) != (db >= 0.0) {
+                    let t = da / (da - db);
+                    out.push(ClipVert {
+                        p: a.p + (b.p - a.p) * t,
+                        a: a.a + (b.a - a.a) * t,
+                    });
+                }
+            }
+            poly = out;
+        }
+        poly
+    }
+
+    /// Screen position (pixels, y down) and depth in 0..1 of a clipped vertex.
+    pub fn to_screen(&self, p: DVec4) -> (f64, f64, f64) {
+        let (x, y, z) = (p.x / p.w, p.y / p.w, p.z / p.w);
+        (
+            (x + 1.0) * 0.5 * self.width,
+            (1.0 - y) * 0.5 * self.height,
+            z.clamp(0.0, 1.0),
+        )
+    }
+}
+
+/// Maps a depth in 0..1 to the 24-bit geometry range.
+pub fn depth24(z01: f64) -> u32 {
+    Z_GEOM_MIN + (z01.clamp(0.0, 1.0) * (Z_GEOM_MAX - Z_GEOM_MIN) as f64).round() as u32
+}
+
+/// Screen-space and snapped vertex of a triangle corner.
+fn snap_vertex(x: f64, y: f64) -> Result<[i32; 2], SetupError> {
+    Ok([snap_coord(x)?, snap_coord(y)?])
+}
+
+/// Lambert shading of a surface point (linear RGB, unclamped above by the sum of lights,
+/// then clamped to 1): `colour · (ambient + Σ intensity_l · max(0, n·l̂))`.
+pub fn lambert(ls: &LoadedScene, p: DVec3, n: DVec3, colour: [f64; 3]) -> DVec3 {
+    let mut k = ls.scene.ambient;
+    for l in &ls.scene.lights {
+        let d = (DVec3::from(l.position) - p).normalize_or_zero();
+        k += l.intensity * n.dot(d).max(0.0);
+    }
+    (DVec3::from(colour) * k).min(DVec3::ONE)
+}
+
+/// Runs the front end on a loaded scene.
+pub fn project(ls: &LoadedScene) -> Result<Projected, FrontError> {
+    if ls.is_3d() {
+        project_3d(ls)
+    } else {
+        project_screen(ls)
+    }
+}
+
+fn project_screen(ls: &LoadedScene) -> Result<Projected, FrontError> {
+    let s = &ls.scene;
+    let (zmin, zmax) = match s.depth_range {
+        Some([a, b]) => (a, b),
+        None => {
+            let zs = s.triangles.iter().flat_map(|t| t.v.iter().map(|p| p[2]));
+            let lo = zs.clone().fold(f64::INFINITY, f64::min);
+            let hi = zs.fold(f64::NEG_INFINITY, f64::max);
+            if lo.is_finite() && hi > lo {
+                (lo, hi)
+            } else {
+                (lo - 1.0, lo + 1.0)
+            }
+        }
+    };
+    let z24 = |k: usize, z: f64| -> Result<u32, FrontError> {
+        if z < zmin || z > zmax {
+            return Err(FrontError::Scene(SceneError::Invalid(format!(
+                "triangle {k}: z = {z} is outside depth_range [{zmin}, {zmax}]"
+            ))));
+        }
+        Ok(depth24((z - zmin) / (zmax - zmin)))
+    };
+    let mut out = Projected::default();
+    let mut snapped_pos = Vec::with_capacity(s.triangles.len());
+    for (k, t) in s.triangles.iter().enumerate() {
+        let mut v = [[0i32; 2]; 3];
+        let mut z = [0u32; 3];
+        for i in 0..3 {
+            v[i] = snap_vertex(t.v[i][0], t.v[i][1]).map_err(|e| FrontError::Setup {
+                index: k,
+                source: e,
+            })?;
+            z[i] = z24(k, t.v[i][2])?;
+        }
+        snapped_pos.push((v, z));
+    }
+    for (k, t) in s.triangles.iter().enumerate() {
+        let (v, z) = snapped_pos[k];
+        let cols = t.colors.unwrap_or([t.color; 3]);
+        let c = cols.map(|c| c.map(snap_intensity));
+        let host = t.pattern_on.map(|h| HostPlane {
+            v: snapped_pos[h].0,
+            z: snapped_pos[h].1,
+        });
+        let tag = t.tag.unwrap_or(((k + 1) % 65536) as u16);
+        out.tris.push(SnappedTri { v, z, c, tag, host });
+        out.origin.push(Origin::Screen(k));
+    }
+    Ok(out)
+}
+
+/// A triangle in world space with per-vertex shading, before projection.
+struct WorldTri {
+    p: [DVec3; 3],
+    a: [DVec3; 3],
+}
+
+/// Clips, projects and snaps a world triangle into zero or more snapped triangles
+/// (a fan of the clipped polygon).
+fn emit(
+    pj: &Projector,
+    wt: &WorldTri,
+    tag: u16,
+    host: Option<HostPlane>,
+) -> Result<Vec<SnappedTri>, SetupError> {
+    let poly: Vec<ClipVert> = (0..3)
+        .map(|i| ClipVert {
+            p: pj.clip(wt.p[i]),
+            a: wt.a[i],
+        })
+        .collect();
+    let poly = pj.clip_polygon(poly);
+    let mut out = Vec::new();
+    if poly.len() < 3 {
+        return Ok(out);
+    }
+    let mut sv = Vec::with_capacity(poly.len());
+    for cv in &poly {
+        let (x, y, z) = pj.to_screen(cv.p);
+        let c = [cv.a.x, cv.a.y, cv.a.z].map(snap_intensity);
+        sv.push((snap_vertex(x, y)?, depth24(z), c));
+    }
+    for i in 1..sv.len() - 1 {
+        let (a, b, c) = (sv[0], sv[i], sv[i + 1]);
+        out.push(SnappedTri {
+            v: [a.0, b.0, c.0],
+            z: [a.1, b.1, c.1],
+            c: [a.2, b.2, c.2],
+            tag,
+            host,
+        });
+    }
+    Ok(out)
+}
+
+fn project_3d(ls: &LoadedScene) -> Result<Projected, FrontError> {
+    let pj = Projector::new(ls);
+    let s = &ls.scene;
+    let mut out = Projected::default();
+    let mut first_piece: Vec<Vec<Option<HostPlane>>> = Vec::new();
+    for (mi, (m, mr)) in ls.meshes.iter().zip(&s.meshes).enumerate() {
+        let tag = mr.tag.unwrap_or((mi + 1) as u16);
+        let mut pieces = Vec::with_capacity(m.triangles.len());
+        for (fi, t) in m.triangles.iter().enumerate() {
+            let p = t.map(|i| DVec3::from(m.positions[i as usize]));
+            let fnorm = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+            let n = |k: usize| match &m.normals {
+                Some(ns) => DVec3::from(ns[t[k] as usize]).normalize_or_zero(),
+                None => fnorm,
+            };
+            let a = [0, 1, 2].map(|k| lambert(ls, p[k], n(k), mr.color));
+            let tris = emit(&pj, &WorldTri { p, a }, tag, None).map_err(|e| FrontError::Setup {
+                index: out.tris.len(),
+                source: e,
+            })?;
+            if tris.is_empty() {
+                out.clipped_away += 1;
+            }
+            pieces.push(tris.first().map(|t| HostPlane { v: t.v, z: t.z }));
+            for st in tris {
+                out.tris.push(st);
+                out.origin.push(Origin::Mesh { mesh: mi, face: fi });
+            }
+        }
+        first_piece.push(pieces);
+    }
+    for (k, pat) in s.patterns.iter().enumerate() {
+        let m = &ls.meshes[pat.on_mesh];
+        let poly: Vec<DVec3> = pat.polygon.iter().map(|p| DVec3::from(*p)).collect();
+        // The pattern is cut along the mesh's coplanar faces; each piece takes the depth
+        // plane of the face it lies on, so it ties exactly with that face's spans.
+        let mut placed = false;
+        for (fi, t) in m.triangles.iter().enumerate() {
+            let p = t.map(|i| DVec3::from(m.positions[i as usize]));
+            let n = (p[1] - p[0]).cross(p[2] - p[0]);
+            let len = n.length();
+            if len == 0.0 {
+                continue;
+            }
+            let n = n / len;
+            let scale = (p[1] - p[0]).length().max((p[2] - p[0]).length()).max(1.0);
+            if !poly
+                .iter()
+                .all(|q| (*q - p[0]).dot(n).abs() <= 1e-6 * scale)
+            {
+                continue;
+            }
+            let mut piece = poly.clone();
+            for i in 0..3 {
+                let (a, b) = (p[i], p[(i + 1) % 3]);
+                let inward = n.cross(b - a);
+                piece = clip_halfspace(&piece, |q| (q - a).dot(inward));
+            }
+            if piece.len() < 3 {
+                continue;
+            }
+            placed = true;
+            let Some(hp) = first_piece[pat.on_mesh][fi] else {
+                continue;
+            };
+            for i in 1..piece.len() - 1 {
+                let tri = [piece[0], piece[i], piece[i + 1]];
+                let a = tri.map(|q| lambert(ls, q, n, pat.color));
+                let tris = emit(&pj, &WorldTri { p: tri, a }, 0x8000 | k as u16, Some(hp))
+                    .map_err(|e| FrontError::Setup {
+                        index: out.tris.len(),
+                        source: e,
+                    })?;
+                for st in tris {
+                    out.tris.push(st);
+                    out.origin.push(Origin::Pattern(k));
+                }
+            }
+        }
+        if !placed {
+            return Err(FrontError::Scene(SceneError::Invalid(format!(
+                "pattern {k}: it lies on no face of mesh {} (it must be coplanar with a face)",
+                pat.on_mesh
+            ))));
+        }
+    }
+    Ok(out)
+}
+
+/// Clips a planar polygon to the half-space `d(q) ≥ 0`.
+fn clip_halfspace(poly: &[DVec3], d: impl Fn(DVec3) -> f64) -> Vec<DVec3> {
+    let mut out = Vec::with_capacity(poly.len() + 1);
+    for i in 0..poly.len() {
+        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+        let (da, db) = (d(a), d(b));
+        if da >= 0.0 {
+            out.push(a);
+        }
+        if (da >= 0.0) != (db >= 0.0) {
+            out.push(a + (b - a) * (da / (da - db)));
+        }
+    }
+    out
+}
