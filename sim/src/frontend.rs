@@ -26,7 +26,7 @@ pub enum FrontError {
     #[error(transparent)]
     Scene(#[from] SceneError),
     /// A triangle does not fit the fixed-point formats.
-    #[error("triangle {index}: {source}")]
+    #[error("triangle {index}")]
     Setup {
         /// Index of the scene triangle.
         index: usize,

@@ -175,7 +175,7 @@ pub struct EffectsSpec {
 #[derive(Debug, Error)]
 pub enum SceneError {
     /// The scene file could not be read.
-    #[error("cannot read scene {path}: {source}")]
+    #[error("cannot read scene {}", path.display())]
     Read {
         /// Path.
         path: PathBuf,
@@ -183,7 +183,7 @@ pub enum SceneError {
         source: std::io::Error,
     },
     /// JSON syntax or schema error (serde reports line and column).
-    #[error("scene {path}: {source}")]
+    #[error("scene {path}")]
     Json {
         /// Path.
         path: String,

@@ -1,0 +1,177 @@
+//! The command line as a user meets it: the default run, `render`, and bad input (one
+//! clear line, non-zero exit, no panic trace, no output file).
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn pixelproc(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pixelproc"))
+        .args(args)
+        .current_dir(dir)
+        .env("RUST_BACKTRACE", "1")
+        .output()
+        .expect("run pixelproc")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Runs a command that must fail: exit code 1, a single `error:` line, no panic, and no
+/// output file left behind.
+fn expect_error(dir: &Path, args: &[&str], needle: &str) {
+    let o = pixelproc(dir, args);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{args:?}: {err}");
+    assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+    assert_eq!(
+        err.lines().count(),
+        1,
+        "{args:?}: expected one line, got: {err}"
+    );
+    assert!(err.starts_with("error: "), "{err}");
+    assert!(err.contains(needle), "{args:?}: '{needle}' not in: {err}");
+    let leftovers: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".png") || n.starts_with(".pixelproc-"))
+        .collect();
+    assert!(leftovers.is_empty(), "{args:?} left files: {leftovers:?}");
+}
+
+fn write(dir: &Path, name: &str, text: &str) {
+    std::fs::write(dir.join(name), text).unwrap();
+}
+
+#[test]
+fn no_arguments_renders_the_default_scene() {
+    let d = tempfile::tempdir().unwrap();
+    let o = pixelproc(d.path(), &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("pixel-processor array"), "{out}");
+    let png = d.path().join("pixelproc-out/default.png");
+    let img = image::open(&png).unwrap();
+    assert_eq!((img.width(), img.height()), (640, 360));
+}
+
+#[test]
+fn render_writes_the_named_file_and_aovs() {
+    let d = tempfile::tempdir().unwrap();
+    write(
+        d.path(),
+        "s.json",
+        r#"{"width":8,"height":8,"background":[0,0,0],"triangles":[{"v":[[0,0,0],[8,0,0],[0,8,0]],"color":[1,0,0]}]}"#,
+    );
+    let o = pixelproc(
+        d.path(),
+        &["render", "s.json", "-o", "out/x.png", "--aov", "depth"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let img = image::open(d.path().join("out/x.png")).unwrap().to_rgb8();
+    assert_eq!(img.get_pixel(1, 1).0, [255, 0, 0]);
+    assert_eq!(img.get_pixel(7, 7).0, [0, 0, 0]);
+    assert!(d.path().join("out/x.depth.png").exists());
+}
+
+#[test]
+fn help_exists_for_every_subcommand() {
+    let d = tempfile::tempdir().unwrap();
+    for args in [
+        vec!["--help"],
+        vec!["render", "--help"],
+        vec!["bench", "--help"],
+    ] {
+        let o = pixelproc(d.path(), &args);
+        assert!(o.status.success());
+        assert!(String::from_utf8_lossy(&o.stdout).contains("Usage"));
+    }
+}
+
+#[test]
+fn bad_inputs_give_one_clear_line() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    expect_error(
+        p,
+        &["render", "missing.json", "-o", "a.png"],
+        "cannot read scene missing.json",
+    );
+    write(
+        p,
+        "bad.json",
+        "{\n  \"width\": 8,\n  \"height\": 8,\n  \"triangles\": [ }\n",
+    );
+    expect_error(p, &["render", "bad.json", "-o", "a.png"], "line 4 column");
+    write(
+        p,
+        "obj.json",
+        r#"{"width":8,"height":8,"camera":{"eye":[0,0,5],"target":[0,0,0],"up":[0,1,0],"fov_y_deg":40},"meshes":[{"obj":"nope.obj","color":[1,1,1]}]}"#,
+    );
+    expect_error(p, &["render", "obj.json", "-o", "a.png"], "nope.obj");
+    write(p, "nanobj.obj", "v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n");
+    write(
+        p,
+        "nan.json",
+        r#"{"width":8,"height":8,"camera":{"eye":[0,0,5],"target":[0,0,0],"up":[0,1,0],"fov_y_deg":40},"meshes":[{"obj":"nanobj.obj","color":[1,1,1]}]}"#,
+    );
+    expect_error(p, &["render", "nan.json", "-o", "a.png"], "not finite");
+    write(
+        p,
+        "inf.json",
+        r#"{"width":8,"height":8,"triangles":[{"v":[[0,0,0],[1e999,0,0],[0,8,0]],"color":[1,0,0]}]}"#,
+    );
+    expect_error(p, &["render", "inf.json", "-o", "a.png"], "inf.json");
+    write(
+        p,
+        "far.json",
+        r#"{"width":8,"height":8,"triangles":[{"v":[[0,0,0],[1e6,0,0],[0,8,0]],"color":[1,0,0]}]}"#,
+    );
+    expect_error(
+        p,
+        &["render", "far.json", "-o", "a.png"],
+        "outside the fixed-point range",
+    );
+    write(p, "big.json", r#"{"width":5000,"height":8,"triangles":[]}"#);
+    expect_error(
+        p,
+        &["render", "big.json", "-o", "a.png"],
+        "resolution 5000x8",
+    );
+    write(
+        p,
+        "col.json",
+        r#"{"width":8,"height":8,"triangles":[{"v":[[0,0,0],[8,0,0],[0,8,0]],"color":[2,0,0]}]}"#,
+    );
+    expect_error(p, &["render", "col.json", "-o", "a.png"], "not within 0..1");
+    expect_error(
+        p,
+        &["render", "@nosuch", "-o", "a.png"],
+        "unknown built-in scene",
+    );
+    expect_error(
+        p,
+        &["render", "@default", "-o", "a.jpg"],
+        "must end in .png",
+    );
+    expect_error(
+        p,
+        &["render", "@default", "-o", "a.png", "--aov", "nope"],
+        "unknown AOV",
+    );
+}
+
+#[test]
+fn degenerate_triangles_are_not_an_error() {
+    let d = tempfile::tempdir().unwrap();
+    write(
+        d.path(),
+        "deg.json",
+        r#"{"width":8,"height":8,"triangles":[{"v":[[1,1,0],[4,4,0],[7,7,0]],"color":[1,0,0]},{"v":[[2,2,0],[2,2,0],[2,2,0]],"color":[1,0,0]}]}"#,
+    );
+    let o = pixelproc(d.path(), &["render", "deg.json", "-o", "d.png"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let img = image::open(d.path().join("d.png")).unwrap().to_rgb8();
+    assert!(img.pixels().all(|p| p.0 == [0, 0, 0]));
+}
