@@ -79,10 +79,7 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
         timings.push((stage, t0.elapsed()));
     }
     let f = frame.expect("the plan always renders a frame");
-    let span_words = {
-        let s = src.as_ref().expect("setup ran");
-        (0..h).map(|j| s.row_spans(j).count() as u64).sum()
-    };
+    let span_words = src.as_ref().expect("setup ran").span_count() as u64;
     Ok(RenderOutput {
         image: Image {
             width: w,

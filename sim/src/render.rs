@@ -35,44 +35,48 @@ impl Frame {
     }
 }
 
-/// Triangles prepared for span setup, binned by scanline band.
+/// The span words of a frame, per scanline, in scene (draw) order.
 pub struct SpanSource {
     width: u32,
     height: u32,
-    tris: Vec<TriSetup>,
-    /// For each band of [`BAND`] rows, the indices of triangles touching it, in order.
-    bands: Vec<Vec<u32>>,
+    rows: Vec<Vec<SpanWord>>,
+    triangles: usize,
 }
 
-/// Rows per bin band.
-pub const BAND: i64 = 8;
-
 impl SpanSource {
-    /// Sets up every triangle (degenerate ones are dropped) and bins them by band.
+    /// Sets up every triangle (degenerate ones are dropped) and generates its span words
+    /// (triangles in parallel, then gathered per row in scene order: the same words and
+    /// order as a sequential run).
     pub fn new(tris: &[SnappedTri], width: u32, height: u32) -> Result<SpanSource, SetupError> {
         assert!(width <= MAX_SCREEN && height <= MAX_SCREEN);
-        let set: Vec<Option<TriSetup>> = tris
+        let per_tri: Vec<Vec<(u32, SpanWord)>> = tris
             .par_iter()
-            .map(TriSetup::new)
-            .collect::<Result<_, _>>()?;
-        let tris: Vec<TriSetup> = set.into_iter().flatten().collect();
-        let nb = (height as i64 + BAND - 1) / BAND;
-        let mut bands = vec![Vec::new(); nb as usize];
-        for (k, t) in tris.iter().enumerate() {
-            let lo = t.row_min.max(0) / BAND;
-            let hi = t.row_max.min(height as i64 - 1);
-            if hi < 0 || lo >= nb {
-                continue;
+            .map(|t| {
+                let mut v = Vec::new();
+                if let Some(s) = TriSetup::new(t)? {
+                    s.for_each_span(width, height, |j, w| v.push((j, w)));
+                }
+                Ok(v)
+            })
+            .collect::<Result<_, SetupError>>()?;
+        let mut counts = vec![0usize; height as usize];
+        for v in &per_tri {
+            for (j, _) in v {
+                counts[*j as usize] += 1;
             }
-            for b in lo..=hi / BAND {
-                bands[b as usize].push(k as u32);
+        }
+        let mut rows: Vec<Vec<SpanWord>> = counts.iter().map(|&n| Vec::with_capacity(n)).collect();
+        let triangles = per_tri.iter().filter(|v| !v.is_empty()).count();
+        for v in per_tri {
+            for (j, w) in v {
+                rows[j as usize].push(w);
             }
         }
         Ok(SpanSource {
             width,
             height,
-            tris,
-            bands,
+            rows,
+            triangles,
         })
     }
 
@@ -86,40 +90,67 @@ impl SpanSource {
     }
 
     /// The OP span words of row `j`, in scene order.
-    pub fn row_spans(&self, j: u32) -> impl Iterator<Item = SpanWord> + '_ {
-        let band = &self.bands[(j as i64 / BAND) as usize];
-        band.iter()
-            .filter_map(move |&k| self.tris[k as usize].span(j as i64, self.width))
+    pub fn row_spans(&self, j: u32) -> &[SpanWord] {
+        &self.rows[j as usize]
     }
 
-    /// Number of set-up (non-degenerate) triangles.
-    pub fn triangle_count(&self) -> usize {
-        self.tris.len()
+    /// Number of span words over all rows.
+    pub fn span_count(&self) -> usize {
+        self.rows.iter().map(Vec::len).sum()
+    }
+
+    /// Number of triangles that produced at least one span.
+    pub fn visible_triangles(&self) -> usize {
+        self.triangles
     }
 }
 
-/// Renders every row: OP spans, then `extra(j)` commands (e.g. shadow spans) per tile.
-/// `array_width` is the number of processors; wider lines are processed in tiles.
+/// Renders every row on an array of `array_width` processors; a wider line is processed
+/// in tiles. Each tile gets `ClearLine`, the row's OP span words that touch it (an OP span
+/// outside a tile is a no-op there, so the span feeder skips it), then every command
+/// `extra(row, &mut cmds)` adds (shadow spans and controls, which all tiles see: IF acts on
+/// every processor).
 pub fn render_frame<F>(src: &SpanSource, bg: [u8; 3], array_width: usize, extra: F) -> Frame
 where
     F: Fn(u32, &mut Vec<Command>) + Sync,
 {
     let (w, h) = (src.width, src.height);
     let bg = pixelproc_formats::pack_rgb(bg);
+    let tiles = (w as usize).div_ceil(array_width);
     let mut px = vec![ProcState::default(); (w * h) as usize];
     px.par_chunks_mut(w as usize).enumerate().for_each_init(
-        || (PixelArray::new(array_width, 0), Vec::new()),
-        |(arr, cmds), (j, row)| {
+        || {
+            (
+                PixelArray::new(array_width, 0),
+                Vec::new(),
+                vec![Vec::new(); tiles],
+            )
+        },
+        |(arr, cmds, per_tile), (j, row)| {
             cmds.clear();
-            cmds.extend(src.row_spans(j as u32).map(Command::Span));
             extra(j as u32, cmds);
-            let mut base = 0u32;
-            while base < w {
+            for t in per_tile.iter_mut() {
+                t.clear();
+            }
+            let spans = src.row_spans(j as u32);
+            for (k, s) in spans.iter().enumerate() {
+                let (a, b) = (s.xl as usize / array_width, s.xr as usize / array_width);
+                for t in per_tile.iter_mut().take(b.min(tiles - 1) + 1).skip(a) {
+                    t.push(k as u32);
+                }
+            }
+            for (t, list) in per_tile.iter().enumerate() {
+                let base = (t * array_width) as u32;
                 arr.set_base(base);
-                arr.run_line(bg, cmds.iter());
+                arr.step(&Command::ClearLine { bg });
+                for &k in list {
+                    arr.step(&Command::Span(spans[k as usize]));
+                }
+                for c in cmds.iter() {
+                    arr.step(c);
+                }
                 let n = (w - base).min(array_width as u32) as usize;
                 row[base as usize..base as usize + n].copy_from_slice(&arr.state()[..n]);
-                base += array_width as u32;
             }
         },
     );

@@ -142,13 +142,15 @@ impl Plane {
         }
         let dv1 = (val[1] - val[0]) as i128;
         let dv2 = (val[2] - val[0]) as i128;
+        // Normalised to area2 > 0 (the value is unchanged: all terms flip with it).
+        let s = area2.signum();
         Some(Plane {
             v0: val[0] as i128,
             x0,
             y0,
-            nx: dv1 * dy2 - dv2 * dy1,
-            ny: dx1 * dv2 - dx2 * dv1,
-            area2,
+            nx: s * (dv1 * dy2 - dv2 * dy1),
+            ny: s * (dx1 * dv2 - dx2 * dv1),
+            area2: s * area2,
         })
     }
 
@@ -161,9 +163,57 @@ impl Plane {
         round_div(num, self.area2) as i64
     }
 
+    /// Exact incremental evaluator of `round(v(x_q8, y) · 2^frac)` down successive rows
+    /// (y += 1 px): the quotient and remainder of `2·N + area2` by `2·area2` are stepped by
+    /// the constant row increment, so every row's value equals [`Plane::at`] bit for bit
+    /// with additions only.
+    fn rows(&self, x_q8: i64, first_row: i64, frac: u32) -> RowEval {
+        let one = SUBPIXEL_ONE as i128;
+        let yc = first_row as i128 * one + one / 2;
+        let n =
+            (self.v0 * self.area2 + self.nx * (x_q8 as i128 - self.x0) + self.ny * (yc - self.y0))
+                << frac;
+        let m = 2 * self.area2;
+        let d = 2 * ((self.ny * one) << frac);
+        let start = 2 * n + self.area2;
+        RowEval {
+            q: start.div_euclid(m),
+            r: start.rem_euclid(m),
+            dq: d.div_euclid(m),
+            dr: d.rem_euclid(m),
+            m,
+        }
+    }
+
     /// `round(∂v/∂x · 2^frac)` per pixel, half up.
     fn ddx_per_px(&self, frac: u32) -> i64 {
         round_div((self.nx * SUBPIXEL_ONE as i128) << frac, self.area2) as i64
+    }
+}
+
+/// See [`Plane::rows`].
+#[derive(Clone, Copy, Debug)]
+struct RowEval {
+    q: i128,
+    r: i128,
+    dq: i128,
+    dr: i128,
+    m: i128,
+}
+
+impl RowEval {
+    #[inline]
+    fn value(&self) -> i64 {
+        self.q as i64
+    }
+    #[inline]
+    fn step(&mut self) {
+        self.q += self.dq;
+        self.r += self.dr;
+        if self.r >= self.m {
+            self.r -= self.m;
+            self.q += 1;
+        }
     }
 }
 
@@ -192,6 +242,9 @@ pub struct TriSetup {
     /// Object tag.
     pub tag: u16,
     decal: bool,
+    /// Row-invariant slopes: dZ (Q26.12) and dI per channel (Q9.12) per pixel.
+    dz: i64,
+    di: [i64; 3],
 }
 
 impl TriSetup {
@@ -244,6 +297,8 @@ impl TriSetup {
         let row_max = (ymax - half).div_euclid(SUBPIXEL_ONE as i64);
         Ok(Some(TriSetup {
             edges,
+            dz: zp.ddx_per_px(Z_FRAC),
+            di: [c0.ddx_per_px(0), c1.ddx_per_px(0), c2.ddx_per_px(0)],
             z: zp,
             c: [c0, c1, c2],
             row_min,
@@ -283,30 +338,57 @@ impl TriSetup {
     /// The OP span word of row `j`, or `None` if the row covers no pixel centre.
     pub fn span(&self, j: i64, width: u32) -> Option<SpanWord> {
         let (xl, xr) = self.columns(j, width)?;
-        let one = SUBPIXEL_ONE as i64;
-        let yc = j * one + one / 2;
-        let single = xl == xr;
-        // Row origin: the plane at the centre of column 0, rounded once; then
-        // value(p) = origin + p·d. Every span of one plane on one row thus gives the same
-        // value at the same pixel, whatever its XL (a decal ties exactly with its face).
-        let x0 = one / 2;
-        let dz_r = self.z.ddx_per_px(Z_FRAC);
-        let zl = self.z.at(x0, yc, Z_FRAC) + xl * dz_r;
-        let dz = if single { 0 } else { dz_r };
-        let mut il = [0u32; 3];
-        let mut di = [0i32; 3];
-        for k in 0..3 {
-            // Vertex intensities are already Q8.12: no extra fractional bits.
-            let d = self.c[k].ddx_per_px(0);
-            il[k] = (self.c[k].at(x0, yc, 0) + xl * d).clamp(0, (1 << IL_BITS) - 1) as u32;
-            di[k] = if single { 0 } else { d as i32 };
+        let yc = j * SUBPIXEL_ONE as i64 + (SUBPIXEL_ONE / 2) as i64;
+        let x0 = (SUBPIXEL_ONE / 2) as i64;
+        let c0 = [0, 1, 2].map(|k| self.c[k].at(x0, yc, 0));
+        Some(self.word(xl, xr, self.z.at(x0, yc, Z_FRAC), c0))
+    }
+
+    /// Calls `f(row, word)` for every row `0..height` the triangle covers, top to bottom.
+    /// Same words as [`TriSetup::span`], with the per-row plane origins stepped exactly
+    /// (additions only) instead of divided afresh.
+    pub fn for_each_span(&self, width: u32, height: u32, mut f: impl FnMut(u32, SpanWord)) {
+        let first = self.row_min.max(0);
+        let last = self.row_max.min(height as i64 - 1);
+        if first > last {
+            return;
         }
+        let x0 = (SUBPIXEL_ONE / 2) as i64;
+        let mut zr = self.z.rows(x0, first, Z_FRAC);
+        let mut cr = [0, 1, 2].map(|k| self.c[k].rows(x0, first, 0));
+        for j in first..=last {
+            if let Some((xl, xr)) = self.columns(j, width) {
+                let w = self.word(xl, xr, zr.value(), cr.map(|r| r.value()));
+                debug_assert_eq!(Some(w), self.span(j, width));
+                f(j as u32, w);
+            }
+            zr.step();
+            for r in &mut cr {
+                r.step();
+            }
+        }
+    }
+
+    /// Builds the word from the row origins `Z0` (Q24.12) and `C0` (Q8.12) at the centre of
+    /// column 0: `ZL = Z0 + XL·dZ`, `IL = C0 + XL·dI`. Every span of one plane on one row
+    /// thus gives the same value at the same pixel, whatever its XL (a pattern ties exactly
+    /// with its face). A one-pixel span is sent with zero slopes (its value is unchanged).
+    #[inline]
+    fn word(&self, xl: i64, xr: i64, z0: i64, c0: [i64; 3]) -> SpanWord {
+        let single = xl == xr;
+        let zl = z0 + xl * self.dz;
+        let il = [0, 1, 2].map(|k| (c0[k] + xl * self.di[k]).clamp(0, (1 << IL_BITS) - 1) as u32);
+        let di = if single {
+            [0; 3]
+        } else {
+            self.di.map(|d| d as i32)
+        };
         let w = SpanWord {
             attr: Attr::Op,
             xl: xl as u16,
             xr: xr as u16,
             zl: zl.max(0) as u64,
-            dz,
+            dz: if single { 0 } else { self.dz },
             il,
             di,
             tag: self.tag,
@@ -315,10 +397,10 @@ impl TriSetup {
         };
         debug_assert!(w.check().is_ok(), "span word out of range: {w:?}");
         debug_assert!(
-            dz.abs() < 1 << (DZ_BITS - 1) && di.iter().all(|d| d.abs() < 1 << (DI_BITS - 1))
+            w.dz.abs() < 1 << (DZ_BITS - 1) && di.iter().all(|d| d.abs() < 1 << (DI_BITS - 1))
         );
         debug_assert!(w.z_at(xr) < pixelproc_formats::Z_FAR);
-        Some(w)
+        w
     }
 
     /// Depth of the triangle's plane at a pixel centre, Q24.12 (for debug images and tests).
