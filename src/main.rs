@@ -7,8 +7,17 @@ use clap::{Args, Parser, Subcommand};
 use pixelproc_sim::pipeline::{render, Image, RenderOutput};
 use pixelproc_sim::plan::{AaMethod, Aov, Effects, Overrides};
 use pixelproc_sim::scene::{self, LoadedScene};
+use pixelproc_sim::shadow::ShadowForm;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
+
+/// `println!` that ignores a closed stdout (e.g. piped into `head`) instead of panicking.
+macro_rules! say {
+    ($($t:tt)*) => {{
+        use std::io::Write;
+        let _ = writeln!(std::io::stdout(), $($t)*);
+    }};
+}
 
 #[derive(Parser)]
 #[command(
@@ -44,6 +53,10 @@ struct EffectArgs {
     /// Number of processors in the array (a wider line is processed in tiles).
     #[arg(long, value_name = "N")]
     array_width: Option<usize>,
+    /// How a shadow volume ends: `ev` (hardware: EV span, every processor checks) or
+    /// `check` (software form of seed 001: a dummy check span over the volume's range).
+    #[arg(long, value_name = "FORM", value_parser = ["ev", "check"])]
+    shadow_form: Option<String>,
 }
 
 #[derive(Args)]
@@ -94,6 +107,10 @@ fn overrides(fx: &EffectArgs, aovs: &[String]) -> Result<Overrides> {
             .map(|a| Aov::parse(a))
             .collect::<Result<_, _>>()?,
         array_width: fx.array_width,
+        shadow_form: fx.shadow_form.as_deref().map(|f| match f {
+            "check" => ShadowForm::Check,
+            _ => ShadowForm::Ev,
+        }),
     })
 }
 
@@ -141,9 +158,9 @@ fn scene_stem(spec: &str) -> String {
 fn print_timings(out: &RenderOutput) {
     let total: Duration = out.timings.iter().map(|t| t.1).sum();
     for (st, d) in &out.timings {
-        println!("  {:<34} {:>9.2} ms", st.to_string(), d.as_secs_f64() * 1e3);
+        say!("  {:<34} {:>9.2} ms", st.to_string(), d.as_secs_f64() * 1e3);
     }
-    println!("  {:<34} {:>9.2} ms", "total", total.as_secs_f64() * 1e3);
+    say!("  {:<34} {:>9.2} ms", "total", total.as_secs_f64() * 1e3);
 }
 
 fn cmd_render(a: &RenderArgs) -> Result<()> {
@@ -157,7 +174,7 @@ fn cmd_render(a: &RenderArgs) -> Result<()> {
         bail!("output {} must end in .png", out_path.display());
     }
     let out = render(&ls, &fx)?;
-    println!(
+    say!(
         "rendered {} ({}x{}, {} triangles, {} span words, aa {}, array width {})",
         ls.name,
         ls.scene.width,
@@ -167,14 +184,23 @@ fn cmd_render(a: &RenderArgs) -> Result<()> {
         fx.aa.name(),
         fx.array_width
     );
+    if !fx.shadow_lights.is_empty() {
+        say!(
+            "shadows: lights {:?}, {} volumes ({} contain the eye), {} shadow span words",
+            fx.shadow_lights,
+            out.shadow.volumes,
+            out.shadow.eye_inside,
+            out.shadow.span_words
+        );
+    }
     print_timings(&out);
     write_png(&out_path, &out.image)?;
-    println!("wrote {}", out_path.display());
+    say!("wrote {}", out_path.display());
     for (aov, img) in &out.aovs {
         let stem = out_path.file_stem().unwrap().to_string_lossy();
         let p = out_path.with_file_name(format!("{stem}.{}.png", aov.name()));
         write_png(&p, img)?;
-        println!("wrote {}", p.display());
+        say!("wrote {}", p.display());
     }
     Ok(())
 }
@@ -190,7 +216,7 @@ fn cmd_bench(a: &BenchArgs) -> Result<()> {
     for _ in 0..a.runs {
         runs.push(render(&ls, &fx)?);
     }
-    println!(
+    say!(
         "bench {} ({}x{}, {} triangles, aa {}): median of {} runs after 1 warm-up, {} threads",
         ls.name,
         ls.scene.width,
@@ -206,14 +232,14 @@ fn cmd_bench(a: &BenchArgs) -> Result<()> {
     };
     for (k, (st, _)) in first.timings.iter().enumerate() {
         let m = median(runs.iter().map(|r| r.timings[k].1.as_secs_f64()).collect());
-        println!("  {:<34} {:>9.2} ms", st.to_string(), m * 1e3);
+        say!("  {:<34} {:>9.2} ms", st.to_string(), m * 1e3);
     }
     let tot = median(
         runs.iter()
             .map(|r| r.timings.iter().map(|t| t.1.as_secs_f64()).sum())
             .collect(),
     );
-    println!("  {:<34} {:>9.2} ms", "total", tot * 1e3);
+    say!("  {:<34} {:>9.2} ms", "total", tot * 1e3);
     Ok(())
 }
 
@@ -228,6 +254,7 @@ fn main() {
                 aa: None,
                 no_shadows: false,
                 array_width: None,
+                shadow_form: None,
             },
         }),
         Some(Cmd::Render(a)) => cmd_render(a),

@@ -24,7 +24,9 @@ pub fn boxes_scene() -> (String, BTreeMap<String, String>) {
             .wrapping_add(1442695040888963407);
         ((seed >> 33) as f64) / ((1u64 << 31) as f64)
     };
-    let mut meshes = vec![r#"{"obj": "ground.obj", "color": [0.55, 0.6, 0.5]}"#.to_string()];
+    let mut meshes = vec![
+        r#"{"obj": "ground.obj", "color": [0.55, 0.6, 0.5], "casts_shadows": false}"#.to_string(),
+    ];
     for m in 0..MESHES {
         let mut obj = String::new();
         for b in 0..BOXES_PER_MESH {

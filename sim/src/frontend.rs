@@ -240,7 +240,14 @@ fn project_screen(ls: &LoadedScene) -> Result<Projected, FrontError> {
             z: snapped_pos[h].1,
         });
         let tag = t.tag.unwrap_or(((k + 1) % 65536) as u16);
-        out.tris.push(SnappedTri { v, z, c, tag, host });
+        out.tris.push(SnappedTri {
+            v,
+            z,
+            c,
+            tag,
+            host,
+            nclass: 0,
+        });
         out.origin.push(Origin::Screen(k));
     }
     Ok(out)
@@ -259,6 +266,7 @@ fn emit(
     wt: &WorldTri,
     tag: u16,
     host: Option<HostPlane>,
+    nclass: u8,
 ) -> Result<Vec<SnappedTri>, SetupError> {
     let poly: Vec<ClipVert> = (0..3)
         .map(|i| ClipVert {
@@ -285,6 +293,7 @@ fn emit(
             c: [a.2, b.2, c.2],
             tag,
             host,
+            nclass,
         });
     }
     Ok(out)
@@ -306,10 +315,13 @@ fn project_3d(ls: &LoadedScene) -> Result<Projected, FrontError> {
                 None => fnorm,
             };
             let a = [0, 1, 2].map(|k| lambert(ls, p[k], n(k), mr.color));
-            let tris = emit(&pj, &WorldTri { p, a }, tag, None).map_err(|e| FrontError::Setup {
-                index: out.tris.len(),
-                source: e,
-            })?;
+            let tris =
+                emit(&pj, &WorldTri { p, a }, tag, None, normal_class(fnorm)).map_err(|e| {
+                    FrontError::Setup {
+                        index: out.tris.len(),
+                        source: e,
+                    }
+                })?;
             if tris.is_empty() {
                 out.clipped_away += 1;
             }
@@ -358,11 +370,17 @@ fn project_3d(ls: &LoadedScene) -> Result<Projected, FrontError> {
             for i in 1..piece.len() - 1 {
                 let tri = [piece[0], piece[i], piece[i + 1]];
                 let a = tri.map(|q| lambert(ls, q, n, pat.color));
-                let tris = emit(&pj, &WorldTri { p: tri, a }, 0x8000 | k as u16, Some(hp))
-                    .map_err(|e| FrontError::Setup {
-                        index: out.tris.len(),
-                        source: e,
-                    })?;
+                let tris = emit(
+                    &pj,
+                    &WorldTri { p: tri, a },
+                    0x8000 | k as u16,
+                    Some(hp),
+                    normal_class(n),
+                )
+                .map_err(|e| FrontError::Setup {
+                    index: out.tris.len(),
+                    source: e,
+                })?;
                 for st in tris {
                     out.tris.push(st);
                     out.origin.push(Origin::Pattern(k));
@@ -393,4 +411,43 @@ fn clip_halfspace(poly: &[DVec3], d: impl Fn(DVec3) -> f64) -> Vec<DVec3> {
         }
     }
     out
+}
+
+/// Side of the octahedral grid of normal classes: 16 × 16 = 256 classes (an 8-bit `nclass`).
+pub const NCLASS_GRID: u32 = 16;
+
+/// Quantizes a unit normal to one of 256 classes (octahedral map, 16 × 16 cells): the
+/// "coarsely quantized normal class" of seed 001 §6.
+pub fn normal_class(n: DVec3) -> u8 {
+    let n = n.normalize_or_zero();
+    let l1 = n.x.abs() + n.y.abs() + n.z.abs();
+    if l1 == 0.0 {
+        return 0;
+    }
+    let (mut u, mut v) = (n.x / l1, n.z / l1);
+    if n.y < 0.0 {
+        let (ou, ov) = (u, v);
+        u = (1.0 - ov.abs()) * ou.signum();
+        v = (1.0 - ou.abs()) * ov.signum();
+    }
+    let g = NCLASS_GRID as f64;
+    let cell = |t: f64| (((t + 1.0) * 0.5 * g).floor() as i64).clamp(0, g as i64 - 1) as u32;
+    (cell(v) * NCLASS_GRID + cell(u)) as u8
+}
+
+/// The unit normal at the centre of class `c` (inverse of [`normal_class`]).
+pub fn class_normal(c: u8) -> DVec3 {
+    let g = NCLASS_GRID as f64;
+    let (cu, cv) = (
+        (c as u32 % NCLASS_GRID) as f64,
+        (c as u32 / NCLASS_GRID) as f64,
+    );
+    let (u, v) = ((cu + 0.5) / g * 2.0 - 1.0, (cv + 0.5) / g * 2.0 - 1.0);
+    let y = 1.0 - u.abs() - v.abs();
+    let (x, z) = if y < 0.0 {
+        ((1.0 - v.abs()) * u.signum(), (1.0 - u.abs()) * v.signum())
+    } else {
+        (u, v)
+    };
+    DVec3::new(x, y, z).normalize()
 }

@@ -15,3 +15,4 @@ pub mod plan;
 pub mod render;
 pub mod scene;
 pub mod setup;
+pub mod shadow;

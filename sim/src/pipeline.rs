@@ -1,10 +1,12 @@
 //! Runs a plan: the stages [`crate::plan::plan`] lists, in order, each timed.
 
 use crate::frontend::{self, FrontError, Projected};
+use crate::pixel_array::Command;
 use crate::plan::{plan, Aov, Effects, Stage};
 use crate::render::{render_frame, Frame, SpanSource};
 use crate::scene::LoadedScene;
 use crate::setup::SetupError;
+use crate::shadow::{self, FactorTable, ShadowError, ShadowLight, ShadowStats};
 use std::time::{Duration, Instant};
 use thiserror::Error;
 
@@ -17,6 +19,9 @@ pub enum RenderError {
     /// Setup failure.
     #[error(transparent)]
     Setup(#[from] SetupError),
+    /// Shadow failure.
+    #[error(transparent)]
+    Shadow(#[from] ShadowError),
 }
 
 /// An 8-bit image.
@@ -45,6 +50,10 @@ pub struct RenderOutput {
     pub triangles: usize,
     /// Span words generated (OP spans over all rows).
     pub span_words: u64,
+    /// Shadow statistics (zero without shadows).
+    pub shadow: ShadowStats,
+    /// The array's final per-pixel state (depth, flags, light mask, counter).
+    pub frame: Frame,
 }
 
 /// Renders a loaded scene with the given effects.
@@ -59,6 +68,10 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
     let mut src: Option<SpanSource> = None;
     let mut frame: Option<Frame> = None;
     let mut aovs = Vec::new();
+    let lights: Vec<ShadowLight> = shadow::shadow_lights(ls, &fx.shadow_lights)?;
+    let mut shadow_rows: Vec<Vec<Command>> = vec![Vec::new(); h as usize];
+    let mut shadow_stats = ShadowStats::default();
+    let mut table: Option<FactorTable> = None;
     for stage in plan(fx) {
         let t0 = Instant::now();
         match &stage {
@@ -67,13 +80,36 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
                 let p = projected.as_ref().expect("front end runs first");
                 src = Some(SpanSource::new(&p.tris, w, h)?);
             }
+            Stage::ShadowVolumes { light } => {
+                let pj = frontend::Projector::new(ls);
+                let l: Vec<ShadowLight> = lights
+                    .iter()
+                    .filter(|x| x.index == *light)
+                    .cloned()
+                    .collect();
+                let sc = shadow::shadow_commands(ls, &pj, &l, fx.shadow_form)?;
+                for (dst, src) in shadow_rows.iter_mut().zip(sc.rows) {
+                    dst.extend(src);
+                }
+                shadow_stats.volumes += sc.stats.volumes;
+                shadow_stats.span_words += sc.stats.span_words;
+                shadow_stats.eye_inside += sc.stats.eye_inside;
+            }
             Stage::PixelArray => {
                 let s = src.as_ref().expect("setup runs first");
-                frame = Some(render_frame(s, bg, fx.array_width, |_, _| {}));
+                let rows = &shadow_rows;
+                frame = Some(render_frame(s, bg, fx.array_width, |j, cmds| {
+                    cmds.extend_from_slice(&rows[j as usize])
+                }));
+            }
+            Stage::ShadowShade => {
+                let t = FactorTable::new(ls, &lights);
+                shadow::shade(&mut frame.as_mut().expect("array runs first").px, &t);
+                table = Some(t);
             }
             Stage::Aov(a) => {
                 let f = frame.as_ref().expect("array runs first");
-                aovs.push((*a, aov_image(*a, f)));
+                aovs.push((*a, aov_image(*a, f, table.as_ref())));
             }
         }
         timings.push((stage, t0.elapsed()));
@@ -91,11 +127,13 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
         timings,
         triangles: projected.map(|p| p.tris.len()).unwrap_or(0),
         span_words,
+        shadow: shadow_stats,
+        frame: f,
     })
 }
 
 /// A debug image from the array's state.
-fn aov_image(a: Aov, f: &Frame) -> Image {
+fn aov_image(a: Aov, f: &Frame, table: Option<&FactorTable>) -> Image {
     let data: Vec<u8> = match a {
         // Depth: near = bright, background = black; scaled to the frame's range.
         Aov::Depth => {
@@ -118,7 +156,12 @@ fn aov_image(a: Aov, f: &Frame) -> Image {
                 })
                 .collect()
         }
-        Aov::Shadow => f.px.iter().map(|s| if s.fsf { 255 } else { 0 }).collect(),
+        // Shadowed fraction of the lights (penumbra for an area light); 0 without shadows.
+        Aov::Shadow => {
+            f.px.iter()
+                .map(|s| table.map(|t| t.shadow_level(s)).unwrap_or(0))
+                .collect()
+        }
         Aov::Coverage => {
             f.px.iter()
                 .map(|s| {

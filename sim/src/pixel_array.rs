@@ -18,6 +18,10 @@
 //!   then afterwards `FSF := FSF ∨ DSF`. Z and intensity registers are never touched.
 //! - Counter (section 6, extended light source): `AccumulateShadow` adds FSF to the
 //!   per-pixel counter; `ClearFlags` starts the next point light with DSF = FSF = 0.
+//! - Several lights (section 6): `LatchShadow { bit }` records FSF in the pixel's light
+//!   mask; the OP write also stores the span's normal class, which with the mask indexes
+//!   the attenuation table at readout (`crate::shadow::FactorTable`).
+//! - Software form (section 5): `Check { xl, xr }` replaces EV, checking only its range.
 
 use pixelproc_formats::{Attr, SpanWord, Z_FAR};
 
@@ -34,8 +38,22 @@ pub enum Command {
     Span(SpanWord),
     /// Start the shadow volumes of the next point light: `DSF := 0; FSF := 0`.
     ClearFlags,
-    /// End of one point light's volumes: `count := count + FSF` (saturating at 255).
+    /// End of one sample of an area light: `count := count + FSF` (saturating at 255).
     AccumulateShadow,
+    /// End of a point light's volumes: `mask := mask | (FSF << bit)` (seed 001 §6, several
+    /// lights: which lights shadow the pixel).
+    LatchShadow {
+        /// The light's bit in the mask, 0..7.
+        bit: u8,
+    },
+    /// The software form of seed 001 §5: instead of EV, a dummy check span after a
+    /// volume's spans; `FSF := FSF ∨ DSF` only for `XL ≤ p ≤ XR`.
+    Check {
+        /// First pixel checked.
+        xl: u16,
+        /// Last pixel checked.
+        xr: u16,
+    },
     /// No operation (a bubble).
     Nop,
 }
@@ -53,6 +71,10 @@ pub struct ProcState {
     pub fsf: bool,
     /// Number of point lights that shadow this pixel (area lights, section 6).
     pub count: u8,
+    /// Which point lights shadow this pixel, one bit per light (section 6).
+    pub mask: u8,
+    /// Normal class of the visible surface (from the span word's `nclass`, section 6).
+    pub nclass: u8,
 }
 
 /// A row of `width` pixel processors owning screen columns `base .. base + width`.
@@ -106,9 +128,7 @@ impl PixelArray {
                     *s = ProcState {
                         zb: Z_FAR,
                         rgb: bg,
-                        dsf: false,
-                        fsf: false,
-                        count: 0,
+                        ..Default::default()
                     };
                 }
             }
@@ -121,6 +141,23 @@ impl PixelArray {
             Command::AccumulateShadow => {
                 for s in &mut self.procs {
                     s.count = s.count.saturating_add(s.fsf as u8);
+                }
+            }
+            Command::LatchShadow { bit } => {
+                for s in &mut self.procs {
+                    s.mask |= (s.fsf as u8) << (bit & 7);
+                }
+            }
+            Command::Check { xl, xr } => {
+                let w = SpanWord {
+                    xl,
+                    xr,
+                    ..Default::default()
+                };
+                if let Some((lo, hi)) = self.tile_range(&w) {
+                    for s in &mut self.procs[lo..=hi] {
+                        s.fsf |= s.dsf;
+                    }
                 }
             }
             Command::Nop => {}
@@ -160,6 +197,7 @@ impl PixelArray {
             let pass = if w.decal { zp <= s.zb } else { zp < s.zb };
             if pass {
                 s.zb = zp;
+                s.nclass = w.nclass;
                 let ch = |v: i64| (v >> pixelproc_formats::I_FRAC).clamp(0, 255) as u32;
                 s.rgb = (ch(c[0]) << 16) | (ch(c[1]) << 8) | ch(c[2]);
             }

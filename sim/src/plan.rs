@@ -75,6 +75,8 @@ pub struct Overrides {
     pub aa: Option<AaMethod>,
     /// `--no-shadows`.
     pub no_shadows: bool,
+    /// `--shadow-form check`: the software form of seed 001 §5.
+    pub shadow_form: Option<crate::shadow::ShadowForm>,
     /// `--aov` requests.
     pub aovs: Vec<Aov>,
     /// `--array-width N`.
@@ -99,6 +101,8 @@ pub struct Effects {
     pub aovs: Vec<Aov>,
     /// Processors in the array.
     pub array_width: usize,
+    /// How a shadow volume's end is marked (EV in hardware, a check span in software).
+    pub shadow_form: crate::shadow::ShadowForm,
 }
 
 impl Effects {
@@ -138,6 +142,7 @@ impl Effects {
             interpenetrating: s.effects.interpenetrating,
             aovs,
             array_width,
+            shadow_form: ov.shadow_form.unwrap_or_default(),
         })
     }
 }
@@ -165,8 +170,16 @@ pub enum Stage {
     FrontEnd,
     /// Span setup: triangles to span words, binned by scanline.
     SpanSetup,
-    /// The pixel-processor array expands OP spans (Z test, intensity).
+    /// Shadow volumes of one light (all its samples) to shadow span words (seed 001).
+    ShadowVolumes {
+        /// Index of the light in the scene.
+        light: usize,
+    },
+    /// The pixel-processor array expands OP spans (Z test, intensity), then any shadow
+    /// spans (DSF/FSF parity, counters).
     PixelArray,
+    /// Intensity correction from the shadow flags (seed 001 §2, §6 table).
+    ShadowShade,
     /// Writes a debug image.
     Aov(Aov),
 }
@@ -176,7 +189,9 @@ impl fmt::Display for Stage {
         match self {
             Stage::FrontEnd => write!(f, "front end (project, clip, snap)"),
             Stage::SpanSetup => write!(f, "span setup"),
+            Stage::ShadowVolumes { light } => write!(f, "shadow volumes, light {light}"),
             Stage::PixelArray => write!(f, "pixel-processor array"),
+            Stage::ShadowShade => write!(f, "shadow shading"),
             Stage::Aov(a) => write!(f, "aov {}", a.name()),
         }
     }
@@ -184,7 +199,14 @@ impl fmt::Display for Stage {
 
 /// The stages that render a scene with the given effects.
 pub fn plan(e: &Effects) -> Vec<Stage> {
-    let mut st = vec![Stage::FrontEnd, Stage::SpanSetup, Stage::PixelArray];
+    let mut st = vec![Stage::FrontEnd, Stage::SpanSetup];
+    for &l in &e.shadow_lights {
+        st.push(Stage::ShadowVolumes { light: l });
+    }
+    st.push(Stage::PixelArray);
+    if !e.shadow_lights.is_empty() {
+        st.push(Stage::ShadowShade);
+    }
     for a in &e.aovs {
         st.push(Stage::Aov(*a));
     }

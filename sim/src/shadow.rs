@@ -1,0 +1,632 @@
+//! Shadows by span parity (seed 001, Matsumoto, "hardware-oriented fast shadow
+//! generation").
+//!
+//! - §2 (basic idea): after the ordinary spans of a scanline, the spans of shadow polygons
+//!   (Crow 1977 shadow volumes) are expanded volume after volume, touching only flags.
+//! - §3 (span data): shadow spans carry attr SP, EV (last span of a volume) or IF (also
+//!   inverts DSF on every pixel: the viewer is inside the volume).
+//! - §4 (per-pixel program): implemented in [`crate::pixel_array`].
+//! - §5 (cautions): joints of one volume's polygons must not be counted twice. Here shadow
+//!   polygons go through the same span setup as ordinary ones, whose top-left rule at pixel
+//!   centres *is* a half-open convention: of two polygons sharing an edge exactly one takes a
+//!   centre on it. The software form (a dummy check span per volume instead of EV) is
+//!   [`ShadowForm::Check`].
+//! - §6 (extensions): an area light is `k` point lights on a disc with a per-pixel counter
+//!   (penumbra = count / k); several lights use a quantized normal class per pixel and a
+//!   table indexed by (normal class, which lights shadow the pixel) giving the factor that
+//!   multiplies the expanded intensity ([`FactorTable`]).
+//!
+//! **Volumes.** Each mesh that casts shadows is split into connected components. A closed
+//! convex component gives one volume: its silhouette edges (one adjacent face toward the
+//! light, one away) extruded to infinity (homogeneous w = 0), so no far cap is needed; the
+//! near cap is the caster itself, which no view ray crosses in front of a visible point. A
+//! component that is open or not convex (an L-shaped block) gives one volume per face
+//! (light-facing faces of a closed component, all faces of an open one): the silhouette
+//! extrusion of a non-convex solid can overlap itself (winding number 2), where parity would
+//! be wrong, while a triangle's volume never does. FSF ORs the volumes.
+//!
+//! **Viewer inside.** A volume contains the eye when the segment from the eye to the light
+//! crosses its occluder; its first span on every row is then IF (an empty IF span on rows
+//! where it has none). Known limit of z-pass counting: where the near plane cuts a volume's
+//! boundary, crossings between the eye and the near plane are lost.
+
+use crate::frontend::{class_normal, ClipVert, Projector};
+use crate::pixel_array::{Command, ProcState};
+use crate::scene::LoadedScene;
+use crate::setup::{SetupError, SnappedTri, TriSetup};
+use glam::{DVec3, DVec4};
+use pixelproc_formats::{Attr, SpanWord, Z_FAR};
+use rayon::prelude::*;
+use std::collections::HashMap;
+use thiserror::Error;
+
+/// How a volume's end is marked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ShadowForm {
+    /// Hardware form: the last span of a volume has attr EV (every processor checks DSF).
+    #[default]
+    Ev,
+    /// Software form (§5): a dummy check span over the volume's span range instead of EV.
+    Check,
+}
+
+/// Shadow errors.
+#[derive(Debug, Error)]
+pub enum ShadowError {
+    /// A shadow polygon does not fit the fixed-point formats.
+    #[error("shadow polygon: {0}")]
+    Setup(#[from] SetupError),
+    /// Unsupported light configuration.
+    #[error("{0}")]
+    Lights(String),
+}
+
+/// Largest number of shadowing point lights (bits of the per-pixel light mask).
+pub const MAX_SHADOW_LIGHTS: usize = 8;
+
+/// One light that casts shadows, with its point samples.
+#[derive(Clone, Debug)]
+pub struct ShadowLight {
+    /// Index in the scene's lights.
+    pub index: usize,
+    /// Point lights sampling it (one for a point light).
+    pub samples: Vec<DVec3>,
+    /// Bit in the per-pixel light mask (point lights) or `None` (the area light's counter).
+    pub bit: Option<u8>,
+}
+
+/// Area-light sample positions: `k` points on a disc of radius `r` centred at `c`, facing
+/// `towards` (Vogel spiral, deterministic).
+pub fn disc_samples(c: DVec3, r: f64, k: u32, towards: DVec3) -> Vec<DVec3> {
+    let n = (towards - c).normalize_or(DVec3::NEG_Y);
+    let a = if n.x.abs() < 0.9 { DVec3::X } else { DVec3::Y };
+    let u = n.cross(a).normalize();
+    let v = n.cross(u);
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    (0..k)
+        .map(|i| {
+            let rad = r * ((i as f64 + 0.5) / k as f64).sqrt();
+            let th = i as f64 * golden;
+            c + u * (rad * th.cos()) + v * (rad * th.sin())
+        })
+        .collect()
+}
+
+/// Scene centre: the middle of all mesh vertices' bounding box.
+pub fn scene_centre(ls: &LoadedScene) -> DVec3 {
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for m in &ls.meshes {
+        for p in &m.positions {
+            lo = lo.min(DVec3::from(*p));
+            hi = hi.max(DVec3::from(*p));
+        }
+    }
+    if lo.x.is_finite() {
+        (lo + hi) * 0.5
+    } else {
+        DVec3::ZERO
+    }
+}
+
+/// The shadowing lights of a scene for the given light indices: point lights get mask
+/// bits; at most one area light (radius > 0) uses the per-pixel counter.
+pub fn shadow_lights(ls: &LoadedScene, which: &[usize]) -> Result<Vec<ShadowLight>, ShadowError> {
+    let centre = scene_centre(ls);
+    let mut out = Vec::new();
+    let (mut bits, mut areas) = (0u8, 0);
+    for &i in which {
+        let l = &ls.scene.lights[i];
+        let p = DVec3::from(l.position);
+        if l.radius > 0.0 {
+            areas += 1;
+            if areas > 1 {
+                return Err(ShadowError::Lights(
+                    "at most one area light may cast shadows (one per-pixel counter)".into(),
+                ));
+            }
+            let k = l.samples.unwrap_or(8);
+            out.push(ShadowLight {
+                index: i,
+                samples: disc_samples(p, l.radius, k, centre),
+                bit: None,
+            });
+        } else {
+            if bits as usize == MAX_SHADOW_LIGHTS {
+                return Err(ShadowError::Lights(format!(
+                    "at most {MAX_SHADOW_LIGHTS} point lights may cast shadows (the light mask is 8 bits)"
+                )));
+            }
+            out.push(ShadowLight {
+                index: i,
+                samples: vec![p],
+                bit: Some(bits),
+            });
+            bits += 1;
+        }
+    }
+    Ok(out)
+}
+
+/// An occluder in world space: triangles and, per volume, the polygons to extrude.
+#[derive(Clone, Debug)]
+pub struct Occluder {
+    /// Faces of the component (for the eye-inside test).
+    pub faces: Vec<[DVec3; 3]>,
+    /// Closed and convex: one silhouette volume; else one volume per face.
+    pub convex_closed: bool,
+    /// Closed (every edge shared by exactly two faces).
+    pub closed: bool,
+    /// Welded edges: vertex pairs and their adjacent faces.
+    edges: Vec<([DVec3; 2], Vec<usize>)>,
+}
+
+/// Splits every shadow-casting mesh into connected components.
+pub fn occluders(ls: &LoadedScene) -> Vec<Occluder> {
+    let mut out = Vec::new();
+    for (m, mr) in ls.meshes.iter().zip(&ls.scene.meshes) {
+        if !mr.casts_shadows {
+            continue;
+        }
+        // Weld positions bit-exactly.
+        let mut ids: HashMap<[u64; 3], usize> = HashMap::new();
+        let mut pos = Vec::new();
+        let mut weld = |p: [f64; 3]| {
+            *ids.entry(p.map(f64::to_bits)).or_insert_with(|| {
+                pos.push(DVec3::from(p));
+                pos.len() - 1
+            })
+        };
+        let faces: Vec<[usize; 3]> = m
+            .triangles
+            .iter()
+            .map(|t| t.map(|i| weld(m.positions[i as usize])))
+            .filter(|f| f[0] != f[1] && f[1] != f[2] && f[0] != f[2])
+            .collect();
+        let mut edge_faces: HashMap<(usize, usize), Vec<usize>> = HashMap::new();
+        for (fi, f) in faces.iter().enumerate() {
+            for k in 0..3 {
+                let (a, b) = (f[k], f[(k + 1) % 3]);
+                edge_faces.entry((a.min(b), a.max(b))).or_default().push(fi);
+            }
+        }
+        // Union-find over faces sharing an edge.
+        let mut parent: Vec<usize> = (0..faces.len()).collect();
+        fn find(p: &mut [usize], x: usize) -> usize {
+            let mut r = x;
+            while p[r] != r {
+                r = p[r];
+            }
+            let mut y = x;
+            while p[y] != r {
+                let n = p[y];
+                p[y] = r;
+                y = n;
+            }
+            r
+        }
+        for fs in edge_faces.values() {
+            for w in fs.windows(2) {
+                let (a, b) = (find(&mut parent, w[0]), find(&mut parent, w[1]));
+                parent[a] = b;
+            }
+        }
+        let mut comps: HashMap<usize, Vec<usize>> = HashMap::new();
+        for fi in 0..faces.len() {
+            let r = find(&mut parent, fi);
+            comps.entry(r).or_default().push(fi);
+        }
+        let mut roots: Vec<usize> = comps.keys().copied().collect();
+        roots.sort_unstable();
+        for r in roots {
+            let fl = &comps[&r];
+            let local: HashMap<usize, usize> =
+                fl.iter().enumerate().map(|(k, &f)| (f, k)).collect();
+            let tri = |f: usize| faces[f].map(|i| pos[i]);
+            let mut edges = Vec::new();
+            let mut closed = true;
+            let mut keys: Vec<&(usize, usize)> = edge_faces
+                .keys()
+                .filter(|e| local.contains_key(&edge_faces[e][0]))
+                .collect();
+            keys.sort_unstable();
+            for e in keys {
+                let fs: Vec<usize> = edge_faces[e].iter().map(|f| local[f]).collect();
+                closed &= fs.len() == 2;
+                edges.push(([pos[e.0], pos[e.1]], fs));
+            }
+            let ftris: Vec<[DVec3; 3]> = fl.iter().map(|&f| tri(f)).collect();
+            let verts: Vec<DVec3> = ftris.iter().flatten().copied().collect();
+            let scale = verts
+                .iter()
+                .fold(0.0f64, |s, v| s.max(v.abs().max_element()))
+                .max(1.0);
+            let convex = closed
+                && ftris.iter().all(|t| {
+                    let n = (t[1] - t[0]).cross(t[2] - t[0]);
+                    let len = n.length();
+                    len > 0.0 && {
+                        let n = n / len;
+                        let side = |v: &DVec3| (*v - t[0]).dot(n);
+                        let eps = 1e-9 * scale;
+                        verts.iter().all(|v| side(v) <= eps)
+                            || verts.iter().all(|v| side(v) >= -eps)
+                    }
+                });
+            out.push(Occluder {
+                faces: ftris,
+                convex_closed: convex,
+                closed,
+                edges,
+            });
+        }
+    }
+    out
+}
+
+fn facing(t: &[DVec3; 3], light: DVec3) -> f64 {
+    let n = (t[1] - t[0]).cross(t[2] - t[0]);
+    n.dot(light - (t[0] + t[1] + t[2]) / 3.0)
+}
+
+/// Segment–triangle intersection (Möller–Trumbore), strictly inside `(0, 1)` of the segment.
+fn segment_hits(p: DVec3, q: DVec3, t: &[DVec3; 3]) -> bool {
+    let d = q - p;
+    let (e1, e2) = (t[1] - t[0], t[2] - t[0]);
+    let h = d.cross(e2);
+    let a = e1.dot(h);
+    if a.abs() < 1e-14 {
+        return false;
+    }
+    let f = 1.0 / a;
+    let s = p - t[0];
+    let u = f * s.dot(h);
+    if !(0.0..=1.0).contains(&u) {
+        return false;
+    }
+    let qv = s.cross(e1);
+    let v = f * d.dot(qv);
+    if v < 0.0 || u + v > 1.0 {
+        return false;
+    }
+    let tt = f * e2.dot(qv);
+    tt > 1e-9 && tt < 1.0 - 1e-9
+}
+
+/// One shadow volume: polygons as world points (w = 1) and directions (w = 0), and whether
+/// the eye is inside it.
+#[derive(Clone, Debug)]
+pub struct Volume {
+    /// Polygons, homogeneous world coordinates.
+    pub polys: Vec<Vec<DVec4>>,
+    /// The eye lies inside the volume (its spans start with IF).
+    pub eye_inside: bool,
+}
+
+fn extrude(a: DVec3, b: DVec3, light: DVec3) -> Vec<DVec4> {
+    vec![
+        a.extend(1.0),
+        b.extend(1.0),
+        (b - light).extend(0.0),
+        (a - light).extend(0.0),
+    ]
+}
+
+/// The volumes of every occluder for one point light.
+pub fn volumes(occ: &[Occluder], light: DVec3, eye: DVec3) -> Vec<Volume> {
+    let mut out = Vec::new();
+    for o in occ {
+        if o.convex_closed {
+            let front: Vec<bool> = o.faces.iter().map(|t| facing(t, light) > 0.0).collect();
+            let polys: Vec<Vec<DVec4>> = o
+                .edges
+                .iter()
+                .filter(|(_, fs)| front[fs[0]] != front[fs[1]])
+                .map(|(e, _)| extrude(e[0], e[1], light))
+                .collect();
+            if polys.is_empty() {
+                continue;
+            }
+            let eye_inside = o.faces.iter().any(|t| segment_hits(eye, light, t));
+            out.push(Volume { polys, eye_inside });
+        } else {
+            for t in &o.faces {
+                let f = facing(t, light);
+                let n = (t[1] - t[0]).cross(t[2] - t[0]).length();
+                if f.abs() <= 1e-12 * n * (light - t[0]).length() || (o.closed && f < 0.0) {
+                    continue;
+                }
+                let polys = (0..3)
+                    .map(|k| extrude(t[k], t[(k + 1) % 3], light))
+                    .collect();
+                out.push(Volume {
+                    polys,
+                    eye_inside: segment_hits(eye, light, t),
+                });
+            }
+        }
+    }
+    out
+}
+
+/// Projects a volume's polygons (clip, snap) and returns its span words per row, in
+/// polygon order, each with attr SP.
+fn volume_spans(
+    pj: &Projector,
+    v: &Volume,
+    width: u32,
+    height: u32,
+) -> Result<Vec<(u32, SpanWord)>, SetupError> {
+    let mut spans = Vec::new();
+    for poly in &v.polys {
+        let cv: Vec<ClipVert> = poly
+            .iter()
+            .map(|p| ClipVert {
+                p: pj.view_proj * *p,
+                a: DVec3::ZERO,
+            })
+            .collect();
+        let clipped = pj.clip_polygon(cv);
+        if clipped.len() < 3 || clipped.iter().any(|c| c.p.w <= 0.0) {
+            continue;
+        }
+        let mut sv = Vec::with_capacity(clipped.len());
+        for c in &clipped {
+            let (x, y, z) = pj.to_screen(c.p);
+            sv.push((
+                [crate::setup::snap_coord(x)?, crate::setup::snap_coord(y)?],
+                crate::frontend::depth24(z),
+            ));
+        }
+        for i in 1..sv.len() - 1 {
+            let t = SnappedTri {
+                v: [sv[0].0, sv[i].0, sv[i + 1].0],
+                z: [sv[0].1, sv[i].1, sv[i + 1].1],
+                ..Default::default()
+            };
+            if let Some(s) = TriSetup::new(&t)? {
+                s.for_each_span(width, height, |j, mut w| {
+                    w.attr = Attr::Sp;
+                    w.il = [0; 3];
+                    w.di = [0; 3];
+                    spans.push((j, w));
+                });
+            }
+        }
+    }
+    spans.sort_by_key(|(j, _)| *j);
+    Ok(spans)
+}
+
+/// Statistics of the shadow stage.
+#[derive(Clone, Debug, Default)]
+pub struct ShadowStats {
+    /// Shadow volumes over all light samples.
+    pub volumes: usize,
+    /// Shadow span words (SP/EV/IF, including empty IF/EV words).
+    pub span_words: u64,
+    /// Volumes containing the eye.
+    pub eye_inside: usize,
+}
+
+/// Per-row shadow commands for the array, appended after the OP spans of each row.
+pub struct ShadowCommands {
+    /// Commands of row j.
+    pub rows: Vec<Vec<Command>>,
+    /// Statistics.
+    pub stats: ShadowStats,
+}
+
+/// Builds the shadow commands of all shadowing lights: per light sample, `ClearFlags`, the
+/// volumes' spans (first IF when the eye is inside, last EV or a `Check`), then
+/// `LatchShadow` (point light) or `AccumulateShadow` (area-light sample).
+pub fn shadow_commands(
+    ls: &LoadedScene,
+    pj: &Projector,
+    lights: &[ShadowLight],
+    form: ShadowForm,
+) -> Result<ShadowCommands, ShadowError> {
+    let (w, h) = (ls.scene.width, ls.scene.height);
+    let occ = occluders(ls);
+    let mut rows: Vec<Vec<Command>> = vec![Vec::new(); h as usize];
+    let mut stats = ShadowStats::default();
+    for l in lights {
+        for &s in &l.samples {
+            for r in rows.iter_mut() {
+                r.push(Command::ClearFlags);
+            }
+            let vols = volumes(&occ, s, pj.eye);
+            stats.volumes += vols.len();
+            stats.eye_inside += vols.iter().filter(|v| v.eye_inside).count();
+            let per_vol: Vec<Vec<(u32, SpanWord)>> = vols
+                .par_iter()
+                .map(|v| volume_spans(pj, v, w, h))
+                .collect::<Result<_, _>>()?;
+            for (v, spans) in vols.iter().zip(per_vol) {
+                let mut k = 0;
+                for j in 0..h {
+                    let start = k;
+                    while k < spans.len() && spans[k].0 == j {
+                        k += 1;
+                    }
+                    let row = &spans[start..k];
+                    if row.is_empty() && !v.eye_inside {
+                        continue;
+                    }
+                    let out = &mut rows[j as usize];
+                    let before = out.len();
+                    emit_volume_row(out, row.iter().map(|x| x.1), v.eye_inside, form, w);
+                    stats.span_words += (out.len() - before) as u64;
+                }
+            }
+            let end = match l.bit {
+                Some(bit) => Command::LatchShadow { bit },
+                None => Command::AccumulateShadow,
+            };
+            for r in rows.iter_mut() {
+                r.push(end);
+            }
+        }
+    }
+    Ok(ShadowCommands { rows, stats })
+}
+
+/// Appends one volume's commands for one row.
+fn emit_volume_row(
+    out: &mut Vec<Command>,
+    spans: impl Iterator<Item = SpanWord>,
+    eye_inside: bool,
+    form: ShadowForm,
+    width: u32,
+) {
+    let empty = SpanWord {
+        xl: 1,
+        xr: 0,
+        ..Default::default()
+    };
+    let start = out.len();
+    let (mut lo, mut hi) = (u16::MAX, 0u16);
+    for s in spans {
+        lo = lo.min(s.xl);
+        hi = hi.max(s.xr);
+        out.push(Command::Span(s));
+    }
+    if eye_inside {
+        match out.get_mut(start) {
+            Some(Command::Span(s)) => s.attr = Attr::If,
+            _ => out.push(Command::Span(SpanWord {
+                attr: Attr::If,
+                ..empty
+            })),
+        }
+    }
+    match form {
+        ShadowForm::Ev => {
+            let n = out.len() - start;
+            let last_is_plain =
+                n > 0 && matches!(out.last(), Some(Command::Span(s)) if s.attr == Attr::Sp);
+            if last_is_plain {
+                if let Some(Command::Span(s)) = out.last_mut() {
+                    s.attr = Attr::Ev;
+                }
+            } else {
+                out.push(Command::Span(SpanWord {
+                    attr: Attr::Ev,
+                    ..empty
+                }));
+            }
+        }
+        ShadowForm::Check => {
+            // With IF every pixel's DSF may change, so the whole line is checked.
+            let (xl, xr) = if eye_inside || lo > hi {
+                (0, width as u16 - 1)
+            } else {
+                (lo, hi)
+            };
+            out.push(Command::Check { xl, xr });
+        }
+    }
+}
+
+/// Attenuation table of seed 001 §6, indexed by (normal class, light mask, area count):
+/// `F = (a + Σ_l w(c,l)·(1 − s_l)) / (a + Σ_l w(c,l))`, with `w(c,l) = I_l·max(0, n_c·d_l)`,
+/// `d_l` the direction from the scene centre to light l (the distant-light assumption),
+/// `s_l` = 1 if light l's mask bit is set (point light) or `count/k` (the area light), and
+/// `a` the ambient level. Entries are Q0.8 (256 = 1), computed once per frame like a ROM.
+#[derive(Clone, Debug)]
+pub struct FactorTable {
+    bits: u32,
+    counts: u32,
+    entries: Vec<u16>,
+    /// Number of samples of the area light (0 if none).
+    pub area_samples: u32,
+    /// Number of point lights with mask bits.
+    pub point_lights: u32,
+}
+
+impl FactorTable {
+    /// Builds the table for the scene's lights.
+    pub fn new(ls: &LoadedScene, lights: &[ShadowLight]) -> FactorTable {
+        let centre = scene_centre(ls);
+        let bits = lights.iter().filter(|l| l.bit.is_some()).count() as u32;
+        let area = lights.iter().find(|l| l.bit.is_none());
+        let k = area.map(|l| l.samples.len() as u32).unwrap_or(0);
+        let counts = k + 1;
+        let dir =
+            |i: usize| (DVec3::from(ls.scene.lights[i].position) - centre).normalize_or(DVec3::Y);
+        let mut entries = vec![0u16; 256 * (1usize << bits) * counts as usize];
+        for c in 0..256usize {
+            let n = class_normal(c as u8);
+            let w = |i: usize| ls.scene.lights[i].intensity * n.dot(dir(i)).max(0.0);
+            let total: f64 = ls.scene.ambient
+                + ls.scene
+                    .lights
+                    .iter()
+                    .enumerate()
+                    .map(|(i, _)| w(i))
+                    .sum::<f64>();
+            for mask in 0..(1usize << bits) {
+                for cnt in 0..counts {
+                    let mut lit = total;
+                    for l in lights {
+                        let s = match l.bit {
+                            Some(b) => ((mask >> b) & 1) as f64,
+                            None => cnt as f64 / k as f64,
+                        };
+                        lit -= w(l.index) * s;
+                    }
+                    let f = if total > 0.0 {
+                        (lit / total).clamp(0.0, 1.0)
+                    } else {
+                        1.0
+                    };
+                    entries[(c << bits | mask) * counts as usize + cnt as usize] =
+                        (f * 256.0).round() as u16;
+                }
+            }
+        }
+        FactorTable {
+            bits,
+            counts,
+            entries,
+            area_samples: k,
+            point_lights: bits,
+        }
+    }
+
+    /// The factor (Q0.8, 256 = 1) for a pixel's state.
+    pub fn factor(&self, s: &ProcState) -> u16 {
+        let mask = (s.mask as usize) & ((1 << self.bits) - 1);
+        let cnt = (s.count as usize).min(self.counts as usize - 1);
+        self.entries[((s.nclass as usize) << self.bits | mask) * self.counts as usize + cnt]
+    }
+
+    /// Shadowed fraction of the pixel's lights, 0..=255, for the shadow AOV.
+    pub fn shadow_level(&self, s: &ProcState) -> u8 {
+        let n = self.point_lights + (self.area_samples > 0) as u32;
+        if n == 0 {
+            return 0;
+        }
+        let pts = (s.mask as u32 & ((1 << self.bits) - 1)).count_ones() as f64;
+        let area = if self.area_samples > 0 {
+            s.count as f64 / self.area_samples as f64
+        } else {
+            0.0
+        };
+        (((pts + area) / n as f64) * 255.0).round() as u8
+    }
+}
+
+/// "Correct the intensity and store it in the frame buffer" (§2): every covered pixel's
+/// channels become `(c·F + 128) >> 8`.
+pub fn shade(px: &mut [ProcState], table: &FactorTable) {
+    px.par_iter_mut().for_each(|s| {
+        if s.zb == Z_FAR {
+            return;
+        }
+        let f = table.factor(s) as u32;
+        let ch = |v: u32| ((v * f + 128) >> 8).min(255);
+        let c = pixelproc_formats::unpack_rgb(s.rgb).map(|x| ch(x as u32) as u8);
+        s.rgb = pixelproc_formats::pack_rgb(c);
+    });
+}
