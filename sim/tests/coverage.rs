@@ -15,6 +15,7 @@ fn tri_q8(v: [[i32; 2]; 3]) -> SnappedTri {
         c: [[1 << 12; 3]; 3],
         tag: 1,
         host: None,
+        nclass: 0,
     }
 }
 
