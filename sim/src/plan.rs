@@ -226,10 +226,20 @@ mod tests {
             interpenetrating: false,
             aovs: vec![],
             array_width: 64,
+            shadow_form: Default::default(),
         };
+        assert_eq!(plan(&e), vec![Stage::FrontEnd, Stage::SpanSetup, Stage::PixelArray]);
+        let with = Effects { shadow_lights: vec![0, 2], ..e };
         assert_eq!(
-            plan(&e),
-            vec![Stage::FrontEnd, Stage::SpanSetup, Stage::PixelArray]
+            plan(&with),
+            vec![
+                Stage::FrontEnd,
+                Stage::SpanSetup,
+                Stage::ShadowVolumes { light: 0 },
+                Stage::ShadowVolumes { light: 2 },
+                Stage::PixelArray,
+                Stage::ShadowShade
+            ]
         );
     }
 }
