@@ -6,6 +6,9 @@
 
 #![warn(missing_docs)]
 
+pub mod abuffer;
+pub mod mask;
+pub mod mask_search;
 pub mod pixel_array;
 pub mod render;
 pub mod setup;
