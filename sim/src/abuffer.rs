@@ -401,9 +401,7 @@ impl FragSetup {
         Fragment {
             mask,
             plane: self.plane_at(i, j),
-            rgb_q12: self
-                .c
-                .map(|p| p.at_centre(i, j, I_FRAC).clamp(0, max) as u32),
+            rgb_q12: self.c.map(|p| p.at_centre(i, j, 0).clamp(0, max) as u32),
             tag: self.tag,
             decal: self.decal,
             prim: self.prim,
