@@ -71,7 +71,7 @@ impl Rng {
     /// `grid` (so that edges run through subpixel centres often).
     fn coord(&mut self, span: i32, grid: i32) -> i32 {
         let v = (self.next() % (span as u64 * 256)) as i32;
-        if self.next() % 3 == 0 {
+        if self.next().is_multiple_of(3) {
             v / grid * grid
         } else {
             v

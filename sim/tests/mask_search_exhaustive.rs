@@ -13,10 +13,13 @@
 use pixelproc_formats::abuffer::{Corner, MaskSize, SearchFamily, SubOffset};
 use pixelproc_sim::mask_search::{SearchTables, SearchUnit};
 
+/// (AND result, end 1, end 2), ends as offsets in half-subpixel units.
+type Hit = (u64, (i32, i32), (i32, i32));
+
 struct Brute {
     steps: u32,
     lines: Vec<u64>, // search mask of each step taken
-    hit: Option<(u64, (i32, i32), (i32, i32))>,
+    hit: Option<Hit>,
 }
 
 fn brute(n: i32, m: i32, p: i32, q: i32, mask: u64, right: bool, bottom: bool) -> Brute {
