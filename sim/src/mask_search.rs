@@ -458,6 +458,51 @@ mod tests {
     }
 
     #[test]
+    fn searches_bound_the_exact_extremes() {
+        // A search depth is the depth of a covered subpixel, so it can never be nearer than
+        // the exact minimum (nor farther than the exact maximum), and it costs at most two
+        // evaluations per direction.
+        let sel = DepthSelector::new(MaskSize::S4X4);
+        let mut x = 0x1234_5678_9ABC_DEF1u64;
+        for mask in (1..=0xFFFFu64).step_by(7) {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let p = FragPlane {
+                zc: (x % 100_000) as i64,
+                sx: (x >> 20) as i64 % 4000 - 2000,
+                sy: (x >> 40) as i64 % 4000 - 2000,
+            };
+            let e = sel.select(DepthSelect::Exhaustive, mask, &p, true);
+            for v in [DepthSelect::Search, DepthSelect::Slope] {
+                let s = sel.select(v, mask, &p, true);
+                assert!(s.zmin >= e.zmin && s.zmax.unwrap() <= e.zmax.unwrap());
+                assert!((2..=4).contains(&s.evals), "{v:?} {mask:x}");
+            }
+        }
+    }
+
+    #[test]
+    fn diagonal_search_misses_a_nearer_later_line() {
+        // Mask: (col 2, row 0) = bit 1 and (col 0, row 3) = bit 15; plane rising in x only.
+        // The diagonal search from the top-left hits line 2 (offset dx = +1), the exact
+        // minimum is at dx = -3; the column family (slope class 0) finds it.
+        let sel = DepthSelector::new(MaskSize::S4X4);
+        let p = FragPlane {
+            zc: 100,
+            sx: 10,
+            sy: 0,
+        };
+        let mask = (1 << 1) | (1 << 15);
+        assert_eq!(sel.select(DepthSelect::Search, mask, &p, false).zmin, 110);
+        assert_eq!(
+            sel.select(DepthSelect::Exhaustive, mask, &p, false).zmin,
+            70
+        );
+        assert_eq!(sel.select(DepthSelect::Slope, mask, &p, false).zmin, 70);
+    }
+
+    #[test]
     fn slope_classes() {
         assert_eq!(slope_class(100, 0), 0);
         assert_eq!(slope_class(0, 100), 4);
