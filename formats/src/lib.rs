@@ -11,6 +11,8 @@
 
 #![deny(missing_docs)]
 
+pub mod abuffer;
+
 use thiserror::Error;
 
 /// Fractional bits of a snapped vertex coordinate (1/256 pixel, D3D11-class).

@@ -7,8 +7,11 @@
 
 #![warn(missing_docs)]
 
+pub mod abuffer;
 pub mod builtin;
 pub mod frontend;
+pub mod mask;
+pub mod mask_search;
 pub mod pipeline;
 pub mod pixel_array;
 pub mod plan;

@@ -1,0 +1,720 @@
+//! The A-buffer: fragments per pixel, merge, packing and resolve, and a frame renderer.
+//!
+//! Implements seed 000 (JP2569952B2): the three A-buffer processes of its background
+//! (mask generation in [`crate::mask`], **merge** of fraction masks with the same object tag
+//! whose depths overlap, **packing** from a full free mask in depth order with contribution
+//! = visible bits / (n·m)), with the fragment depth chosen per [`DepthSelect`] (claim 1 in
+//! [`crate::mask_search`]) and the final weighting of subpixels (step 7).
+//!
+//! **Fragment.** Per pixel and triangle with a non-empty fraction mask: the mask, the
+//! depth plane relative to the pixel centre ([`FragPlane`], Q.12, each coefficient rounded
+//! once, half up, from the exact `i128` plane through the snapped vertices as in
+//! [`crate::setup`]), the colour at the pixel centre (Q8.12 per channel, rounded once and
+//! clamped to 0..=255), the object tag, and the triangle's index (scene order).
+//!
+//! **Ordering depth.** Only pixels with two or more fragments need an order; the variant
+//! runs there and nowhere else (a lone fragment's depth is never evaluated).
+//!
+//! **Merge.** Fragments with the same tag whose depth ranges overlap (closed intervals)
+//! become one group, transitively. The range of a fragment is `[zmin, zmax]` of the variant
+//! when the scene declares interpenetrating surfaces (the max search runs); otherwise it is
+//! the plane's range over all subpixel centres of the pixel, `zc ± (|sx|·(n−1) + |sy|·(m−1))`,
+//! which needs no depth evaluation and contains the depth of every covered subpixel. A
+//! group's mask is the OR of its parts, its depth the min of theirs.
+//!
+//! **Packing.** Groups in order of `(zmin, zmax, decal first, first triangle index)`; the
+//! free mask starts full; a group's visible bits are `mask & free`, then `free &= !mask`.
+//! Inside a group the visible bits go to its parts in the same order, each bit once.
+//!
+//! **Resolve.** `rgb = round_half_up((Σ visible_bits·rgb_q12 + free_bits·(bg << 12)) /
+//! (n·m·2^12))` per channel.
+
+use crate::mask::MaskEdges;
+use crate::mask_search::{DepthPick, DepthSelect, DepthSelector};
+use crate::setup::{SetupError, SnappedTri};
+use pixelproc_formats::abuffer::{saturate_plane, FragPlane, MaskSize, PLANE_FRAC};
+use pixelproc_formats::{I_FRAC, MAX_SCREEN, SUBPIXEL_ONE, Z_GEOM_MAX, Z_GEOM_MIN};
+use rayon::prelude::*;
+use thiserror::Error;
+
+/// Why a frame cannot be rendered.
+#[derive(Debug, Error, PartialEq)]
+pub enum AbufferError {
+    /// A triangle cannot be set up.
+    #[error(transparent)]
+    Setup(#[from] SetupError),
+    /// The screen is larger than the formats allow.
+    #[error("screen {0}x{1} exceeds {MAX_SCREEN}x{MAX_SCREEN}")]
+    ScreenTooLarge(u32, u32),
+}
+
+/// Options of the A-buffer renderer (`--aa abuffer --mask .. --depth ..`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct AbufferParams {
+    /// Subpixel grid.
+    pub size: MaskSize,
+    /// Depth-selection variant.
+    pub depth: DepthSelect,
+    /// The scene declares interpenetrating surfaces: also search the max depth and merge on
+    /// `[zmin, zmax]`.
+    pub interpenetrating: bool,
+    /// Also run every other variant on each multi-fragment pixel and count where it orders
+    /// or resolves differently from `exhaustive` (slower; for reports).
+    pub compare_variants: bool,
+}
+
+impl Default for AbufferParams {
+    fn default() -> Self {
+        AbufferParams {
+            size: MaskSize::S4X4,
+            depth: DepthSelect::Search,
+            interpenetrating: false,
+            compare_variants: false,
+        }
+    }
+}
+
+/// One fragment: a triangle's share of one pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Fragment {
+    /// Fraction mask (bit order of [`pixelproc_formats::abuffer`]).
+    pub mask: u64,
+    /// Depth plane relative to the pixel centre.
+    pub plane: FragPlane,
+    /// Colour at the pixel centre, Q8.12 per channel.
+    pub rgb_q12: [u32; 3],
+    /// Object tag.
+    pub tag: u16,
+    /// Decal: wins depth ties against non-decals.
+    pub decal: bool,
+    /// Triangle index in scene order (final tie-break).
+    pub prim: u32,
+}
+
+/// A merged group of fragments (indices into the pixel's fragment list).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Group {
+    /// Member fragments, ascending index.
+    pub parts: Vec<usize>,
+    /// OR of the members' masks.
+    pub mask: u64,
+    /// Merge range (see the module header), Q.12.
+    pub range: (i64, i64),
+    /// Nearest ordering depth of the members.
+    pub zmin: i64,
+    /// Farthest ordering depth of the members (interpenetrating scenes), else `zmin`.
+    pub zmax: i64,
+}
+
+/// The merge range of a fragment.
+fn merge_range(f: &Fragment, p: &DepthPick, size: MaskSize, interpenetrating: bool) -> (i64, i64) {
+    if interpenetrating {
+        (p.zmin, p.zmax.unwrap_or(p.zmin))
+    } else {
+        let s = f.plane.sx.abs() * (size.n() as i64 - 1) + f.plane.sy.abs() * (size.m() as i64 - 1);
+        (f.plane.zc - s, f.plane.zc + s)
+    }
+}
+
+/// Merges fragments with the same tag whose ranges overlap, transitively. Groups come out
+/// in order of their first member.
+pub fn merge(
+    frags: &[Fragment],
+    picks: &[DepthPick],
+    size: MaskSize,
+    interpenetrating: bool,
+) -> Vec<Group> {
+    let mut groups: Vec<Group> = frags
+        .iter()
+        .zip(picks)
+        .enumerate()
+        .map(|(k, (f, p))| Group {
+            parts: vec![k],
+            mask: f.mask,
+            range: merge_range(f, p, size, interpenetrating),
+            zmin: p.zmin,
+            zmax: p.zmax.unwrap_or(p.zmin),
+        })
+        .collect();
+    'again: loop {
+        for a in 0..groups.len() {
+            for b in a + 1..groups.len() {
+                let (ga, gb) = (&groups[a], &groups[b]);
+                if frags[ga.parts[0]].tag == frags[gb.parts[0]].tag
+                    && ga.range.0 <= gb.range.1
+                    && gb.range.0 <= ga.range.1
+                {
+                    let gb = groups.remove(b);
+                    let ga = &mut groups[a];
+                    ga.parts.extend(gb.parts);
+                    ga.parts.sort_unstable();
+                    ga.mask |= gb.mask;
+                    ga.range = (ga.range.0.min(gb.range.0), ga.range.1.max(gb.range.1));
+                    ga.zmin = ga.zmin.min(gb.zmin);
+                    ga.zmax = ga.zmax.max(gb.zmax);
+                    continue 'again;
+                }
+            }
+        }
+        return groups;
+    }
+}
+
+/// Result of packing one pixel.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Packed {
+    /// Fragment indices in packing order (groups in depth order, members in depth order).
+    pub order: Vec<usize>,
+    /// Visible bits per fragment (index as in the input).
+    pub visible: Vec<u64>,
+    /// Bits left free (background).
+    pub free: u64,
+}
+
+/// Packs merged groups: free mask starts full and is ANDed away in depth order.
+pub fn pack(frags: &[Fragment], picks: &[DepthPick], groups: &[Group], size: MaskSize) -> Packed {
+    let part_key = |k: usize| {
+        let p = &picks[k];
+        (
+            p.zmin,
+            p.zmax.unwrap_or(p.zmin),
+            !frags[k].decal,
+            frags[k].prim,
+        )
+    };
+    let mut gorder: Vec<usize> = (0..groups.len()).collect();
+    gorder.sort_by_key(|&g| {
+        let gr = &groups[g];
+        let decal = gr.parts.iter().any(|&k| frags[k].decal);
+        let first = gr.parts.iter().map(|&k| frags[k].prim).min().unwrap_or(0);
+        (gr.zmin, gr.zmax, !decal, first)
+    });
+    let mut free = size.full();
+    let mut visible = vec![0u64; frags.len()];
+    let mut order = Vec::with_capacity(frags.len());
+    for g in gorder {
+        let gr = &groups[g];
+        let mut vis = gr.mask & free;
+        free &= !gr.mask;
+        let mut parts = gr.parts.clone();
+        parts.sort_by_key(|&k| part_key(k));
+        for k in parts {
+            visible[k] = frags[k].mask & vis;
+            vis &= !frags[k].mask;
+            order.push(k);
+        }
+    }
+    Packed {
+        order,
+        visible,
+        free,
+    }
+}
+
+/// Resolve: weights every fragment's colour by its visible bits and the background by the
+/// free bits, rounding half up to 8 bits.
+pub fn resolve(frags: &[Fragment], packed: &Packed, bg: [u8; 3], size: MaskSize) -> [u8; 3] {
+    let denom = (size.bits() as u64) << I_FRAC;
+    let free = packed.free.count_ones() as u64;
+    let mut out = [0u8; 3];
+    for (ch, o) in out.iter_mut().enumerate() {
+        let mut sum = free * ((bg[ch] as u64) << I_FRAC);
+        for (f, &v) in frags.iter().zip(&packed.visible) {
+            sum += v.count_ones() as u64 * f.rgb_q12[ch] as u64;
+        }
+        *o = ((2 * sum + denom) / (2 * denom)).min(255) as u8;
+    }
+    out
+}
+
+/// Everything the renderer learns about one pixel.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PixelOut {
+    /// Resolved colour.
+    pub rgb: [u8; 3],
+    /// Union of the fragments' masks.
+    pub covered: u64,
+    /// Depth-calculator evaluations.
+    pub evals: u32,
+    /// Search-unit steps.
+    pub steps: u32,
+    /// Fragments absorbed by merging (`fragments − groups`).
+    pub merges: u32,
+    /// The packing result.
+    pub packed: Packed,
+}
+
+/// Runs depth selection (if two or more fragments), merge, packing and resolve on one
+/// pixel's fragments (scene order).
+pub fn process_pixel(
+    frags: &[Fragment],
+    sel: &DepthSelector,
+    variant: DepthSelect,
+    interpenetrating: bool,
+    bg: [u8; 3],
+    size: MaskSize,
+) -> PixelOut {
+    let covered = frags.iter().fold(0, |a, f| a | f.mask);
+    let (picks, evals, steps) = if frags.len() >= 2 {
+        let picks: Vec<DepthPick> = frags
+            .iter()
+            .map(|f| sel.select(variant, f.mask, &f.plane, interpenetrating))
+            .collect();
+        let e = picks.iter().map(|p| p.evals).sum();
+        let s = picks.iter().map(|p| p.steps).sum();
+        (picks, e, s)
+    } else {
+        let p = frags.iter().map(|f| DepthPick {
+            zmin: f.plane.zc,
+            zmax: None,
+            evals: 0,
+            steps: 0,
+        });
+        (p.collect(), 0, 0)
+    };
+    let groups = merge(frags, &picks, size, interpenetrating);
+    let packed = pack(frags, &picks, &groups, size);
+    PixelOut {
+        rgb: resolve(frags, &packed, bg, size),
+        covered,
+        evals,
+        steps,
+        merges: (frags.len() - groups.len()) as u32,
+        packed,
+    }
+}
+
+/// An exact rational plane `v(x, y) = v0 + (nx·(x − x0) + ny·(y − y0)) / area2` (Q.8).
+#[derive(Clone, Copy, Debug)]
+struct ExactPlane {
+    v0: i128,
+    x0: i128,
+    y0: i128,
+    nx: i128,
+    ny: i128,
+    area2: i128,
+}
+
+/// `round(n / d)`, ties toward +∞, exact.
+fn round_div(n: i128, d: i128) -> i128 {
+    let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
+    (2 * n + d).div_euclid(2 * d)
+}
+
+impl ExactPlane {
+    fn new(v: [[i32; 2]; 3], val: [i64; 3]) -> Option<ExactPlane> {
+        let (x0, y0) = (v[0][0] as i128, v[0][1] as i128);
+        let (dx1, dy1) = (v[1][0] as i128 - x0, v[1][1] as i128 - y0);
+        let (dx2, dy2) = (v[2][0] as i128 - x0, v[2][1] as i128 - y0);
+        let area2 = dx1 * dy2 - dx2 * dy1;
+        if area2 == 0 {
+            return None;
+        }
+        let (dv1, dv2) = ((val[1] - val[0]) as i128, (val[2] - val[0]) as i128);
+        Some(ExactPlane {
+            v0: val[0] as i128,
+            x0,
+            y0,
+            nx: dv1 * dy2 - dv2 * dy1,
+            ny: dx1 * dv2 - dx2 * dv1,
+            area2,
+        })
+    }
+    /// `round(v · 2^frac)` at the centre of pixel (i, j).
+    fn at_centre(&self, i: i64, j: i64, frac: u32) -> i128 {
+        let one = SUBPIXEL_ONE as i128;
+        let (x, y) = (i as i128 * one + one / 2, j as i128 * one + one / 2);
+        let num =
+            (self.v0 * self.area2 + self.nx * (x - self.x0) + self.ny * (y - self.y0)) << frac;
+        round_div(num, self.area2)
+    }
+}
+
+/// Per-triangle fragment setup: edges for the masks, planes for depth and colour.
+#[derive(Clone, Debug)]
+pub struct FragSetup {
+    /// The triangle's edges.
+    pub edges: MaskEdges,
+    z: ExactPlane,
+    sx: i64,
+    sy: i64,
+    c: [ExactPlane; 3],
+    tag: u16,
+    decal: bool,
+    prim: u32,
+}
+
+impl FragSetup {
+    /// Sets up triangle number `prim`. `Ok(None)` for a zero-area triangle.
+    pub fn new(t: &SnappedTri, prim: u32, size: MaskSize) -> Result<Option<FragSetup>, SetupError> {
+        for &z in t.z.iter().chain(t.host.iter().flat_map(|h| h.z.iter())) {
+            if !(Z_GEOM_MIN..=Z_GEOM_MAX).contains(&z) {
+                return Err(SetupError::DepthOutOfRange(z as i64));
+            }
+        }
+        let Some(edges) = MaskEdges::new(t, size)? else {
+            return Ok(None);
+        };
+        let zp = match &t.host {
+            Some(h) => ExactPlane::new(h.v, h.z.map(|x| x as i64)),
+            None => ExactPlane::new(t.v, t.z.map(|x| x as i64)),
+        };
+        let Some(z) = zp else { return Ok(None) };
+        let cp = |k: usize| ExactPlane::new(t.v, [0, 1, 2].map(|q| t.c[q][k] as i64));
+        let (Some(c0), Some(c1), Some(c2)) = (cp(0), cp(1), cp(2)) else {
+            return Ok(None);
+        };
+        let one = SUBPIXEL_ONE as i128;
+        // Slope per offset unit (1/(2n) px): ∂z/∂x_q8 · 256 / (2n), in Q.12.
+        let sx = saturate_plane(round_div(
+            (z.nx * one) << PLANE_FRAC,
+            z.area2 * 2 * size.n() as i128,
+        ));
+        let sy = saturate_plane(round_div(
+            (z.ny * one) << PLANE_FRAC,
+            z.area2 * 2 * size.m() as i128,
+        ));
+        Ok(Some(FragSetup {
+            edges,
+            z,
+            sx,
+            sy,
+            c: [c0, c1, c2],
+            tag: t.tag,
+            decal: t.host.is_some(),
+            prim,
+        }))
+    }
+
+    /// The depth plane at pixel (i, j).
+    pub fn plane_at(&self, i: i64, j: i64) -> FragPlane {
+        FragPlane {
+            zc: saturate_plane(self.z.at_centre(i, j, PLANE_FRAC)),
+            sx: self.sx,
+            sy: self.sy,
+        }
+    }
+
+    /// The fragment of pixel (i, j) with a given mask.
+    pub fn fragment(&self, i: i64, j: i64, mask: u64) -> Fragment {
+        let max = 255i128 << I_FRAC;
+        Fragment {
+            mask,
+            plane: self.plane_at(i, j),
+            rgb_q12: self.c.map(|p| p.at_centre(i, j, 0).clamp(0, max) as u32),
+            tag: self.tag,
+            decal: self.decal,
+            prim: self.prim,
+        }
+    }
+}
+
+/// Frame statistics.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct AbufferStats {
+    /// Fragments generated (non-empty masks).
+    pub fragments: u64,
+    /// Pixels with two or more fragments (where depth selection runs).
+    pub multi_pixels: u64,
+    /// Fragments in those pixels (the ones that get an ordering depth).
+    pub sorted_fragments: u64,
+    /// Fragments absorbed by merging.
+    pub merges: u64,
+    /// Depth-calculator evaluations of the chosen variant.
+    pub depth_evals: u64,
+    /// Search-unit steps of the chosen variant.
+    pub search_steps: u64,
+    /// Pixels resolved on the fast path (one fragment, full mask).
+    pub fast_pixels: u64,
+    /// With `compare_variants`: per variant (order of [`DepthSelect::ALL`]) depth evaluations.
+    pub variant_evals: [u64; 4],
+    /// With `compare_variants`: pixels whose packing order differs from `exhaustive`.
+    pub order_diff: [u64; 4],
+    /// With `compare_variants`: pixels whose visible bits per fragment differ from
+    /// `exhaustive`.
+    pub visible_diff: [u64; 4],
+    /// With `compare_variants`: pixels whose resolved colour differs from `exhaustive`.
+    pub rgb_diff: [u64; 4],
+}
+
+impl AbufferStats {
+    fn add(&mut self, o: &AbufferStats) {
+        self.fragments += o.fragments;
+        self.multi_pixels += o.multi_pixels;
+        self.sorted_fragments += o.sorted_fragments;
+        self.merges += o.merges;
+        self.depth_evals += o.depth_evals;
+        self.search_steps += o.search_steps;
+        self.fast_pixels += o.fast_pixels;
+        for k in 0..4 {
+            self.variant_evals[k] += o.variant_evals[k];
+            self.order_diff[k] += o.order_diff[k];
+            self.visible_diff[k] += o.visible_diff[k];
+            self.rgb_diff[k] += o.rgb_diff[k];
+        }
+    }
+}
+
+/// A rendered A-buffer frame.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct AbufferFrame {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// RGB8, row-major.
+    pub rgb: Vec<u8>,
+    /// Coverage AOV: covered subpixels per pixel (0..=n·m), row-major.
+    pub coverage: Vec<u16>,
+    /// Fragment-count AOV: fragments per pixel before merging, row-major.
+    pub fragments: Vec<u16>,
+    /// Statistics.
+    pub stats: AbufferStats,
+}
+
+/// Rows per bin band.
+const BAND: i64 = 8;
+
+/// Renders triangles (scene order) with the A-buffer. Rows run in parallel with identical
+/// results.
+pub fn render_abuffer(
+    tris: &[SnappedTri],
+    width: u32,
+    height: u32,
+    bg: [u8; 3],
+    params: &AbufferParams,
+) -> Result<AbufferFrame, AbufferError> {
+    if width > MAX_SCREEN || height > MAX_SCREEN {
+        return Err(AbufferError::ScreenTooLarge(width, height));
+    }
+    let size = params.size;
+    let setups: Vec<Option<FragSetup>> = tris
+        .par_iter()
+        .enumerate()
+        .map(|(k, t)| FragSetup::new(t, k as u32, size))
+        .collect::<Result<_, _>>()?;
+    let setups: Vec<FragSetup> = setups.into_iter().flatten().collect();
+    let nb = (height as i64 + BAND - 1) / BAND;
+    let mut bands = vec![Vec::<u32>::new(); nb as usize];
+    for (k, s) in setups.iter().enumerate() {
+        let lo = s.edges.row_min.max(0);
+        let hi = s.edges.row_max.min(height as i64 - 1);
+        if hi < lo {
+            continue;
+        }
+        for b in lo / BAND..=hi / BAND {
+            bands[b as usize].push(k as u32);
+        }
+    }
+    let sel = DepthSelector::new(size);
+    let (w, h) = (width as usize, height as usize);
+    let mut rgb = vec![0u8; w * h * 3];
+    let mut coverage = vec![0u16; w * h];
+    let mut fragments = vec![0u16; w * h];
+    let stats = rgb
+        .par_chunks_mut(w * 3)
+        .zip(coverage.par_chunks_mut(w))
+        .zip(fragments.par_chunks_mut(w))
+        .enumerate()
+        .map(|(j, ((rgb_row, cov_row), frag_row))| {
+            let band = &bands[j / BAND as usize];
+            render_row(
+                j as i64,
+                width,
+                band.iter().map(|&k| &setups[k as usize]),
+                &sel,
+                params,
+                bg,
+                rgb_row,
+                cov_row,
+                frag_row,
+            )
+        })
+        .reduce(AbufferStats::default, |mut a, b| {
+            a.add(&b);
+            a
+        });
+    Ok(AbufferFrame {
+        width,
+        height,
+        rgb,
+        coverage,
+        fragments,
+        stats,
+    })
+}
+
+/// Renders one row; returns its statistics.
+#[allow(clippy::too_many_arguments)]
+fn render_row<'a>(
+    j: i64,
+    width: u32,
+    tris: impl Iterator<Item = &'a FragSetup>,
+    sel: &DepthSelector,
+    params: &AbufferParams,
+    bg: [u8; 3],
+    rgb_row: &mut [u8],
+    cov_row: &mut [u16],
+    frag_row: &mut [u16],
+) -> AbufferStats {
+    let size = params.size;
+    let full = size.full();
+    let mut st = AbufferStats::default();
+    // (pixel, triangle, mask) in scene order per pixel.
+    let mut entries: Vec<(u32, &FragSetup, u64)> = Vec::new();
+    for t in tris {
+        let Some(rc) = t.edges.row_coverage(j, width) else {
+            continue;
+        };
+        for i in rc.touched.0..=rc.touched.1 {
+            let mask = match rc.full {
+                Some((a, b)) if a <= i && i <= b => full,
+                _ => t.edges.fraction_mask(i, j),
+            };
+            if mask != 0 {
+                entries.push((i as u32, t, mask));
+            }
+        }
+    }
+    entries.sort_by_key(|e| e.0); // stable: scene order within a pixel
+    for px in rgb_row.chunks_mut(3) {
+        px.copy_from_slice(&bg);
+    }
+    let mut frags: Vec<Fragment> = Vec::new();
+    let mut k = 0;
+    while k < entries.len() {
+        let i = entries[k].0;
+        let mut e = k;
+        while e < entries.len() && entries[e].0 == i {
+            e += 1;
+        }
+        let run = &entries[k..e];
+        k = e;
+        let iu = i as usize;
+        st.fragments += run.len() as u64;
+        frag_row[iu] = run.len() as u16;
+        if run.len() == 1 && run[0].2 == full {
+            // Fast path: one triangle covers the whole pixel.
+            let f = run[0].1.fragment(i as i64, j, full);
+            let packed = Packed {
+                order: vec![0],
+                visible: vec![full],
+                free: 0,
+            };
+            rgb_row[3 * iu..3 * iu + 3].copy_from_slice(&resolve(&[f], &packed, bg, size));
+            cov_row[iu] = size.bits() as u16;
+            st.fast_pixels += 1;
+            continue;
+        }
+        frags.clear();
+        frags.extend(run.iter().map(|(_, t, m)| t.fragment(i as i64, j, *m)));
+        let out = process_pixel(&frags, sel, params.depth, params.interpenetrating, bg, size);
+        rgb_row[3 * iu..3 * iu + 3].copy_from_slice(&out.rgb);
+        cov_row[iu] = out.covered.count_ones() as u16;
+        st.merges += out.merges as u64;
+        st.depth_evals += out.evals as u64;
+        st.search_steps += out.steps as u64;
+        if frags.len() >= 2 {
+            st.multi_pixels += 1;
+            st.sorted_fragments += frags.len() as u64;
+            if params.compare_variants {
+                let outs: Vec<PixelOut> = DepthSelect::ALL
+                    .iter()
+                    .map(|&v| process_pixel(&frags, sel, v, params.interpenetrating, bg, size))
+                    .collect();
+                let ex = &outs[3];
+                for (v, o) in outs.iter().enumerate() {
+                    st.variant_evals[v] += o.evals as u64;
+                    st.order_diff[v] += (o.packed.order != ex.packed.order) as u64;
+                    st.visible_diff[v] += (o.packed.visible != ex.packed.visible) as u64;
+                    st.rgb_diff[v] += (o.rgb != ex.rgb) as u64;
+                }
+            }
+        }
+    }
+    st
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frag(mask: u64, zc: i64, rgb: u8, tag: u16, prim: u32) -> Fragment {
+        Fragment {
+            mask,
+            plane: FragPlane { zc, sx: 0, sy: 0 },
+            rgb_q12: [(rgb as u32) << 12; 3],
+            tag,
+            decal: false,
+            prim,
+        }
+    }
+
+    fn run(frags: &[Fragment], bg: u8) -> PixelOut {
+        let size = MaskSize::S4X4;
+        process_pixel(
+            frags,
+            &DepthSelector::new(size),
+            DepthSelect::Exhaustive,
+            false,
+            [bg; 3],
+            size,
+        )
+    }
+
+    #[test]
+    fn packing_front_fragment_hides_overlap() {
+        // Front: left half (cols 0,1 = 0xCCCC, 8 bits), white. Back: top half (rows 0,1 =
+        // 0x00FF, 8 bits), grey 100. Overlap = 4 bits (top-left quarter) goes to the front.
+        // Visible: front 8, back 4, background 4 (black):
+        // (8·255 + 4·100 + 4·0) / 16 = 152.5 → 153.
+        let f = [
+            frag(0x00FF, 20 << 12, 100, 1, 0),
+            frag(0xCCCC, 10 << 12, 255, 2, 1),
+        ];
+        let o = run(&f, 0);
+        assert_eq!(o.packed.order, vec![1, 0]);
+        assert_eq!(o.packed.visible, vec![0x0033, 0xCCCC]);
+        assert_eq!(o.packed.free, 0x3300);
+        assert_eq!(o.rgb, [153; 3]);
+        assert_eq!(o.covered.count_ones(), 12);
+    }
+
+    #[test]
+    fn merge_needs_same_tag_and_overlapping_range() {
+        // Two same-tag fragments at 10 and 30 with a different-tag one at 20 in between,
+        // covering everything. Flat planes: ranges are points, no overlap, no merge: the
+        // order is 10, 20, 30 and the one at 30 is hidden.
+        let a = frag(0xCCCC, 10 << 12, 200, 7, 0);
+        let b = frag(0x3333, 30 << 12, 200, 7, 1);
+        let c = frag(0xFFFF, 20 << 12, 50, 8, 2);
+        let o = run(&[a, b, c], 0);
+        assert_eq!(o.merges, 0);
+        assert_eq!(o.packed.visible, vec![0xCCCC, 0, 0x3333]);
+        // Give a and b the slope sx = 4 per offset unit: their pixel ranges become
+        // 10 ± 4·3 = [-2, 22] and 30 ± 12 = [18, 42], which overlap, so they merge.
+        let mut a2 = a;
+        let mut b2 = b;
+        a2.plane.sx = 4 << 12;
+        b2.plane.sx = 4 << 12;
+        let o = run(&[a2, b2, c], 0);
+        assert_eq!(o.merges, 1);
+        // The merged group sorts by its nearest depth (a's subpixel at dx = -3: 10 - 12 =
+        // -2), in front of c: both halves visible (the merge rule's documented effect).
+        assert_eq!(o.packed.visible, vec![0xCCCC, 0x3333, 0]);
+        assert_eq!(o.rgb, [200; 3]);
+        // A different tag never merges.
+        b2.tag = 9;
+        assert_eq!(run(&[a2, b2, c], 0).merges, 0);
+    }
+
+    #[test]
+    fn resolve_rounds_half_up_against_background() {
+        // One bit of 255 on background 0: 255/16 = 15.94 → 16.
+        let o = run(&[frag(1, 0, 255, 0, 0)], 0);
+        assert_eq!(o.rgb, [16; 3]);
+        // 8 bits of 1 on background 0: 0.5 → 1.
+        let o = run(&[frag(0xFF, 0, 1, 0, 0)], 0);
+        assert_eq!(o.rgb, [1; 3]);
+    }
+}

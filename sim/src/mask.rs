@@ -1,0 +1,243 @@
+//! Fraction-mask generation: one bit per subpixel centre, from a snapped triangle's edges.
+//!
+//! Implements the "mask generation" process of seed 000 (JP2569952B2, background, process
+//! 1): each pixel is an area of n×m subpixels; every polygon edge gives an *edge mask* (the
+//! subpixel centres on its inner side) and the Boolean AND of the three edge masks is the
+//! polygon's **fraction mask** in that pixel. No subpixel depth is computed (claim 1,
+//! step 1). Bit order and sizes are those of [`pixelproc_formats::abuffer`].
+//!
+//! **Integer evaluation.** With edges wound so that `E(x, y) = A·x + B·y + C` (Q.8 units,
+//! as in [`crate::setup`]) is positive inside, the centre of subpixel (c, r) of pixel
+//! (i, j) is `x = i + (2c+1)/(2n)`, `y = j + (2r+1)/(2m)`, which is not a Q.8 integer for
+//! every size. The edge function is therefore scaled by `4nm`:
+//!
+//! ```text
+//! E' = 256·2m·A·X + 256·2n·B·Y + 4nm·C,   X = 2n·i + 2c + 1,   Y = 2m·j + 2r + 1
+//! ```
+//!
+//! which is `4nm·E` exactly at every subpixel centre, an integer for every size, and at most
+//! about 2^55 in magnitude for the coordinate range of the formats (`i64`).
+//!
+//! **Fill rule.** The top-left rule of [`crate::setup`] applied at subpixel centres: a centre
+//! with `E' = 0` belongs to the triangle only if the edge is a left edge (`A > 0`) or a top
+//! edge (`A = 0, B > 0`). Two triangles sharing an edge therefore cover every subpixel centre
+//! on their union exactly once.
+
+use crate::setup::{SetupError, SnappedTri};
+use pixelproc_formats::abuffer::MaskSize;
+use pixelproc_formats::{MAX_COORD_PX, SUBPIXEL_BITS, SUBPIXEL_ONE};
+
+/// One scaled edge function `E' = ax·X + by·Y + c0` (see the module header).
+#[derive(Clone, Copy, Debug)]
+struct ScaledEdge {
+    ax: i64,
+    by: i64,
+    c0: i64,
+    top_left: bool,
+}
+
+impl ScaledEdge {
+    #[inline]
+    fn inside(&self, e: i64) -> bool {
+        e > 0 || (e == 0 && self.top_left)
+    }
+}
+
+/// The three edges of a triangle, ready to produce fraction masks of one size.
+#[derive(Clone, Debug)]
+pub struct MaskEdges {
+    size: MaskSize,
+    edges: [ScaledEdge; 3],
+    /// First pixel row that may hold covered subpixel centres (unclamped).
+    pub row_min: i64,
+    /// Last pixel row that may hold covered subpixel centres (unclamped).
+    pub row_max: i64,
+}
+
+/// The pixels of one row a triangle touches: every pixel with a covered subpixel centre
+/// lies in `touched`; every pixel in `full` (if any) has all its subpixel centres covered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RowCoverage {
+    /// Inclusive range of pixel columns that may have covered subpixels.
+    pub touched: (i64, i64),
+    /// Inclusive range of pixel columns that are fully covered, or `None`.
+    pub full: Option<(i64, i64)>,
+}
+
+/// `ceil(n / d)` for `d > 0`.
+fn ceil_div(n: i64, d: i64) -> i64 {
+    -((-n).div_euclid(d))
+}
+
+impl MaskEdges {
+    /// Edge functions of a snapped triangle for masks of `size`. `Ok(None)` for a zero-area
+    /// triangle, which covers nothing.
+    pub fn new(t: &SnappedTri, size: MaskSize) -> Result<Option<MaskEdges>, SetupError> {
+        let lim = (MAX_COORD_PX as i64) << SUBPIXEL_BITS;
+        for p in &t.v {
+            for &k in p {
+                if (k as i64).abs() > lim {
+                    return Err(SetupError::OutOfRange(k as f64 / SUBPIXEL_ONE as f64));
+                }
+            }
+        }
+        let mut v = t.v.map(|p| [p[0] as i64, p[1] as i64]);
+        let area2 =
+            (v[1][0] - v[0][0]) * (v[2][1] - v[0][1]) - (v[2][0] - v[0][0]) * (v[1][1] - v[0][1]);
+        if area2 == 0 {
+            return Ok(None);
+        }
+        if area2 < 0 {
+            v.swap(1, 2);
+        }
+        let (n, m) = (size.n() as i64, size.m() as i64);
+        let one = SUBPIXEL_ONE as i64;
+        let edge = |p: [i64; 2], q: [i64; 2]| {
+            let a = -(q[1] - p[1]);
+            let b = q[0] - p[0];
+            let c = -(a * p[0] + b * p[1]);
+            ScaledEdge {
+                ax: one * 2 * m * a,
+                by: one * 2 * n * b,
+                c0: 4 * n * m * c,
+                top_left: a > 0 || (a == 0 && b > 0),
+            }
+        };
+        let ymin = v.iter().map(|p| p[1]).min().unwrap_or(0);
+        let ymax = v.iter().map(|p| p[1]).max().unwrap_or(0);
+        Ok(Some(MaskEdges {
+            size,
+            edges: [edge(v[0], v[1]), edge(v[1], v[2]), edge(v[2], v[0])],
+            row_min: ymin.div_euclid(one),
+            row_max: ymax.div_euclid(one),
+        }))
+    }
+
+    /// The mask size.
+    pub fn size(&self) -> MaskSize {
+        self.size
+    }
+
+    /// Edge mask of edge `k` (0..3) in pixel (i, j): the subpixel centres on its inner side.
+    pub fn edge_mask(&self, k: usize, i: i64, j: i64) -> u64 {
+        let e = &self.edges[k];
+        let (n, m) = (self.size.n() as i64, self.size.m() as i64);
+        let mut mask = 0u64;
+        for r in 0..m {
+            let y = 2 * m * j + 2 * r + 1;
+            let mut val = e.ax * (2 * n * i + 1) + e.by * y + e.c0;
+            for c in 0..n {
+                if e.inside(val) {
+                    mask |= 1u64 << self.size.bit_index(c as u32, r as u32);
+                }
+                val += 2 * e.ax;
+            }
+        }
+        mask
+    }
+
+    /// The fraction mask of pixel (i, j): the AND of the three edge masks.
+    pub fn fraction_mask(&self, i: i64, j: i64) -> u64 {
+        self.edge_mask(0, i, j) & self.edge_mask(1, i, j) & self.edge_mask(2, i, j)
+    }
+
+    /// Inclusive range of global subpixel columns `g = n·i + c` covered on global subpixel
+    /// row `y_sub = m·j + r`, or `None`.
+    fn subrow_interval(&self, y_sub: i64) -> Option<(i64, i64)> {
+        let y = 2 * y_sub + 1;
+        let (mut lo, mut hi) = (i64::MIN / 4, i64::MAX / 4);
+        for e in &self.edges {
+            // E' at column g is ax·(2g + 1) + k.
+            let k = e.by * y + e.c0;
+            match e.ax.cmp(&0) {
+                std::cmp::Ordering::Greater => {
+                    // Left edge (inclusive): 2g·ax ≥ −k − ax.
+                    lo = lo.max(ceil_div(-k - e.ax, 2 * e.ax));
+                }
+                std::cmp::Ordering::Less => {
+                    // Right edge (exclusive): 2g·(−ax) < k + ax.
+                    hi = hi.min(ceil_div(k + e.ax, -2 * e.ax) - 1);
+                }
+                std::cmp::Ordering::Equal => {
+                    if !e.inside(k) {
+                        return None;
+                    }
+                }
+            }
+        }
+        (lo <= hi).then_some((lo, hi))
+    }
+
+    /// Which pixels of row `j` within `0..width` the triangle touches and fully covers, or
+    /// `None` if it covers no subpixel centre of the row.
+    pub fn row_coverage(&self, j: i64, width: u32) -> Option<RowCoverage> {
+        if j < self.row_min || j > self.row_max {
+            return None;
+        }
+        let (n, m) = (self.size.n() as i64, self.size.m() as i64);
+        let gmax = n * width as i64 - 1;
+        let (mut tlo, mut thi) = (i64::MAX, i64::MIN);
+        let (mut flo, mut fhi) = (i64::MIN, i64::MAX);
+        let mut all_rows = true;
+        for r in 0..m {
+            match self.subrow_interval(m * j + r) {
+                Some((lo, hi)) => {
+                    let (lo, hi) = (lo.max(0), hi.min(gmax));
+                    if lo > hi {
+                        all_rows = false;
+                        continue;
+                    }
+                    tlo = tlo.min(lo.div_euclid(n));
+                    thi = thi.max(hi.div_euclid(n));
+                    flo = flo.max(ceil_div(lo, n));
+                    fhi = fhi.min((hi + 1).div_euclid(n) - 1);
+                }
+                None => all_rows = false,
+            }
+        }
+        if tlo > thi {
+            return None;
+        }
+        let full = (all_rows && flo <= fhi).then_some((flo, fhi));
+        Some(RowCoverage {
+            touched: (tlo, thi),
+            full,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tri(v: [[i32; 2]; 3]) -> SnappedTri {
+        SnappedTri {
+            v,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn half_pixel_split_gives_the_left_columns() {
+        // A big triangle whose right edge is the vertical line x = 10.5 px: in pixel 10 the
+        // subpixel centres at +0.125 and +0.375 (columns 2, 3) lie right of it.
+        let t = tri([[0, 0], [2688, 0], [2688, 25600]]); // (0,0), (10.5,0), (10.5,100)
+        let e = MaskEdges::new(&t, MaskSize::S4X4).unwrap().unwrap();
+        // Row 50 is far below the diagonal's reach at x = 10: only the x-limit matters.
+        // Columns 0 and 1 of every row: bits 3, 2, 7, 6, 11, 10, 15, 14 = 0xCCCC.
+        assert_eq!(e.fraction_mask(10, 50), 0xCCCC);
+    }
+
+    #[test]
+    fn right_edge_through_centres_excludes_them() {
+        // Vertical right edge exactly through the centres of column 2 (x = 10 + 5/8 px =
+        // 2720/256): the right edge excludes them, columns 0 and 1 remain.
+        let t = tri([[0, 0], [2720, 0], [2720, 25600]]);
+        let e = MaskEdges::new(&t, MaskSize::S4X4).unwrap().unwrap();
+        assert_eq!(e.fraction_mask(10, 50), 0xCCCC);
+        // The complementary triangle on the right takes them.
+        let u = tri([[2720, 0], [5120, 0], [2720, 25600]]);
+        let f = MaskEdges::new(&u, MaskSize::S4X4).unwrap().unwrap();
+        assert_eq!(f.fraction_mask(10, 1), 0x3333);
+    }
+}

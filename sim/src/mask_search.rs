@@ -1,0 +1,513 @@
+//! The mask search unit with its offset ROM and depth calculator, and the depth-selection
+//! variants built on it.
+//!
+//! Implements seed 000 (JP2569952B2), claim 1 / claim 2 and Fig. 6: the start-corner
+//! selector (2) picks the corner where the plane is smallest from the signs of its slopes;
+//! the search mask generator (3) supplies the band `p·c' + q·r' = k` (the seed's diagonal is
+//! `p = q = 1`); the AND unit (4) and zero detector (5) test it against the fraction mask;
+//! the mover (6) steps one line away from the corner while the AND result is zero; at the
+//! first non-zero result the offset reader (7) addresses the offset ROM (8) with the AND
+//! result (compacted to its most and least significant set bits, see
+//! [`pixelproc_formats::abuffer`]) and gets the one or two *end* subpixels; the depth
+//! calculator (10) evaluates the fragment plane `zc + sx·dx + sy·dy` there and keeps the min
+//! (or, for interpenetrating fragments, also the max from the opposite corner).
+//!
+//! [`SearchUnit`] is the per-step golden model of the RTL block: `start(mask, corner)`, then
+//! `step()` once per clock, each step reporting the search mask, the AND result, the zero
+//! flag and the move. [`DepthSelect`] puts the variants behind one interface and counts
+//! their depth evaluations.
+
+use pixelproc_formats::abuffer::{
+    offset_rom_table, search_mask_table, Corner, FragPlane, MaskSize, RomWord, SearchFamily,
+    SubOffset,
+};
+
+/// Generated tables of one search-mask family for one mask size: the search masks of every
+/// start corner and the offset ROM.
+#[derive(Clone, Debug)]
+pub struct SearchTables {
+    size: MaskSize,
+    family: SearchFamily,
+    masks: [Vec<u64>; 4],
+    rom: Vec<u8>,
+}
+
+impl SearchTables {
+    /// Generates the tables (search masks per corner, offset ROM) for a size and family.
+    pub fn new(size: MaskSize, family: SearchFamily) -> SearchTables {
+        SearchTables {
+            size,
+            family,
+            masks: Corner::ALL.map(|c| search_mask_table(size, family, c)),
+            rom: offset_rom_table(size),
+        }
+    }
+    /// The mask size.
+    pub fn size(&self) -> MaskSize {
+        self.size
+    }
+    /// The search family.
+    pub fn family(&self) -> SearchFamily {
+        self.family
+    }
+    /// Search mask of line `k` from `corner`.
+    pub fn search_mask(&self, corner: Corner, k: u32) -> u64 {
+        self.masks[corner.code() as usize][k as usize]
+    }
+    /// Number of lines (the longest search).
+    pub fn lines(&self) -> u32 {
+        self.masks[0].len() as u32
+    }
+    /// The raw offset ROM: entry `b` is the packed [`SubOffset`] of bit `b`.
+    pub fn rom(&self) -> &[u8] {
+        &self.rom
+    }
+    /// The offset ROM read as the RTL does it: priority-encode the most and least
+    /// significant set bits of `and_result` and read the ROM at both. `and_result` must be
+    /// non-zero (the unit only reads the ROM on a hit); zero reads entry 0 twice.
+    pub fn offset_rom(&self, and_result: u64) -> RomWord {
+        let hi = 63u32.saturating_sub(and_result.leading_zeros());
+        let lo = if and_result == 0 {
+            0
+        } else {
+            and_result.trailing_zeros()
+        };
+        RomWord {
+            end1: SubOffset::unpack(self.rom[hi as usize]),
+            end2: SubOffset::unpack(self.rom[lo as usize]),
+            pair: hi != lo,
+        }
+    }
+}
+
+/// What the search unit shows on one step (one clock).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct StepOutput {
+    /// False if the unit was idle (no search running): every other field is zero.
+    pub active: bool,
+    /// Index `k` of the search line tested on this step.
+    pub line: u32,
+    /// The search mask of line `k`.
+    pub search_mask: u64,
+    /// `fraction mask & search mask`.
+    pub and_result: u64,
+    /// Zero detector: `and_result == 0`.
+    pub zero: bool,
+    /// The mover fired: the next step tests line `k + 1`.
+    pub moved: bool,
+    /// First hit: `and_result` addresses the offset ROM; the search is over.
+    pub hit: bool,
+    /// The search is over (hit, or every line tested zero: empty mask).
+    pub done: bool,
+}
+
+/// The search unit: a small state machine over generated tables.
+#[derive(Clone, Debug)]
+pub struct SearchUnit<'t> {
+    tables: &'t SearchTables,
+    mask: u64,
+    corner: Corner,
+    line: u32,
+    running: bool,
+}
+
+/// Result of a whole search (built on [`SearchUnit::step`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SearchResult {
+    /// Steps taken (clocks), including the hit step.
+    pub steps: u32,
+    /// The first non-zero AND result and the ROM word it addresses, or `None` for an empty
+    /// mask.
+    pub hit: Option<(u64, RomWord)>,
+}
+
+impl<'t> SearchUnit<'t> {
+    /// An idle unit over `tables`.
+    pub fn new(tables: &'t SearchTables) -> SearchUnit<'t> {
+        SearchUnit {
+            tables,
+            mask: 0,
+            corner: Corner::TopLeft,
+            line: 0,
+            running: false,
+        }
+    }
+
+    /// Loads a fraction mask and a start corner; the next step tests line 0.
+    pub fn start(&mut self, mask: u64, corner: Corner) {
+        self.mask = mask & self.tables.size.full();
+        self.corner = corner;
+        self.line = 0;
+        self.running = true;
+    }
+
+    /// One clock: AND the current search mask with the fraction mask, test for zero, and
+    /// either stop (hit / exhausted) or move one line away from the corner.
+    pub fn step(&mut self) -> StepOutput {
+        if !self.running {
+            return StepOutput::default();
+        }
+        let search_mask = self.tables.search_mask(self.corner, self.line);
+        let and_result = self.mask & search_mask;
+        let zero = and_result == 0;
+        let last = self.line + 1 >= self.tables.lines();
+        let out = StepOutput {
+            active: true,
+            line: self.line,
+            search_mask,
+            and_result,
+            zero,
+            moved: zero && !last,
+            hit: !zero,
+            done: !zero || last,
+        };
+        if out.moved {
+            self.line += 1;
+        }
+        if out.done {
+            self.running = false;
+        }
+        out
+    }
+
+    /// Runs a whole search with [`SearchUnit::start`] and [`SearchUnit::step`].
+    pub fn run(&mut self, mask: u64, corner: Corner) -> SearchResult {
+        self.start(mask, corner);
+        let mut steps = 0;
+        loop {
+            let o = self.step();
+            steps += 1;
+            if o.hit {
+                return SearchResult {
+                    steps,
+                    hit: Some((o.and_result, self.tables.offset_rom(o.and_result))),
+                };
+            }
+            if o.done {
+                return SearchResult { steps, hit: None };
+            }
+        }
+    }
+}
+
+/// The depth calculator on a ROM word: depths at end 1 and (if `pair`) end 2, with the
+/// number of evaluations (1 or 2).
+pub fn depth_calc(plane: &FragPlane, w: RomWord) -> (i64, Option<i64>, u32) {
+    let z1 = plane.depth_at(w.end1);
+    if w.pair {
+        (z1, Some(plane.depth_at(w.end2)), 2)
+    } else {
+        (z1, None, 1)
+    }
+}
+
+/// How a fragment's ordering depth is chosen (the `--depth` option).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum DepthSelect {
+    /// One depth at the pixel centre (the cheap, wrong method the seed criticises).
+    Center,
+    /// The seed's method: diagonal search from the start corner, one or two depths.
+    Search,
+    /// Search with a family chosen per slope class (columns, 2:1, diagonal, 1:2, rows),
+    /// the "table for a different inclination" the seed mentions.
+    Slope,
+    /// Depth at every covered subpixel: the exact extreme over subpixels.
+    Exhaustive,
+}
+
+impl DepthSelect {
+    /// All variants.
+    pub const ALL: [DepthSelect; 4] = [
+        DepthSelect::Center,
+        DepthSelect::Search,
+        DepthSelect::Slope,
+        DepthSelect::Exhaustive,
+    ];
+    /// Name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            DepthSelect::Center => "center",
+            DepthSelect::Search => "search",
+            DepthSelect::Slope => "slope",
+            DepthSelect::Exhaustive => "exhaustive",
+        }
+    }
+    /// Parses a command-line name.
+    pub fn parse(s: &str) -> Option<DepthSelect> {
+        DepthSelect::ALL.into_iter().find(|d| d.name() == s)
+    }
+}
+
+/// The ordering depths of one fragment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DepthPick {
+    /// Nearest depth (Q.12) as the variant sees it.
+    pub zmin: i64,
+    /// Farthest depth (Q.12), when asked for.
+    pub zmax: Option<i64>,
+    /// Depth-calculator evaluations spent.
+    pub evals: u32,
+    /// Search-unit steps spent (0 for `center` and `exhaustive`).
+    pub steps: u32,
+}
+
+/// The slope classes of [`DepthSelect::Slope`], and the family each uses.
+pub const SLOPE_FAMILIES: [SearchFamily; 5] = [
+    SearchFamily { p: 1, q: 0 },
+    SearchFamily { p: 2, q: 1 },
+    SearchFamily { p: 1, q: 1 },
+    SearchFamily { p: 1, q: 2 },
+    SearchFamily { p: 0, q: 1 },
+];
+
+/// Slope class of a plane: index into [`SLOPE_FAMILIES`] whose line direction is closest to
+/// the level lines of the plane. With `a = |sx|`, `b = |sy|` (one offset unit is half a
+/// subpixel on both axes): `4b < a` columns, `4a < b` rows, `7b < 5a` 2:1, `7a < 5b` 1:2,
+/// else diagonal. The thresholds 1/4 and 5/7 approximate the bisecting angles 13.3° and
+/// 35.8° (tan = 0.236, 0.721).
+pub fn slope_class(sx: i64, sy: i64) -> usize {
+    let (a, b) = (sx.unsigned_abs() as u128, sy.unsigned_abs() as u128);
+    if 4 * b < a {
+        0
+    } else if 4 * a < b {
+        4
+    } else if 7 * b < 5 * a {
+        1
+    } else if 7 * a < 5 * b {
+        3
+    } else {
+        2
+    }
+}
+
+/// Depth selection for one mask size: the generated tables of every family, shared
+/// read-only across threads.
+#[derive(Clone, Debug)]
+pub struct DepthSelector {
+    size: MaskSize,
+    /// Tables per slope class (index 2 is the seed's diagonal family).
+    tables: Vec<SearchTables>,
+}
+
+impl DepthSelector {
+    /// Generates every table for `size`.
+    pub fn new(size: MaskSize) -> DepthSelector {
+        DepthSelector {
+            size,
+            tables: SLOPE_FAMILIES
+                .iter()
+                .map(|&f| SearchTables::new(size, f))
+                .collect(),
+        }
+    }
+
+    /// The seed's diagonal tables.
+    pub fn diagonal(&self) -> &SearchTables {
+        &self.tables[2]
+    }
+
+    /// Ordering depths of a fragment with fraction `mask` (non-zero) and `plane` under
+    /// `variant`; `want_max` also finds the farthest depth (interpenetrating surfaces).
+    pub fn select(
+        &self,
+        variant: DepthSelect,
+        mask: u64,
+        plane: &FragPlane,
+        want_max: bool,
+    ) -> DepthPick {
+        match variant {
+            DepthSelect::Center => DepthPick {
+                zmin: plane.zc,
+                zmax: want_max.then_some(plane.zc),
+                evals: 1,
+                steps: 0,
+            },
+            DepthSelect::Exhaustive => {
+                let (mut lo, mut hi, mut evals) = (i64::MAX, i64::MIN, 0);
+                let mut bits = mask & self.size.full();
+                while bits != 0 {
+                    let b = bits.trailing_zeros();
+                    bits &= bits - 1;
+                    let (c, r) = self.size.col_row(b);
+                    let z = plane.depth_at(self.size.offset(c, r));
+                    lo = lo.min(z);
+                    hi = hi.max(z);
+                    evals += 1;
+                }
+                DepthPick {
+                    zmin: lo,
+                    zmax: want_max.then_some(hi),
+                    evals,
+                    steps: 0,
+                }
+            }
+            DepthSelect::Search | DepthSelect::Slope => {
+                let t = if variant == DepthSelect::Search {
+                    self.diagonal()
+                } else {
+                    &self.tables[slope_class(plane.sx, plane.sy)]
+                };
+                let mut unit = SearchUnit::new(t);
+                let corner = Corner::of_min(plane.sx, plane.sy);
+                let mut pick = DepthPick {
+                    zmin: plane.zc,
+                    zmax: None,
+                    evals: 0,
+                    steps: 0,
+                };
+                let r = unit.run(mask, corner);
+                pick.steps += r.steps;
+                if let Some((_, w)) = r.hit {
+                    let (z1, z2, e) = depth_calc(plane, w);
+                    pick.zmin = z2.map_or(z1, |z2| z1.min(z2));
+                    pick.evals += e;
+                }
+                if want_max {
+                    let r = unit.run(mask, corner.opposite());
+                    pick.steps += r.steps;
+                    let mut zmax = plane.zc;
+                    if let Some((_, w)) = r.hit {
+                        let (z1, z2, e) = depth_calc(plane, w);
+                        zmax = z2.map_or(z1, |z2| z1.max(z2));
+                        pick.evals += e;
+                    }
+                    pick.zmax = Some(zmax);
+                }
+                pick
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn px(size: MaskSize, o: SubOffset) -> (f64, f64) {
+        o.to_px(size)
+    }
+
+    #[test]
+    fn seed_vector_0100h() {
+        let t = SearchTables::new(MaskSize::S4X4, SearchFamily::DIAGONAL);
+        let w = t.offset_rom(0x0100);
+        assert!(!w.pair);
+        assert_eq!(px(t.size(), w.end1), (0.375, 0.125));
+        assert_eq!(w.end1, w.end2);
+    }
+
+    #[test]
+    fn seed_vector_0842h() {
+        let t = SearchTables::new(MaskSize::S4X4, SearchFamily::DIAGONAL);
+        let w = t.offset_rom(0x0842);
+        assert!(w.pair);
+        assert_eq!(px(t.size(), w.end1), (-0.375, 0.125));
+        assert_eq!(px(t.size(), w.end2), (0.125, -0.375));
+    }
+
+    #[test]
+    fn seed_vectors_arise_as_first_hits() {
+        // 0842H is the first hit from the top-left corner of a mask whose nearest
+        // anti-diagonal (c + r = 2) is fully covered and whose lines 0 and 1 are empty.
+        let t = SearchTables::new(MaskSize::S4X4, SearchFamily::DIAGONAL);
+        let mut u = SearchUnit::new(&t);
+        u.start(0xFF73, Corner::TopLeft);
+        let s0 = u.step();
+        assert_eq!((s0.search_mask, s0.zero, s0.moved), (0x0008, true, true));
+        let s1 = u.step();
+        assert_eq!((s1.search_mask, s1.zero, s1.moved), (0x0084, true, true));
+        let s2 = u.step();
+        assert_eq!(s2.search_mask, 0x0842);
+        assert_eq!(
+            (s2.and_result, s2.zero, s2.hit, s2.done),
+            (0x0842, false, true, true)
+        );
+        assert!(!u.step().active);
+        // 0100H from the bottom-right: line 0 (bit 12) empty, line 1 = bits 8, 13.
+        let r = u.run(0x0100 | 0x0011, Corner::BottomRight);
+        assert_eq!(r.steps, 2);
+        assert_eq!(r.hit.unwrap().0, 0x0100);
+    }
+
+    #[test]
+    fn depth_calculator_is_plane_multiply_add() {
+        let p = FragPlane {
+            zc: 1000 << 12,
+            sx: 3 << 12,
+            sy: -5 << 12,
+        };
+        let w = SearchTables::new(MaskSize::S4X4, SearchFamily::DIAGONAL).offset_rom(0x0842);
+        // (−3, +1) and (+1, −3) offset units: 1000 − 9 − 5 and 1000 + 3 + 15.
+        assert_eq!(depth_calc(&p, w), (986 << 12, Some(1018 << 12), 2));
+    }
+
+    #[test]
+    fn search_is_exact_for_diagonal_gradients() {
+        // Equal slopes: the level lines are the anti-diagonals, so the first hit holds the
+        // minimum; check against exhaustive on every 4×4 mask for one plane per corner.
+        let sel = DepthSelector::new(MaskSize::S4X4);
+        for (sx, sy) in [(7, 7), (-7, 7), (7, -7), (-7, -7)] {
+            let p = FragPlane { zc: 0, sx, sy };
+            for mask in 1..=0xFFFFu64 {
+                let s = sel.select(DepthSelect::Search, mask, &p, true);
+                let e = sel.select(DepthSelect::Exhaustive, mask, &p, true);
+                assert_eq!((s.zmin, s.zmax), (e.zmin, e.zmax), "mask {mask:04x}");
+                assert!(s.evals <= 4 && e.evals == mask.count_ones());
+            }
+        }
+    }
+
+    #[test]
+    fn searches_bound_the_exact_extremes() {
+        // A search depth is the depth of a covered subpixel, so it can never be nearer than
+        // the exact minimum (nor farther than the exact maximum), and it costs at most two
+        // evaluations per direction.
+        let sel = DepthSelector::new(MaskSize::S4X4);
+        let mut x = 0x1234_5678_9ABC_DEF1u64;
+        for mask in (1..=0xFFFFu64).step_by(7) {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let p = FragPlane {
+                zc: (x % 100_000) as i64,
+                sx: (x >> 20) as i64 % 4000 - 2000,
+                sy: (x >> 40) as i64 % 4000 - 2000,
+            };
+            let e = sel.select(DepthSelect::Exhaustive, mask, &p, true);
+            for v in [DepthSelect::Search, DepthSelect::Slope] {
+                let s = sel.select(v, mask, &p, true);
+                assert!(s.zmin >= e.zmin && s.zmax.unwrap() <= e.zmax.unwrap());
+                assert!((2..=4).contains(&s.evals), "{v:?} {mask:x}");
+            }
+        }
+    }
+
+    #[test]
+    fn diagonal_search_misses_a_nearer_later_line() {
+        // Mask: (col 2, row 0) = bit 1 and (col 0, row 3) = bit 15; plane rising in x only.
+        // The diagonal search from the top-left hits line 2 (offset dx = +1), the exact
+        // minimum is at dx = -3; the column family (slope class 0) finds it.
+        let sel = DepthSelector::new(MaskSize::S4X4);
+        let p = FragPlane {
+            zc: 100,
+            sx: 10,
+            sy: 0,
+        };
+        let mask = (1 << 1) | (1 << 15);
+        assert_eq!(sel.select(DepthSelect::Search, mask, &p, false).zmin, 110);
+        assert_eq!(
+            sel.select(DepthSelect::Exhaustive, mask, &p, false).zmin,
+            70
+        );
+        assert_eq!(sel.select(DepthSelect::Slope, mask, &p, false).zmin, 70);
+    }
+
+    #[test]
+    fn slope_classes() {
+        assert_eq!(slope_class(100, 0), 0);
+        assert_eq!(slope_class(0, 100), 4);
+        assert_eq!(slope_class(100, 100), 2);
+        assert_eq!(slope_class(-100, 50), 1);
+        assert_eq!(slope_class(50, -100), 3);
+    }
+}
