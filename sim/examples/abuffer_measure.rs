@@ -31,6 +31,7 @@ fn tri(v: [[f64; 2]; 3], z: [f64; 3], rgb: [f64; 3], tag: u16) -> SnappedTri {
         c: [rgb.map(|c| (c * 255.0 * 4096.0) as u32); 3],
         tag,
         host: None,
+        nclass: 0,
     }
 }
 

@@ -86,6 +86,7 @@ fn random_tri(rng: &mut Rng, span: i32, grid: i32, k: u64) -> SnappedTri {
         c: [0; 3].map(|_| [0; 3].map(|_| (rng.next() % (255 << 12)) as u32)),
         tag: k as u16,
         host: None,
+        nclass: 0,
     }
 }
 
@@ -228,6 +229,7 @@ fn full_cover_resolves_to_the_colour_at_the_centre() {
         c,
         tag: 0,
         host: None,
+        nclass: 0,
     };
     let f = render_abuffer(&[t], 8, 8, [0, 0, 0], &AbufferParams::default()).unwrap();
     assert!(
