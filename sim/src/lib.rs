@@ -15,3 +15,5 @@ pub mod plan;
 pub mod render;
 pub mod scene;
 pub mod setup;
+pub mod aa;
+pub mod reference;
