@@ -30,10 +30,14 @@ fn scene(seed: u64, n: usize, w: f64, h: f64) -> Vec<SnappedTri> {
     (0..n)
         .map(|k| {
             let (cx, cy) = (r.range(0.0, w), r.range(0.0, h));
-            let s = if k % 5 == 0 { r.range(1.0, 4.0) } else { r.range(3.0, w / 5.0) };
+            let s = if k % 5 == 0 {
+                r.range(1.0, 4.0)
+            } else {
+                r.range(3.0, w / 5.0)
+            };
             let v = [0, 1, 2].map(|_| [q(cx + r.range(-s, s)), q(cy + r.range(-s, s))]);
             let z = [0, 1, 2].map(|_| r.range(10_000.0, 2_000_000.0) as u32);
-            let col = [0, 1, 2].map(|_| (r.range(0.0, 255.0) * 4096.0) as u32);
+            let col = [0, 1, 2].map(|_| (r.range(0.0, 255.0) * 4096.0).floor() as u32 + 2048);
             SnappedTri {
                 v,
                 z,
@@ -46,7 +50,10 @@ fn scene(seed: u64, n: usize, w: f64, h: f64) -> Vec<SnappedTri> {
 }
 
 fn main() {
-    let args: Vec<usize> = std::env::args().skip(1).filter_map(|a| a.parse().ok()).collect();
+    let args: Vec<usize> = std::env::args()
+        .skip(1)
+        .filter_map(|a| a.parse().ok())
+        .collect();
     let size = *args.first().unwrap_or(&256) as u32;
     let ntri = *args.get(1).unwrap_or(&100);
     let mut methods = vec![AaMethod::None];

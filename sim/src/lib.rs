@@ -7,13 +7,13 @@
 
 #![warn(missing_docs)]
 
+pub mod aa;
 pub mod builtin;
 pub mod frontend;
 pub mod pipeline;
 pub mod pixel_array;
 pub mod plan;
+pub mod reference;
 pub mod render;
 pub mod scene;
 pub mod setup;
-pub mod aa;
-pub mod reference;

@@ -14,7 +14,8 @@
 //!    exactly along their line of intersection. Coplanar pairs follow the renderer's
 //!    depth-test order: a decal (pattern, `host: Some`) beats a non-decal on its plane, a
 //!    later decal beats an earlier one, an earlier non-decal beats a later one;
-//! 3. the pixel value is `Σ area(piece)·I(centroid(piece)) + (1 − Σ area)·bg`: Gouraud
+//! 3. a vertex intensity `v` (Q8.12 with the +2048 rounding offset of span setup) stands
+//!    for `v/4096 − ½` on the 0..255 scale; the pixel value is `Σ area(piece)·I(centroid(piece)) + (1 − Σ area)·bg`: Gouraud
 //!    intensity is affine, so the value at the centroid times the area is its exact
 //!    integral over the piece (the box filter of the exact image).
 //!
@@ -80,7 +81,8 @@ fn to_ref(t: &SnappedTri) -> Option<RefTri> {
         Some(h) => Affine::through(h.v.map(px), h.z.map(|z| z as f64))?,
         None => Affine::through(p, t.z.map(|z| z as f64))?,
     };
-    let col = [0, 1, 2].map(|k| Affine::through(p, t.c.map(|c| c[k] as f64 / 4096.0)));
+    // Q8.12 with the +2048 rounding offset folded in (docs/formats.md): v/4096 − ½.
+    let col = [0, 1, 2].map(|k| Affine::through(p, t.c.map(|c| c[k] as f64 / 4096.0 - 0.5)));
     let col = [col[0]?, col[1]?, col[2]?];
     let xs = p.map(|q| q[0]);
     let ys = p.map(|q| q[1]);
@@ -258,6 +260,9 @@ impl RefImage {
     }
 }
 
+/// One row of the reference: colour, coverage, dominant, mixed, visible area per triangle.
+type RowOut = (Vec<[f64; 3]>, Vec<f64>, Vec<i32>, Vec<bool>, Vec<f64>);
+
 /// Whether `q` is drawn in front of `p` where their planes coincide.
 fn coplanar_wins(q: usize, qt: &RefTri, p: usize, pt: &RefTri) -> bool {
     match (qt.decal, pt.decal) {
@@ -271,6 +276,7 @@ fn coplanar_wins(q: usize, qt: &RefTri, p: usize, pt: &RefTri) -> bool {
 /// Renders the exact box-filtered reference of `tris` on a `width × height` screen with
 /// background `bg`. Degenerate triangles (zero area, or a degenerate host plane) are
 /// skipped, as in the renderer.
+#[allow(clippy::needless_range_loop)]
 pub fn reference_image(tris: &[SnappedTri], width: u32, height: u32, bg: [u8; 3]) -> RefImage {
     let rt: Vec<Option<RefTri>> = tris.iter().map(to_ref).collect();
     // Bin by row.
@@ -284,7 +290,7 @@ pub fn reference_image(tris: &[SnappedTri], width: u32, height: u32, bg: [u8; 3]
         }
     }
     let bgf = bg.map(|v| v as f64);
-    let per_row: Vec<(Vec<[f64; 3]>, Vec<f64>, Vec<i32>, Vec<bool>, Vec<f64>)> = (0..height)
+    let per_row: Vec<RowOut> = (0..height)
         .into_par_iter()
         .map(|j| {
             let mut rgb = Vec::with_capacity(width as usize);
@@ -294,7 +300,12 @@ pub fn reference_image(tris: &[SnappedTri], width: u32, height: u32, bg: [u8; 3]
             let mut vis = vec![0.0; tris.len()];
             for i in 0..width {
                 let (x0, y0) = (i as f64, j as f64);
-                let square: Poly = vec![[x0, y0], [x0 + 1.0, y0], [x0 + 1.0, y0 + 1.0], [x0, y0 + 1.0]];
+                let square: Poly = vec![
+                    [x0, y0],
+                    [x0 + 1.0, y0],
+                    [x0 + 1.0, y0 + 1.0],
+                    [x0, y0 + 1.0],
+                ];
                 let mut cands: Vec<(usize, Poly)> = Vec::new();
                 for &k in &rows[j as usize] {
                     let t = rt[k].as_ref().unwrap();

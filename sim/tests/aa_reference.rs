@@ -9,7 +9,7 @@ fn flat(v: [[f64; 2]; 3], z: [u32; 3], rgb: [u32; 3]) -> SnappedTri {
     SnappedTri {
         v: v.map(|p| [q8(p[0]), q8(p[1])]),
         z,
-        c: [rgb.map(|c| c << 12); 3],
+        c: [rgb.map(|c| (c << 12) + 2048); 3],
         ..Default::default()
     }
 }
@@ -23,7 +23,8 @@ fn single_triangle_pixel_areas_sum_to_its_shoelace_area() {
         // The snapped vertices, from the raw Q.8 integers.
         let p = t.v.map(|q| [q[0] as f64 / 256.0, q[1] as f64 / 256.0]);
         let shoelace = 0.5
-            * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]))
+            * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
+                - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]))
                 .abs();
         let img = reference_image(&[t], 24, 16, [0, 0, 0]);
         let sum: f64 = img.covered.iter().sum();
@@ -50,7 +51,9 @@ fn below_line_coverage(m: f64, c: f64, x0: f64, y0: f64) -> f64 {
     }
     xs.sort_by(f64::total_cmp);
     // f is linear between consecutive kinks: trapezoid rule is exact there.
-    xs.windows(2).map(|w| 0.5 * (f(w[0]) + f(w[1])) * (w[1] - w[0])).sum()
+    xs.windows(2)
+        .map(|w| 0.5 * (f(w[0]) + f(w[1])) * (w[1] - w[0]))
+        .sum()
 }
 
 #[test]
@@ -61,7 +64,11 @@ fn half_plane_edge_has_the_analytic_coverage() {
     let (y0, y1) = (3.0 + 7.0 / 256.0, 11.0 - 45.0 / 256.0);
     let m = (y1 - y0) / (x1 - x0);
     let c = y0 - m * x0;
-    let t = flat([[x0, y0], [x1, y1], [x0, 200.0]], [50, 50, 50], [255, 255, 255]);
+    let t = flat(
+        [[x0, y0], [x1, y1], [x0, 200.0]],
+        [50, 50, 50],
+        [255, 255, 255],
+    );
     let img = reference_image(&[t], 32, 16, [0, 0, 0]);
     for j in 0..16 {
         for i in 0..32 {
@@ -102,8 +109,16 @@ fn interpenetrating_quads_split_at_their_intersection_line() {
 
 #[test]
 fn decal_wins_over_its_host_at_equal_depth() {
-    let host = flat([[0.0, 0.0], [16.0, 0.0], [0.0, 16.0]], [500, 900, 1300], [0, 0, 255]);
-    let mut decal = flat([[2.0, 2.0], [6.0, 2.0], [2.0, 6.0]], [0, 0, 0], [255, 255, 255]);
+    let host = flat(
+        [[0.0, 0.0], [16.0, 0.0], [0.0, 16.0]],
+        [500, 900, 1300],
+        [0, 0, 255],
+    );
+    let mut decal = flat(
+        [[2.0, 2.0], [6.0, 2.0], [2.0, 6.0]],
+        [0, 0, 0],
+        [255, 255, 255],
+    );
     decal.z = [500, 500, 500]; // ignored: the host plane is used
     decal.host = Some(HostPlane {
         v: host.v,

@@ -24,7 +24,8 @@
 //! **Weights.** Integers normalised by their sum ([`CornerWeights`]): ¼ each by default,
 //! or e.g. 0.4 for the sample inside the pixel and 0.2 for the others, and, with the
 //! optional centre sample (two samples per pixel), a higher weight for it. The resolve
-//! rounds once: `C = (Σ w·I + W·2^11) / (W·2^12)`, `W = Σ w`, `I` in Q8.12.
+//! truncates once: `C = ⌊Σ w·I / (W·2^12)⌋`, `W = Σ w`, `I` in Q8.12 with the +2048
+//! rounding offset folded in (`docs/formats.md`), so truncation rounds the true value.
 //!
 //! **Resolve with a row buffer (seed 003, memory paragraph).** Pixels are resolved row by
 //! row, left to right; an on-chip row buffer holds the previous row's bottom corner
@@ -316,7 +317,7 @@ pub fn render(
             }
             let px = j as usize * w + i as usize;
             for ch in 0..3 {
-                rgb[3 * px + ch] = ((acc[ch] + total * 2048) / (total * 4096)).min(255) as u8;
+                rgb[3 * px + ch] = (acc[ch] / (total * 4096)).min(255) as u8;
             }
             wsum.sort_by_key(|e| (std::cmp::Reverse(e.1), e.0));
             visible[px] = wsum[0].0;

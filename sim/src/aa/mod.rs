@@ -68,8 +68,9 @@ impl AaMethod {
     pub fn label(&self) -> String {
         match self {
             AaMethod::None => "none".into(),
-            AaMethod::Multiscan(p) => format!("multiscan n={} {:?}", p.subscanlines, p.filter)
-                .to_lowercase(),
+            AaMethod::Multiscan(p) => {
+                format!("multiscan n={} {:?}", p.subscanlines, p.filter).to_lowercase()
+            }
             AaMethod::Corner(p) => p.label(),
             AaMethod::PostFx(p) => p.label(),
             AaMethod::Ssaa { k } => format!("ssaa {k}x{k}"),
@@ -229,7 +230,7 @@ pub(crate) fn baseline_visible(
 /// (columns) 6..10 counted, so 0 and 255 are among the levels.
 pub fn edge_shade_levels(method: &AaMethod, vertical: bool) -> Result<usize, AaError> {
     let q = |x: f64| (x * 256.0).round() as i32;
-    let white = [255u32 << 12; 3];
+    let white = [(255u32 << 12) + 2048; 3];
     let (mut a, mut b, mut c) = ([-4.0, 8.5625], [68.0, 7.4375], [-4.0, 40.0]);
     let (w, h) = if vertical { (16, 64) } else { (64, 16) };
     if vertical {

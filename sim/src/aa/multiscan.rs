@@ -10,7 +10,13 @@
 //! **Exact spans.** On each sub-scanline every triangle's x-interval is computed from its
 //! snapped (Q.8) edges exactly in `i128` and rounded once to **Q.16 pixels** (`x16`,
 //! 65536 per pixel, half up). A sub-scanline hits a triangle when `ymin ≤ y < ymax`
-//! (a top horizontal edge belongs to the triangle, a bottom one does not). Two
+//! (the cross-section just below the line). The one exception is the box filter's
+//! bottom boundary `l = n` of a row, taken as the cross-section just *above* the line
+//! (`ymin < y ≤ ymax`): each row integrates its own side of a horizontal edge lying
+//! exactly on a pixel boundary, so an axis-aligned rectangle on pixel boundaries is
+//! exact for every n (the seed shares the boundary sub-scanline without saying which
+//! side it sees; this is the project's decision, and the shared line costs a second
+//! span set only where a horizontal edge lies on it). Two
 //! triangles sharing an edge compute the same rational for it, so their intervals meet
 //! without gap or overlap.
 //!
@@ -36,8 +42,9 @@
 //!
 //! **Box filter (§2.2.1, trapezoidal weights).** `C_i = Σ_l d_l Σ_f L_{f,l} I_f` with
 //! `d_l = 1/(2n)` at `l = 0, n` and `1/n` otherwise. In integers: `L` in Q.16, `I` in
-//! Q8.12, weights `2n·d_l ∈ {1, 2}`, accumulator `u64`; one rounding at the end:
-//! `C = (acc + h) / (2n·2^16·2^12)`, `h` half the divisor.
+//! Q8.12, weights `2n·d_l ∈ {1, 2}`, accumulator `u64`; one truncation at the end:
+//! `C = ⌊acc / (2n·2^16·2^12)⌋` (intensities carry the +2048 rounding offset of
+//! `docs/formats.md`, the background is stored as `bg·4096 + 2048`, so this rounds).
 //!
 //! **Axisymmetric filters (§2.2.2, the 64-step F_l tables and W_{l,0..3}).** For filter
 //! profile `f(r)` of radius 1 (Gaussian `exp(−r²/(2σ²))`, σ = 0.4, or cone `1 − r`),
@@ -49,7 +56,7 @@
 //! to (i+1, j), `W_{l,2} = F_{n−l}(1−x'_1) − F_{n−l}(1−x'_2)` to (i+1, j+1) and
 //! `W_{l,3} = F_{n−l}(x'_2) − F_{n−l}(x'_1)` to (i, j+1), each times the intensity. The
 //! final colour divides by the exact integer total weight `T` of a fully covered pixel:
-//! `C = (acc + T·2^11) / (T·2^12)`, so a uniform area stays exactly its colour.
+//! `C = ⌊acc / (T·2^12)⌋`, so a uniform area stays exactly its colour.
 //!
 //! **Two rows of pixel memory.** Each sub-scanline adds to at most two pixel rows (box:
 //! the boundary sub-scanline; axisymmetric: rows j and j + 1). The model computes pixel
@@ -154,7 +161,8 @@ impl Plane {
     fn row(&self, ynum: i64, yden: i64) -> RowPlane {
         let (yn, yd) = (ynum as i128, yden as i128);
         let d = 256 * yd * self.area2;
-        let k = self.v0 * d - self.nx * 256 * self.x0 * yd + self.ny * (256 * yn - self.y0 * yd) * 256;
+        let k =
+            self.v0 * d - self.nx * 256 * self.x0 * yd + self.ny * (256 * yn - self.y0 * yd) * 256;
         RowPlane {
             k,
             s: self.nx * yd,
@@ -194,10 +202,18 @@ fn prepare(k: usize, t: &SnappedTri) -> Option<MsTri> {
 
 impl MsTri {
     /// The Q.16 x-interval `[xl, xr)` on the sub-scanline `y = ynum/yden`, if non-empty.
-    fn interval(&self, ynum: i64, yden: i64) -> Option<(i64, i64)> {
+    /// `from_above` takes the limit `y → y⁻` (the cross-section just above the line:
+    /// `ymin < y ≤ ymax`) instead of `y → y⁺` (`ymin ≤ y < ymax`).
+    fn interval(&self, ynum: i64, yden: i64, from_above: bool) -> Option<(i64, i64)> {
         let y = 256 * ynum as i128; // Q.8 · yden
         let yd = yden as i128;
-        if !(self.ymin as i128 * yd <= y && y < self.ymax as i128 * yd) {
+        let (lo, hi) = (self.ymin as i128 * yd, self.ymax as i128 * yd);
+        let hit = if from_above {
+            lo < y && y <= hi
+        } else {
+            lo <= y && y < hi
+        };
+        if !hit {
             return None;
         }
         let (mut lo, mut hi) = (i64::MAX, i64::MIN);
@@ -303,7 +319,10 @@ fn walk(act: &[Active], xa: i64, xb: i64, inter: bool, out: &mut Vec<Piece>) -> 
                 }
                 let mut best: Option<(i64, usize)> = None;
                 for (ni, &q) in next.iter().enumerate() {
-                    let (za, zb) = (zat(q, x, &mut evals) - zat(c, x, &mut evals), zat(q, ex, &mut evals) - zat(c, ex, &mut evals));
+                    let (za, zb) = (
+                        zat(q, x, &mut evals) - zat(c, x, &mut evals),
+                        zat(q, ex, &mut evals) - zat(c, ex, &mut evals),
+                    );
                     if za >= 0 && zb < 0 {
                         // First x in (x, ex] where q is in front: d(x*) < 0.
                         let xs = x + ((ex - x) as i128 * za as i128 / (za - zb) as i128) as i64 + 1;
@@ -314,12 +333,19 @@ fn walk(act: &[Active], xa: i64, xb: i64, inter: bool, out: &mut Vec<Piece>) -> 
                     }
                 }
                 match best {
-                    Some((xs, ni)) if xs < ex => {
+                    Some((xs, _)) if xs < ex => {
                         emit(out, x, xs, cur);
                         x = xs;
-                        let q = next.swap_remove(ni);
+                        // The front-most of NEXT and the old current becomes current
+                        // (a decal on the passing polygon's plane comes with it).
                         next.push(c);
-                        cur = Some(q);
+                        let mut b = 0;
+                        for ni in 1..next.len() {
+                            if front(next[ni], next[b], xs, &mut evals) {
+                                b = ni;
+                            }
+                        }
+                        cur = Some(next.swap_remove(b));
                     }
                     _ => break,
                 }
@@ -370,6 +396,7 @@ struct Tables {
     total: i64,
 }
 
+#[allow(clippy::needless_range_loop)]
 fn tables(filter: Filter, n: u32) -> Tables {
     let prof = |r: f64| -> f64 {
         if r >= 1.0 {
@@ -430,6 +457,7 @@ struct PixAcc {
 }
 
 impl PixAcc {
+    #[allow(clippy::needless_range_loop)]
     fn add(&mut self, w: i64, col: [i64; 3], tri: i32) {
         if w == 0 {
             return;
@@ -454,14 +482,16 @@ pub fn render(
 ) -> Result<AaFrame, AaError> {
     let n = p.subscanlines;
     if !(1..=16).contains(&n) {
-        return Err(AaError::Param(format!("subscanlines = {n} must be in 1..=16")));
+        return Err(AaError::Param(format!(
+            "subscanlines = {n} must be in 1..=16"
+        )));
     }
     let mt: Vec<MsTri> = tris
         .iter()
         .enumerate()
         .filter_map(|(k, t)| prepare(k, t))
         .collect();
-    let bgc = bg.map(|v| (v as i64) << 12);
+    let bgc = bg.map(|v| ((v as i64) << 12) + 2048);
     let (w, n64) = (width as usize, n as i64);
     let yden = 2 * n64;
     let tab = (p.filter != Filter::Box).then(|| tables(p.filter, n));
@@ -485,16 +515,21 @@ pub fn render(
             };
             // Triangles touching the rows' y range.
             let (ylo, yhi) = (256 * (j - 1), 256 * (j + 2));
-            let cand: Vec<&MsTri> = mt.iter().filter(|t| t.ymax >= ylo && t.ymin <= yhi).collect();
+            let cand: Vec<&MsTri> = mt
+                .iter()
+                .filter(|t| t.ymax >= ylo && t.ymin <= yhi)
+                .collect();
             let (xa, xb) = match p.filter {
                 Filter::Box => (0, width as i64 * ONE16),
                 _ => (-ONE16 / 2, width as i64 * ONE16 + ONE16 / 2),
             };
             for &(ynum, m, owned) in &lines {
+                // The bottom boundary of a pixel row is seen from inside the row.
+                let from_above = p.filter == Filter::Box && m == n64;
                 let act: Vec<Active> = cand
                     .iter()
                     .filter_map(|t| {
-                        let (xl, xr) = t.interval(ynum, yden)?;
+                        let (xl, xr) = t.interval(ynum, yden, from_above)?;
                         Some(Active {
                             t,
                             z: t.z.row(ynum, yden),
@@ -514,7 +549,9 @@ pub fn render(
                         bgc
                     } else {
                         let mid = (x0 + x1).div_euclid(2);
-                        act[pc.slot].c.map(|c| c.at(mid, 12).clamp(0, 255 << 12))
+                        act[pc.slot]
+                            .c
+                            .map(|c| c.at(mid, 0).clamp(0, (255 << 12) + 4095))
                     }
                 };
                 match &tab {
@@ -548,7 +585,11 @@ pub fn render(
                                     acc[i as usize].add(fm[k2] - fm[k1], col, pc.tri);
                                 }
                                 if i + 1 < width as i64 {
-                                    acc[(i + 1) as usize].add(fm[64 - k1] - fm[64 - k2], col, pc.tri);
+                                    acc[(i + 1) as usize].add(
+                                        fm[64 - k1] - fm[64 - k2],
+                                        col,
+                                        pc.tri,
+                                    );
                                 }
                                 x0 = x1;
                             }
@@ -564,7 +605,7 @@ pub fn render(
             let mut vis = Vec::with_capacity(w);
             for a in &mut acc {
                 for ch in 0..3 {
-                    rgb.push(((a.c[ch] + div / 2) / div).min(255) as u8);
+                    rgb.push((a.c[ch] / div).min(255) as u8);
                 }
                 a.w.sort_by_key(|e| (std::cmp::Reverse(e.1), e.0));
                 vis.push(a.w.first().map_or(-1, |e| e.0));
@@ -611,7 +652,7 @@ mod tests {
         };
         let (ta, tb) = (prepare(0, &a).unwrap(), prepare(1, &b).unwrap());
         for g in 0..100 {
-            let (ia, ib) = (ta.interval(g, 12), tb.interval(g, 12));
+            let (ia, ib) = (ta.interval(g, 12, false), tb.interval(g, 12, false));
             if let (Some(ia), Some(ib)) = (ia, ib) {
                 assert_eq!(ia.1, ib.0, "sub-scanline {g}");
             }

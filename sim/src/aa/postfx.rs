@@ -391,11 +391,7 @@ pub fn render(
     let frame = render_frame(&src, bg, width as usize, |_, _| {});
     let z = frame.depth();
     let (w, h) = (width as usize, height as usize);
-    let img: Vec<[u8; 3]> = frame
-        .rgb8()
-        .chunks(3)
-        .map(|c| [c[0], c[1], c[2]])
-        .collect();
+    let img: Vec<[u8; 3]> = frame.rgb8().chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
     let e = detect_edges(&z, w, h, p);
     let mut reads = 0u64;
     // Loop 1.

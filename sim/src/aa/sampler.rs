@@ -13,6 +13,10 @@
 //! rounded to Q.32 (a closed form anchored at `a = 0`, so two triangles on one plane, a
 //! decal and its host, get identical depths at every sample). Triangles are drawn in
 //! scene order with the array's depth test: `Z < ZB`, or `Z ≤ ZB` for a decal.
+//!
+//! Intensities follow the span-setup convention (`docs/formats.md`): a Q8.12 value
+//! carries the +2048 rounding offset, so the background is stored as `bg·4096 + 2048`
+//! and resolves truncate.
 
 use rayon::prelude::*;
 
@@ -148,7 +152,12 @@ fn prepare(k: usize, t: &SnappedTri) -> Option<SampTri> {
     let edge = |p: [i32; 2], q: [i32; 2]| {
         let a = -((q[1] - p[1]) as i64);
         let b = (q[0] - p[0]) as i64;
-        (a, b, -(a * p[0] as i64 + b * p[1] as i64), a > 0 || (a == 0 && b > 0))
+        (
+            a,
+            b,
+            -(a * p[0] as i64 + b * p[1] as i64),
+            a > 0 || (a == 0 && b > 0),
+        )
     };
     let zp = match &t.host {
         Some(h) => Plane::new(h.v, h.z.map(|x| x as i64))?,
@@ -182,10 +191,8 @@ pub fn rasterize(tris: &[SnappedTri], lats: &[Lattice], bg: [u8; 3]) -> Vec<Samp
         .enumerate()
         .filter_map(|(k, t)| prepare(k, t))
         .collect();
-    let bgq = bg.map(|v| (v as u32) << 12);
-    lats.iter()
-        .map(|l| rasterize_one(&st, l, bgq))
-        .collect()
+    let bgq = bg.map(|v| ((v as u32) << 12) + 2048);
+    lats.iter().map(|l| rasterize_one(&st, l, bgq)).collect()
 }
 
 fn rasterize_one(st: &[SampTri], l: &Lattice, bgq: [u32; 3]) -> SampleBuf {
@@ -237,7 +244,7 @@ fn rasterize_one(st: &[SampTri], l: &Lattice, bgq: [u32; 3]) -> SampleBuf {
                             let cc = *cols.get_or_insert_with(|| t.c.map(|p| p.row(l, b)));
                             for ch in 0..3 {
                                 let v = (cc[ch].0 + a as i128 * cc[ch].1) >> 32;
-                                cr[s][ch] = v.clamp(0, 255 << 12) as u32;
+                                cr[s][ch] = v.clamp(0, (255 << 12) + 4095) as u32;
                             }
                         }
                     }

@@ -3,7 +3,8 @@
 //! Samples at `((i + (2a+1)/(2k)), (j + (2b+1)/(2k)))`, `a, b < k`, on one lattice of
 //! `(W·k) × (H·k)` points ([`super::sampler`]: exact coverage with the top-left rule,
 //! scene-order z-buffer). The resolve sums the `k²` Q8.12 intensities of a pixel and
-//! rounds once: `C = (Σ I + k²·2^11) / (k²·2^12)`. The visible triangle of a pixel is
+//! truncates once: `C = ⌊Σ I / (k²·2^12)⌋` (the +2048 rounding offset is already in every
+//! Q8.12 intensity, `docs/formats.md`, so this is a rounding of the true mean). The visible triangle of a pixel is
 //! the one owning most of its samples (lowest index on a tie, background −1 first).
 
 use super::sampler::{rasterize, Lattice};
@@ -11,6 +12,7 @@ use super::{AaError, AaFrame, AaStats};
 use crate::setup::SnappedTri;
 
 /// Renders with `k × k` supersampling, `1 ≤ k ≤ 64`.
+#[allow(clippy::needless_range_loop)]
 pub fn render(
     tris: &[SnappedTri],
     width: u32,
@@ -54,7 +56,7 @@ pub fn render(
                 }
             }
             for ch in 0..3 {
-                rgb[3 * (j * w + i) + ch] = ((acc[ch] + n * 2048) / (n * 4096)).min(255) as u8;
+                rgb[3 * (j * w + i) + ch] = (acc[ch] / (n * 4096)).min(255) as u8;
             }
             counts.sort_by_key(|c| (std::cmp::Reverse(c.1), c.0));
             visible[j * w + i] = counts[0].0;

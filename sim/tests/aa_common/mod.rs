@@ -28,14 +28,22 @@ pub fn random_scene(seed: u64, n: usize, w: f64, h: f64) -> Vec<SnappedTri> {
     let mut out = Vec::new();
     for k in 0..n {
         let (cx, cy) = (r.range(-2.0, w + 2.0), r.range(-2.0, h + 2.0));
-        let s = if k % 5 == 0 { r.range(1.0, 4.0) } else { r.range(3.0, w / 2.5) };
+        let s = if k % 5 == 0 {
+            r.range(1.0, 4.0)
+        } else {
+            r.range(3.0, w / 2.5)
+        };
         let v = [0, 1, 2].map(|_| [q8(cx + r.range(-s, s)), q8(cy + r.range(-s, s))]);
         let z = [0, 1, 2].map(|_| r.range(10_000.0, 2_000_000.0) as u32);
         let base = [0, 1, 2].map(|_| r.range(0.0, 255.0));
         let c = [0, 1, 2].map(|_| {
             [0, 1, 2].map(|ch| {
-                let g = if k % 3 == 0 { r.range(-40.0, 40.0) } else { 0.0 };
-                (((base[ch] + g).clamp(0.0, 255.0)) * 4096.0).round() as u32
+                let g = if k % 3 == 0 {
+                    r.range(-40.0, 40.0)
+                } else {
+                    0.0
+                };
+                (((base[ch] + g).clamp(0.0, 255.0)) * 4096.0).floor() as u32 + 2048
             })
         });
         let t = SnappedTri {
@@ -54,7 +62,7 @@ pub fn random_scene(seed: u64, n: usize, w: f64, h: f64) -> Vec<SnappedTri> {
             out.push(SnappedTri {
                 v: dv,
                 z,
-                c: [[200 << 12, 30 << 12, 30 << 12]; 3],
+                c: [[(200 << 12) + 2048, (30 << 12) + 2048, (30 << 12) + 2048]; 3],
                 tag: k as u16,
                 host: Some(HostPlane { v, z }),
             });
