@@ -86,6 +86,8 @@ pub struct SnappedTri {
     pub tag: u16,
     /// For a decal (pattern), the host face whose depth plane it uses.
     pub host: Option<HostPlane>,
+    /// Quantized normal class for the several-lights attenuation table (seed 001 §6).
+    pub nclass: u8,
 }
 
 /// The snapped vertices and depths of a decal's host face.
@@ -243,6 +245,7 @@ pub struct TriSetup {
     /// Object tag.
     pub tag: u16,
     decal: bool,
+    nclass: u8,
     /// Row-invariant slopes: dZ (Q26.12) and dI per channel (Q9.12) per pixel.
     dz: i64,
     di: [i64; 3],
@@ -306,6 +309,7 @@ impl TriSetup {
             row_max,
             tag: t.tag,
             decal: t.host.is_some(),
+            nclass: t.nclass,
         }))
     }
 
@@ -393,7 +397,7 @@ impl TriSetup {
             il,
             di,
             tag: self.tag,
-            nclass: 0,
+            nclass: self.nclass,
             decal: self.decal,
         };
         debug_assert!(w.check().is_ok(), "span word out of range: {w:?}");
