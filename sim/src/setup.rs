@@ -65,11 +65,7 @@ pub fn snap_coord(x: f64) -> Result<i32, SetupError> {
 /// (truncation), which then yields exactly `round(c·255)` (ties up) for a flat colour:
 /// `floor(floor(4096·x + 2048) / 4096) = floor(x + ½)`.
 pub fn snap_intensity(c: f64) -> u32 {
-    let c = if c.is_finite() {
-        c.clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
+    let c = if c.is_finite() { c.clamp(0.0, 1.0) } else { 0.0 };
     (c * 255.0 * (1u32 << I_FRAC) as f64).floor() as u32 + (1 << (I_FRAC - 1))
 }
 
@@ -86,8 +82,6 @@ pub struct SnappedTri {
     pub tag: u16,
     /// For a decal (pattern), the host face whose depth plane it uses.
     pub host: Option<HostPlane>,
-    /// Quantized normal class for the several-lights attenuation table (seed 001 §6).
-    pub nclass: u8,
 }
 
 /// The snapped vertices and depths of a decal's host face.
@@ -245,7 +239,6 @@ pub struct TriSetup {
     /// Object tag.
     pub tag: u16,
     decal: bool,
-    nclass: u8,
     /// Row-invariant slopes: dZ (Q26.12) and dI per channel (Q9.12) per pixel.
     dz: i64,
     di: [i64; 3],
@@ -309,7 +302,6 @@ impl TriSetup {
             row_max,
             tag: t.tag,
             decal: t.host.is_some(),
-            nclass: t.nclass,
         }))
     }
 
@@ -397,7 +389,7 @@ impl TriSetup {
             il,
             di,
             tag: self.tag,
-            nclass: self.nclass,
+            nclass: 0,
             decal: self.decal,
         };
         debug_assert!(w.check().is_ok(), "span word out of range: {w:?}");
