@@ -114,8 +114,9 @@ pub struct AaFrame {
     /// RGB8, row-major.
     pub rgb: Vec<u8>,
     /// Row-major visible triangle per pixel (input index; −1 background): the surface with
-    /// the largest weight in the pixel. `None` for post-processing, which only sees the
-    /// baseline's buffers (its visible surfaces are the baseline's).
+    /// the largest weight in the pixel. Post-processing reports the baseline's (it only
+    /// blends colours). Always `Some` today; `Option` leaves room for methods that cannot
+    /// tell.
     pub visible: Option<Vec<i32>>,
     /// Cost counters.
     pub stats: AaStats,
