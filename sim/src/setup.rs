@@ -65,11 +65,7 @@ pub fn snap_coord(x: f64) -> Result<i32, SetupError> {
 /// (truncation), which then yields exactly `round(c·255)` (ties up) for a flat colour:
 /// `floor(floor(4096·x + 2048) / 4096) = floor(x + ½)`.
 pub fn snap_intensity(c: f64) -> u32 {
-    let c = if c.is_finite() {
-        c.clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
+    let c = if c.is_finite() { c.clamp(0.0, 1.0) } else { 0.0 };
     (c * 255.0 * (1u32 << I_FRAC) as f64).floor() as u32 + (1 << (I_FRAC - 1))
 }
 
