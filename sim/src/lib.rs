@@ -7,6 +7,7 @@
 
 #![warn(missing_docs)]
 
+pub mod aa;
 pub mod abuffer;
 pub mod builtin;
 pub mod frontend;
@@ -15,6 +16,7 @@ pub mod mask_search;
 pub mod pipeline;
 pub mod pixel_array;
 pub mod plan;
+pub mod reference;
 pub mod render;
 pub mod scene;
 pub mod setup;

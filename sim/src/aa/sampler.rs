@@ -1,0 +1,266 @@
+//! Point-sampled z-buffer on regular sample lattices (shared by the corner-sampling and
+//! supersampling methods).
+//!
+//! A [`Lattice`] is a regular grid of sample points in pixel units,
+//! `x = (a·sx + ox) / den`, `y = (b·sy + oy) / den` for `a < nx`, `b < ny`, all integers,
+//! so every sample position is an exact rational. Coverage uses the edge functions of the
+//! snapped (Q.8) triangle multiplied by `den`, exactly in `i64`, with the same top-left
+//! rule as span setup (a sample on an edge belongs to the triangle if the edge is a left
+//! edge, or a top edge). Depth and intensity are planes through the snapped vertices; per
+//! lattice row `b` the value at `a = 0` is the exact rational rounded to Q.32, and the
+//! value at `a` is `(V(0, b) + a·step) >> 20` (depth, Q24.12) or `>> 32` (intensity, already
+//! Q8.12), `step` the per-sample increment
+//! rounded to Q.32 (a closed form anchored at `a = 0`, so two triangles on one plane, a
+//! decal and its host, get identical depths at every sample). Triangles are drawn in
+//! scene order with the array's depth test: `Z < ZB`, or `Z ≤ ZB` for a decal.
+//!
+//! Intensities follow the span-setup convention (`docs/formats.md`): a Q8.12 value
+//! carries the +2048 rounding offset, so the background is stored as `bg·4096 + 2048`
+//! and resolves truncate.
+
+use rayon::prelude::*;
+
+use crate::setup::SnappedTri;
+
+/// A regular sample lattice (see the module header).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Lattice {
+    /// Samples per row.
+    pub nx: u32,
+    /// Rows.
+    pub ny: u32,
+    /// x step numerator.
+    pub sx: i64,
+    /// y step numerator.
+    pub sy: i64,
+    /// x offset numerator.
+    pub ox: i64,
+    /// y offset numerator.
+    pub oy: i64,
+    /// Common denominator (pixel units).
+    pub den: i64,
+}
+
+impl Lattice {
+    /// Position of sample `(a, b)` in pixels (for reports and tests).
+    pub fn pos(&self, a: u32, b: u32) -> (f64, f64) {
+        (
+            (a as i64 * self.sx + self.ox) as f64 / self.den as f64,
+            (b as i64 * self.sy + self.oy) as f64 / self.den as f64,
+        )
+    }
+}
+
+/// The contents of one lattice after rasterization.
+#[derive(Clone, Debug)]
+pub struct SampleBuf {
+    /// The lattice.
+    pub lat: Lattice,
+    /// Depth per sample, Q24.12 (`i64::MAX` where nothing was drawn).
+    pub z: Vec<i64>,
+    /// Intensity per sample, Q8.12 per channel.
+    pub rgb: Vec<[u32; 3]>,
+    /// Input index of the triangle that owns the sample, −1 for background.
+    pub tri: Vec<i32>,
+    /// Depth evaluations made (covered samples tested).
+    pub depth_evals: u64,
+}
+
+impl SampleBuf {
+    /// Sample index of `(a, b)`.
+    #[inline]
+    pub fn idx(&self, a: u32, b: u32) -> usize {
+        b as usize * self.lat.nx as usize + a as usize
+    }
+}
+
+/// An exact plane `v(X, Y) = v0 + (nx·(X − x0) + ny·(Y − y0)) / area2` on Q.8 points.
+#[derive(Clone, Copy, Debug)]
+struct Plane {
+    v0: i128,
+    x0: i128,
+    y0: i128,
+    nx: i128,
+    ny: i128,
+    area2: i128,
+}
+
+impl Plane {
+    fn new(v: [[i32; 2]; 3], val: [i64; 3]) -> Option<Plane> {
+        let (x0, y0) = (v[0][0] as i128, v[0][1] as i128);
+        let (dx1, dy1) = (v[1][0] as i128 - x0, v[1][1] as i128 - y0);
+        let (dx2, dy2) = (v[2][0] as i128 - x0, v[2][1] as i128 - y0);
+        let area2 = dx1 * dy2 - dx2 * dy1;
+        if area2 == 0 {
+            return None;
+        }
+        let (dv1, dv2) = ((val[1] - val[0]) as i128, (val[2] - val[0]) as i128);
+        Some(Plane {
+            v0: val[0] as i128,
+            x0,
+            y0,
+            nx: dv1 * dy2 - dv2 * dy1,
+            ny: dx1 * dv2 - dx2 * dv1,
+            area2,
+        })
+    }
+
+    /// `(V(0, b) in Q.32, step per a in Q.32)` on lattice row `b`.
+    fn row(&self, l: &Lattice, b: i64) -> (i128, i128) {
+        let den = l.den as i128;
+        let d = self.area2 * den;
+        let yn = 256 * (b as i128 * l.sy as i128 + l.oy as i128) - self.y0 * den;
+        let xn = 256 * l.ox as i128 - self.x0 * den;
+        let num = self.v0 * d + self.nx * xn + self.ny * yn;
+        let step = self.nx * 256 * l.sx as i128;
+        (round_div(num << 32, d), round_div(step << 32, d))
+    }
+}
+
+/// `round(n / d)`, ties toward +∞.
+pub(crate) fn round_div(n: i128, d: i128) -> i128 {
+    let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
+    (2 * n + d).div_euclid(2 * d)
+}
+
+/// A triangle prepared for sampling.
+#[derive(Clone, Debug)]
+struct SampTri {
+    idx: i32,
+    /// Edge functions `(A, B, C, top_left)` in Q.8, positive inside.
+    edges: [(i64, i64, i64, bool); 3],
+    z: Plane,
+    c: [Plane; 3],
+    decal: bool,
+    /// Bounding box in Q.8.
+    bb: [i64; 4],
+}
+
+fn prepare(k: usize, t: &SnappedTri) -> Option<SampTri> {
+    let (mut v, mut c) = (t.v, t.c);
+    let area2 = (v[1][0] as i64 - v[0][0] as i64) * (v[2][1] as i64 - v[0][1] as i64)
+        - (v[2][0] as i64 - v[0][0] as i64) * (v[1][1] as i64 - v[0][1] as i64);
+    if area2 == 0 {
+        return None;
+    }
+    let mut z = t.z;
+    if area2 < 0 {
+        v.swap(1, 2);
+        c.swap(1, 2);
+        z.swap(1, 2);
+    }
+    let edge = |p: [i32; 2], q: [i32; 2]| {
+        let a = -((q[1] - p[1]) as i64);
+        let b = (q[0] - p[0]) as i64;
+        (
+            a,
+            b,
+            -(a * p[0] as i64 + b * p[1] as i64),
+            a > 0 || (a == 0 && b > 0),
+        )
+    };
+    let zp = match &t.host {
+        Some(h) => Plane::new(h.v, h.z.map(|x| x as i64))?,
+        None => Plane::new(v, z.map(|x| x as i64))?,
+    };
+    let cp = |k: usize| Plane::new(v, [c[0][k] as i64, c[1][k] as i64, c[2][k] as i64]);
+    Some(SampTri {
+        idx: k as i32,
+        edges: [edge(v[0], v[1]), edge(v[1], v[2]), edge(v[2], v[0])],
+        z: zp,
+        c: [cp(0)?, cp(1)?, cp(2)?],
+        decal: t.host.is_some(),
+        bb: [
+            v.iter().map(|p| p[0]).min().unwrap() as i64,
+            v.iter().map(|p| p[1]).min().unwrap() as i64,
+            v.iter().map(|p| p[0]).max().unwrap() as i64,
+            v.iter().map(|p| p[1]).max().unwrap() as i64,
+        ],
+    })
+}
+
+/// `ceil(n / d)` for `d > 0`.
+fn ceil_div(n: i64, d: i64) -> i64 {
+    -((-n).div_euclid(d))
+}
+
+/// Rasterizes `tris` (scene order, z-buffer) onto each lattice; background `bg`.
+pub fn rasterize(tris: &[SnappedTri], lats: &[Lattice], bg: [u8; 3]) -> Vec<SampleBuf> {
+    let st: Vec<SampTri> = tris
+        .iter()
+        .enumerate()
+        .filter_map(|(k, t)| prepare(k, t))
+        .collect();
+    let bgq = bg.map(|v| ((v as u32) << 12) + 2048);
+    lats.iter().map(|l| rasterize_one(&st, l, bgq)).collect()
+}
+
+fn rasterize_one(st: &[SampTri], l: &Lattice, bgq: [u32; 3]) -> SampleBuf {
+    let n = l.nx as usize * l.ny as usize;
+    let mut z = vec![i64::MAX; n];
+    let mut rgb = vec![bgq; n];
+    let mut tri = vec![-1i32; n];
+    let nx = l.nx as usize;
+    let evals: u64 = z
+        .par_chunks_mut(nx)
+        .zip(rgb.par_chunks_mut(nx))
+        .zip(tri.par_chunks_mut(nx))
+        .enumerate()
+        .map(|(b, ((zr, cr), tr))| {
+            let b = b as i64;
+            // Sample y in Q.8·den.
+            let yq = 256 * (b * l.sy + l.oy);
+            let mut evals = 0u64;
+            for t in st {
+                if yq < t.bb[1] * l.den || yq > t.bb[3] * l.den {
+                    continue;
+                }
+                // a range from the bounding box: 256·(a·sx + ox) ∈ [xmin·den, xmax·den].
+                let a_lo = ceil_div(t.bb[0] * l.den - 256 * l.ox, 256 * l.sx).max(0);
+                let a_hi = (t.bb[2] * l.den - 256 * l.ox)
+                    .div_euclid(256 * l.sx)
+                    .min(l.nx as i64 - 1);
+                if a_lo > a_hi {
+                    continue;
+                }
+                let mut e = [0i64; 3];
+                let mut de = [0i64; 3];
+                for (k, &(ea, eb, ec, _)) in t.edges.iter().enumerate() {
+                    e[k] = ea * 256 * (a_lo * l.sx + l.ox) + eb * yq + ec * l.den;
+                    de[k] = ea * 256 * l.sx;
+                }
+                let (z0, dz) = t.z.row(l, b);
+                let mut cols: Option<[(i128, i128); 3]> = None;
+                for a in a_lo..=a_hi {
+                    let inside = (0..3).all(|k| e[k] > 0 || (e[k] == 0 && t.edges[k].3));
+                    if inside {
+                        evals += 1;
+                        let zv = ((z0 + a as i128 * dz) >> 20) as i64;
+                        let s = a as usize;
+                        let pass = if t.decal { zv <= zr[s] } else { zv < zr[s] };
+                        if pass {
+                            zr[s] = zv;
+                            tr[s] = t.idx;
+                            let cc = *cols.get_or_insert_with(|| t.c.map(|p| p.row(l, b)));
+                            for ch in 0..3 {
+                                let v = (cc[ch].0 + a as i128 * cc[ch].1) >> 32;
+                                cr[s][ch] = v.clamp(0, (255 << 12) + 4095) as u32;
+                            }
+                        }
+                    }
+                    for k in 0..3 {
+                        e[k] += de[k];
+                    }
+                }
+            }
+            evals
+        })
+        .sum();
+    SampleBuf {
+        lat: *l,
+        z,
+        rgb,
+        tri,
+        depth_evals: evals,
+    }
+}
