@@ -4,8 +4,8 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, Parser, Subcommand};
-use pixelproc_sim::pipeline::{render, Image, RenderOutput};
-use pixelproc_sim::plan::{AaMethod, Aov, Effects, Overrides};
+use pixelproc_sim::pipeline::{render, AaReport, Image, RenderOutput};
+use pixelproc_sim::plan::{AaMethod, AaSpec, Aov, Effects, Overrides, AA_NAMES};
 use pixelproc_sim::scene::{self, LoadedScene};
 use pixelproc_sim::shadow::ShadowForm;
 use std::path::{Path, PathBuf};
@@ -44,9 +44,34 @@ enum Cmd {
 
 #[derive(Args)]
 struct EffectArgs {
-    /// Anti-aliasing method (overrides the scene).
-    #[arg(long, value_name = "METHOD", value_parser = clap::builder::PossibleValuesParser::new(AaMethod::NAMES))]
+    /// Anti-aliasing method (overrides the scene's `effects.aa`).
+    #[arg(long, value_name = "METHOD", value_parser = clap::builder::PossibleValuesParser::new(AA_NAMES))]
     aa: Option<String>,
+    /// A-buffer: subpixel grid NxM, e.g. 4x4 (default) or 8x8.
+    #[arg(long, value_name = "NxM", help_heading = "Anti-aliasing parameters")]
+    mask: Option<String>,
+    /// A-buffer: depth per fragment: search (seed 000, default), center, slope, exhaustive.
+    #[arg(long, value_name = "SELECT", help_heading = "Anti-aliasing parameters")]
+    depth: Option<String>,
+    /// Multi-scanning: sub-scanlines per pixel row, 1..=16 (default 3).
+    #[arg(long, value_name = "N", help_heading = "Anti-aliasing parameters")]
+    subscanlines: Option<u32>,
+    /// Multi-scanning: filter box (default), gauss or cone.
+    #[arg(long, value_name = "FILTER", help_heading = "Anti-aliasing parameters")]
+    filter: Option<String>,
+    /// Corner sampling: samples per pixel, 1 (default) or 2 (adds the centre sample).
+    #[arg(long, value_name = "N", help_heading = "Anti-aliasing parameters")]
+    samples: Option<u32>,
+    /// Corner sampling: pattern corner (seed 003, default), d3d4x or grid2x2.
+    #[arg(
+        long,
+        value_name = "PATTERN",
+        help_heading = "Anti-aliasing parameters"
+    )]
+    pattern: Option<String>,
+    /// Supersampling: k×k samples per pixel, 1..=64 (default 4).
+    #[arg(long, value_name = "K", help_heading = "Anti-aliasing parameters")]
+    ssaa: Option<u32>,
     /// Turn shadows off whatever the scene's lights say.
     #[arg(long)]
     no_shadows: bool,
@@ -57,6 +82,24 @@ struct EffectArgs {
     /// `check` (software form of seed 001: a dummy check span over the volume's range).
     #[arg(long, value_name = "FORM", value_parser = ["ev", "check"])]
     shadow_form: Option<String>,
+}
+
+impl EffectArgs {
+    fn none() -> EffectArgs {
+        EffectArgs {
+            aa: None,
+            mask: None,
+            depth: None,
+            subscanlines: None,
+            filter: None,
+            samples: None,
+            pattern: None,
+            ssaa: None,
+            no_shadows: false,
+            array_width: None,
+            shadow_form: None,
+        }
+    }
 }
 
 #[derive(Args)]
@@ -86,6 +129,10 @@ struct BenchArgs {
     fx: EffectArgs,
 }
 
+fn aa_label(m: &AaMethod) -> String {
+    m.label()
+}
+
 fn load(spec: &str) -> Result<LoadedScene> {
     Ok(match spec.strip_prefix('@') {
         Some(name) => scene::load_builtin(name)?,
@@ -94,11 +141,26 @@ fn load(spec: &str) -> Result<LoadedScene> {
 }
 
 fn overrides(fx: &EffectArgs, aovs: &[String]) -> Result<Overrides> {
-    let aa = match fx.aa.as_deref() {
-        None => None,
-        Some("none") => Some(AaMethod::None),
-        Some(other) => bail!("--aa {other}: unknown method"),
-    };
+    let params = fx.mask.is_some()
+        || fx.depth.is_some()
+        || fx.subscanlines.is_some()
+        || fx.filter.is_some()
+        || fx.samples.is_some()
+        || fx.pattern.is_some()
+        || fx.ssaa.is_some();
+    if params && fx.aa.is_none() {
+        bail!("anti-aliasing parameters need --aa METHOD");
+    }
+    let aa = fx.aa.as_ref().map(|m| AaSpec {
+        method: m.clone(),
+        mask: fx.mask.clone(),
+        depth: fx.depth.clone(),
+        subscanlines: fx.subscanlines,
+        filter: fx.filter.clone(),
+        samples: fx.samples,
+        pattern: fx.pattern.clone(),
+        ssaa: fx.ssaa,
+    });
     Ok(Overrides {
         aa,
         no_shadows: fx.no_shadows,
@@ -181,7 +243,7 @@ fn cmd_render(a: &RenderArgs) -> Result<()> {
         ls.scene.height,
         out.triangles,
         out.span_words,
-        fx.aa.name(),
+        aa_label(&fx.aa),
         fx.array_width
     );
     if !fx.shadow_lights.is_empty() {
@@ -194,6 +256,25 @@ fn cmd_render(a: &RenderArgs) -> Result<()> {
         );
     }
     print_timings(&out);
+    match &out.aa {
+        Some(AaReport::Abuffer(st)) => say!(
+            "a-buffer: {} fragments, {} in {} multi-fragment pixels, {} merges, {} depth evaluations ({:.2} per sorted fragment), {} search steps",
+            st.fragments,
+            st.sorted_fragments,
+            st.multi_pixels,
+            st.merges,
+            st.depth_evals,
+            st.depth_evals as f64 / st.sorted_fragments.max(1) as f64,
+            st.search_steps
+        ),
+        Some(AaReport::Other(st)) => say!(
+            "{}: {:.2} depth evaluations and {:.3} sample-memory reads per pixel",
+            aa_label(&fx.aa),
+            st.depth_evals_per_pixel(),
+            st.reads_per_pixel()
+        ),
+        None => {}
+    }
     write_png(&out_path, &out.image)?;
     say!("wrote {}", out_path.display());
     for (aov, img) in &out.aovs {
@@ -222,7 +303,7 @@ fn cmd_bench(a: &BenchArgs) -> Result<()> {
         ls.scene.width,
         ls.scene.height,
         first.triangles,
-        fx.aa.name(),
+        aa_label(&fx.aa),
         a.runs,
         rayon::current_num_threads()
     );
@@ -250,12 +331,7 @@ fn main() {
             scene: "@default".into(),
             output: None,
             aov: vec![],
-            fx: EffectArgs {
-                aa: None,
-                no_shadows: false,
-                array_width: None,
-                shadow_form: None,
-            },
+            fx: EffectArgs::none(),
         }),
         Some(Cmd::Render(a)) => cmd_render(a),
         Some(Cmd::Bench(a)) => cmd_bench(a),

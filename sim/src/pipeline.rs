@@ -2,11 +2,12 @@
 
 use crate::frontend::{self, FrontError, Projected};
 use crate::pixel_array::Command;
-use crate::plan::{plan, Aov, Effects, Stage};
+use crate::plan::{plan, AaMethod, Aov, Effects, Stage};
 use crate::render::{render_frame, Frame, SpanSource};
 use crate::scene::LoadedScene;
 use crate::setup::SetupError;
 use crate::shadow::{self, FactorTable, ShadowError, ShadowLight, ShadowStats};
+use crate::{aa, abuffer};
 use std::time::{Duration, Instant};
 use thiserror::Error;
 
@@ -22,6 +23,12 @@ pub enum RenderError {
     /// Shadow failure.
     #[error(transparent)]
     Shadow(#[from] ShadowError),
+    /// Anti-aliasing failure.
+    #[error(transparent)]
+    Aa(#[from] aa::AaError),
+    /// A-buffer failure.
+    #[error(transparent)]
+    Abuffer(#[from] abuffer::AbufferError),
 }
 
 /// An 8-bit image.
@@ -52,8 +59,20 @@ pub struct RenderOutput {
     pub span_words: u64,
     /// Shadow statistics (zero without shadows).
     pub shadow: ShadowStats,
-    /// The array's final per-pixel state (depth, flags, light mask, counter).
-    pub frame: Frame,
+    /// The array's final per-pixel state (depth, flags, light mask, counter), when the
+    /// plan ran the array.
+    pub frame: Option<Frame>,
+    /// Counters of the anti-aliasing method, when one ran.
+    pub aa: Option<AaReport>,
+}
+
+/// Counters of the anti-aliasing stage.
+#[derive(Clone, Debug)]
+pub enum AaReport {
+    /// The A-buffer's own statistics.
+    Abuffer(abuffer::AbufferStats),
+    /// Another method's counters.
+    Other(aa::AaStats),
 }
 
 /// Renders a loaded scene with the given effects.
@@ -72,6 +91,9 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
     let mut shadow_rows: Vec<Vec<Command>> = vec![Vec::new(); h as usize];
     let mut shadow_stats = ShadowStats::default();
     let mut table: Option<FactorTable> = None;
+    let mut aa_rgb: Option<Vec<u8>> = None;
+    let mut coverage: Option<Vec<u8>> = None;
+    let mut aa_stats = None;
     for stage in plan(fx) {
         let t0 = Instant::now();
         match &stage {
@@ -107,28 +129,74 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
                 shadow::shade(&mut frame.as_mut().expect("array runs first").px, &t);
                 table = Some(t);
             }
-            Stage::Aov(a) => {
+            Stage::Antialias(_) => {
+                let tris = &projected.as_ref().expect("front end runs first").tris;
+                if let AaMethod::Abuffer(p) = &fx.aa {
+                    let a = abuffer::render_abuffer(tris, w, h, bg, p)?;
+                    let full = p.size.bits() as u32;
+                    coverage = Some(
+                        a.coverage
+                            .iter()
+                            .map(|&c| (c as u32 * 255 / full) as u8)
+                            .collect(),
+                    );
+                    aa_rgb = Some(a.rgb);
+                    aa_stats = Some(AaReport::Abuffer(a.stats));
+                } else {
+                    let f = aa::render_aa(tris, w, h, bg, &fx.aa)?;
+                    aa_rgb = Some(f.rgb);
+                    aa_stats = Some(AaReport::Other(f.stats));
+                }
+            }
+            Stage::ShadowApply => {
+                let t = table.as_ref().expect("shadow shading runs first");
                 let f = frame.as_ref().expect("array runs first");
-                aovs.push((*a, aov_image(*a, f, table.as_ref())));
+                let img = aa_rgb.as_mut().expect("anti-aliasing runs first");
+                shadow::apply_to_rgb8(img, &f.px, t);
+            }
+            Stage::Aov(a) => {
+                let img = match (a, &coverage) {
+                    (Aov::Coverage, Some(c)) => Image {
+                        width: w,
+                        height: h,
+                        channels: 1,
+                        data: c.clone(),
+                    },
+                    _ => aov_image(
+                        *a,
+                        frame
+                            .as_ref()
+                            .expect("the plan runs the array for this AOV"),
+                        table.as_ref(),
+                    ),
+                };
+                aovs.push((*a, img));
             }
         }
         timings.push((stage, t0.elapsed()));
     }
-    let f = frame.expect("the plan always renders a frame");
-    let span_words = src.as_ref().expect("setup ran").span_count() as u64;
+    let span_words = src.as_ref().map(|s| s.span_count() as u64).unwrap_or(0);
+    let data = match aa_rgb {
+        Some(rgb) => rgb,
+        None => frame
+            .as_ref()
+            .expect("the plan renders a frame or an AA image")
+            .rgb8(),
+    };
     Ok(RenderOutput {
         image: Image {
             width: w,
             height: h,
             channels: 3,
-            data: f.rgb8(),
+            data,
         },
         aovs,
         timings,
         triangles: projected.map(|p| p.tris.len()).unwrap_or(0),
         span_words,
         shadow: shadow_stats,
-        frame: f,
+        frame,
+        aa: aa_stats,
     })
 }
 

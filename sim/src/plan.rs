@@ -10,23 +10,160 @@ use crate::scene::LoadedScene;
 use std::fmt;
 use thiserror::Error;
 
-/// Anti-aliasing method (off unless the scene or the command line asks for it).
-#[derive(Clone, Debug, PartialEq, Default)]
-pub enum AaMethod {
-    /// One sample per pixel centre: the pixel-processor array alone.
-    #[default]
-    None,
+pub use crate::aa::AaMethod;
+use crate::aa::{CornerParams, Filter, MultiscanParams, Pattern, PostFxParams};
+use crate::abuffer::AbufferParams;
+use crate::mask_search::DepthSelect;
+use pixelproc_formats::abuffer::MaskSize;
+use serde::Deserialize;
+
+/// Names accepted by `--aa` and the scene's `effects.aa.method`.
+pub const AA_NAMES: &[&str] = &["none", "abuffer", "multiscan", "corner", "postfx", "ssaa"];
+
+/// An anti-aliasing request with optional parameters: what `--aa` and its flags, or the
+/// scene's `effects.aa` object, say. [`AaSpec::method`] turns it into an [`AaMethod`] with
+/// defaults for everything unsaid, and rejects parameters that belong to another method.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AaSpec {
+    /// Method name (one of [`AA_NAMES`]).
+    pub method: String,
+    /// A-buffer subpixel grid, e.g. `4x4` (default) or `8x8`.
+    #[serde(default)]
+    pub mask: Option<String>,
+    /// A-buffer depth selection: `search` (default), `center`, `slope`, `exhaustive`.
+    #[serde(default)]
+    pub depth: Option<String>,
+    /// Multi-scanning: sub-scanlines per pixel row, 1..=16 (default 3).
+    #[serde(default)]
+    pub subscanlines: Option<u32>,
+    /// Multi-scanning filter: `box` (default), `gauss`, `cone`.
+    #[serde(default)]
+    pub filter: Option<String>,
+    /// Corner sampling: samples per pixel, 1 (default) or 2 (adds the centre sample).
+    #[serde(default)]
+    pub samples: Option<u32>,
+    /// Sample pattern: `corner` (default), `d3d4x`, `grid2x2`.
+    #[serde(default)]
+    pub pattern: Option<String>,
+    /// Supersampling factor k (k×k samples), 1..=64 (default 4).
+    #[serde(default)]
+    pub ssaa: Option<u32>,
 }
 
-impl AaMethod {
-    /// Names accepted by `--aa` and the scene's `effects.aa.method`.
-    pub const NAMES: &'static [&'static str] = &["none"];
-
-    /// Short name.
-    pub fn name(&self) -> &'static str {
-        match self {
-            AaMethod::None => "none",
+impl AaSpec {
+    /// A bare method name.
+    pub fn named(name: &str) -> AaSpec {
+        AaSpec {
+            method: name.to_string(),
+            ..Default::default()
         }
+    }
+
+    /// The method with its parameters; `interpenetrating` enables the A-buffer's max search.
+    pub fn method(&self, interpenetrating: bool) -> Result<AaMethod, PlanError> {
+        let m = self.method.as_str();
+        let only = |set: bool, flag: &str, owner: &str| -> Result<(), PlanError> {
+            if set && m != owner {
+                return Err(PlanError(format!(
+                    "{flag} applies to --aa {owner}, not --aa {m}"
+                )));
+            }
+            Ok(())
+        };
+        only(self.mask.is_some(), "--mask", "abuffer")?;
+        only(self.depth.is_some(), "--depth", "abuffer")?;
+        only(self.subscanlines.is_some(), "--subscanlines", "multiscan")?;
+        only(self.filter.is_some(), "--filter", "multiscan")?;
+        only(self.samples.is_some(), "--samples", "corner")?;
+        only(self.pattern.is_some(), "--pattern", "corner")?;
+        only(self.ssaa.is_some(), "--ssaa", "ssaa")?;
+        Ok(match m {
+            "none" => AaMethod::None,
+            "abuffer" => {
+                let size = match &self.mask {
+                    Some(s) => {
+                        MaskSize::parse(s).map_err(|e| PlanError(format!("--mask {s}: {e}")))?
+                    }
+                    None => MaskSize::S4X4,
+                };
+                let depth = match &self.depth {
+                    Some(d) => DepthSelect::parse(d).ok_or_else(|| {
+                        PlanError(format!(
+                            "--depth {d}: expected center, search, slope or exhaustive"
+                        ))
+                    })?,
+                    None => DepthSelect::Search,
+                };
+                AaMethod::Abuffer(AbufferParams {
+                    size,
+                    depth,
+                    interpenetrating,
+                    compare_variants: false,
+                })
+            }
+            "multiscan" => {
+                let n = self.subscanlines.unwrap_or(3);
+                if !(1..=16).contains(&n) {
+                    return Err(PlanError(format!("--subscanlines {n} is outside 1..=16")));
+                }
+                let filter = match self.filter.as_deref().unwrap_or("box") {
+                    "box" => Filter::Box,
+                    "gauss" => Filter::Gauss,
+                    "cone" => Filter::Cone,
+                    f => {
+                        return Err(PlanError(format!(
+                            "--filter {f}: expected box, gauss or cone"
+                        )))
+                    }
+                };
+                AaMethod::Multiscan(MultiscanParams::new(n, filter))
+            }
+            "corner" => {
+                let pattern = match self.pattern.as_deref().unwrap_or("corner") {
+                    "corner" => Pattern::Corner,
+                    "d3d4x" => Pattern::D3d4x,
+                    "grid2x2" => Pattern::Grid2x2,
+                    p => {
+                        return Err(PlanError(format!(
+                            "--pattern {p}: expected corner, d3d4x or grid2x2"
+                        )))
+                    }
+                };
+                let centre = match self.samples.unwrap_or(1) {
+                    1 => false,
+                    2 => true,
+                    n => return Err(PlanError(format!("--samples {n}: expected 1 or 2"))),
+                };
+                AaMethod::Corner(CornerParams::new(pattern, centre))
+            }
+            "postfx" => AaMethod::PostFx(PostFxParams::default()),
+            "ssaa" => {
+                let k = self.ssaa.unwrap_or(4);
+                if !(1..=64).contains(&k) {
+                    return Err(PlanError(format!("--ssaa {k} is outside 1..=64")));
+                }
+                AaMethod::Ssaa { k }
+            }
+            other => {
+                return Err(PlanError(format!(
+                    "unknown anti-aliasing method '{other}' (known: {})",
+                    AA_NAMES.join(", ")
+                )))
+            }
+        })
+    }
+}
+
+/// Short name of a method, as `--aa` spells it.
+pub fn aa_name(m: &AaMethod) -> &'static str {
+    match m {
+        AaMethod::None => "none",
+        AaMethod::Abuffer(_) => "abuffer",
+        AaMethod::Multiscan(_) => "multiscan",
+        AaMethod::Corner(_) => "corner",
+        AaMethod::PostFx(_) => "postfx",
+        AaMethod::Ssaa { .. } => "ssaa",
     }
 }
 
@@ -71,8 +208,8 @@ pub struct PlanError(pub String);
 /// Command-line overrides of the scene's effects.
 #[derive(Clone, Debug, Default)]
 pub struct Overrides {
-    /// `--aa METHOD` (with its parameters).
-    pub aa: Option<AaMethod>,
+    /// `--aa METHOD` with its parameter flags.
+    pub aa: Option<AaSpec>,
     /// `--no-shadows`.
     pub no_shadows: bool,
     /// `--shadow-form check`: the software form of seed 001 §5.
@@ -109,11 +246,12 @@ impl Effects {
     /// Merges the scene's declared effects with command-line overrides.
     pub fn resolve(ls: &LoadedScene, ov: &Overrides) -> Result<Effects, PlanError> {
         let s = &ls.scene;
-        let aa = match (&ov.aa, &s.effects.aa) {
+        let spec = match (&ov.aa, &s.effects.aa) {
             (Some(a), _) => a.clone(),
             (None, Some(v)) => parse_scene_aa(v)?,
-            (None, None) => AaMethod::None,
+            (None, None) => AaSpec::named("none"),
         };
+        let aa = spec.method(s.effects.interpenetrating)?;
         let shadows_on = !ov.no_shadows && s.effects.shadows.unwrap_or(true) && ls.is_3d();
         let shadow_lights = if shadows_on {
             s.lights
@@ -147,19 +285,16 @@ impl Effects {
     }
 }
 
-/// Parses the scene's `effects.aa` value: a method name, or an object with `method`.
-fn parse_scene_aa(v: &serde_json::Value) -> Result<AaMethod, PlanError> {
-    let name = match v {
-        serde_json::Value::String(s) => s.as_str(),
-        serde_json::Value::Object(o) => o.get("method").and_then(|m| m.as_str()).unwrap_or(""),
-        _ => "",
-    };
-    match name {
-        "none" => Ok(AaMethod::None),
-        _ => Err(PlanError(format!(
-            "scene effects.aa: unknown method '{name}' (known: {})",
-            AaMethod::NAMES.join(", ")
-        ))),
+/// Parses the scene's `effects.aa` value: a method name, or an object with `method` and
+/// parameters named as the command-line flags.
+fn parse_scene_aa(v: &serde_json::Value) -> Result<AaSpec, PlanError> {
+    match v {
+        serde_json::Value::String(s) => Ok(AaSpec::named(s)),
+        serde_json::Value::Object(_) => serde_json::from_value(v.clone())
+            .map_err(|e| PlanError(format!("scene effects.aa: {e}"))),
+        _ => Err(PlanError(
+            "scene effects.aa must be a method name or an object".into(),
+        )),
     }
 }
 
@@ -180,6 +315,11 @@ pub enum Stage {
     PixelArray,
     /// Intensity correction from the shadow flags (seed 001 §2, §6 table).
     ShadowShade,
+    /// An anti-aliasing method renders the image (its own stages inside; the A-buffer's
+    /// masks, search unit, packing and resolve; multi-scanning's sub-scanline passes; ...).
+    Antialias(&'static str),
+    /// Multiplies the anti-aliased image by the shadow factor of each pixel centre.
+    ShadowApply,
     /// Writes a debug image.
     Aov(Aov),
 }
@@ -192,20 +332,36 @@ impl fmt::Display for Stage {
             Stage::ShadowVolumes { light } => write!(f, "shadow volumes, light {light}"),
             Stage::PixelArray => write!(f, "pixel-processor array"),
             Stage::ShadowShade => write!(f, "shadow shading"),
+            Stage::Antialias(m) => write!(f, "anti-aliasing: {m}"),
+            Stage::ShadowApply => write!(f, "shadow factor on AA image"),
             Stage::Aov(a) => write!(f, "aov {}", a.name()),
         }
     }
 }
 
-/// The stages that render a scene with the given effects.
+/// The stages that render a scene with the given effects. The pixel-processor array runs
+/// when there is no other anti-aliasing method, or when shadows or a depth/shadow AOV need
+/// its per-pixel state; an anti-aliasing method adds only its own stage.
 pub fn plan(e: &Effects) -> Vec<Stage> {
-    let mut st = vec![Stage::FrontEnd, Stage::SpanSetup];
-    for &l in &e.shadow_lights {
-        st.push(Stage::ShadowVolumes { light: l });
+    let shadows = !e.shadow_lights.is_empty();
+    let aa = !matches!(e.aa, AaMethod::None);
+    let array = !aa || shadows || e.aovs.iter().any(|a| matches!(a, Aov::Depth | Aov::Shadow));
+    let mut st = vec![Stage::FrontEnd];
+    if array {
+        st.push(Stage::SpanSetup);
+        for &l in &e.shadow_lights {
+            st.push(Stage::ShadowVolumes { light: l });
+        }
+        st.push(Stage::PixelArray);
+        if shadows {
+            st.push(Stage::ShadowShade);
+        }
     }
-    st.push(Stage::PixelArray);
-    if !e.shadow_lights.is_empty() {
-        st.push(Stage::ShadowShade);
+    if aa {
+        st.push(Stage::Antialias(aa_name(&e.aa)));
+        if shadows {
+            st.push(Stage::ShadowApply);
+        }
     }
     for a in &e.aovs {
         st.push(Stage::Aov(*a));
@@ -228,8 +384,14 @@ mod tests {
             array_width: 64,
             shadow_form: Default::default(),
         };
-        assert_eq!(plan(&e), vec![Stage::FrontEnd, Stage::SpanSetup, Stage::PixelArray]);
-        let with = Effects { shadow_lights: vec![0, 2], ..e };
+        assert_eq!(
+            plan(&e),
+            vec![Stage::FrontEnd, Stage::SpanSetup, Stage::PixelArray]
+        );
+        let with = Effects {
+            shadow_lights: vec![0, 2],
+            ..e
+        };
         assert_eq!(
             plan(&with),
             vec![

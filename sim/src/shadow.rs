@@ -630,3 +630,18 @@ pub fn shade(px: &mut [ProcState], table: &FactorTable) {
         s.rgb = pixelproc_formats::pack_rgb(c);
     });
 }
+
+/// Applies each pixel centre's shadow factor to an anti-aliased RGB8 image (the shadow
+/// flags are those of the surface visible at the pixel centre; an approximation at shadow
+/// and object edges, documented in `docs/shadows.md`).
+pub fn apply_to_rgb8(rgb: &mut [u8], px: &[ProcState], table: &FactorTable) {
+    rgb.par_chunks_mut(3).zip(px.par_iter()).for_each(|(c, s)| {
+        if s.zb == Z_FAR {
+            return;
+        }
+        let f = table.factor(s) as u32;
+        for v in c.iter_mut() {
+            *v = ((*v as u32 * f + 128) >> 8).min(255) as u8;
+        }
+    });
+}

@@ -6,6 +6,7 @@
 //! | multi-scanning, box or axisymmetric filter | 002 (Nishita & Nakamae) §2.2, §3 | [`multiscan`] |
 //! | corner-shared sampling, D3D 4×, ordered 2×2 | 003 (JP4801088B2) | [`corner`] |
 //! | post-process from z and normals | 004 (CN1674049) | [`postfx`] |
+//! | A-buffer with the depth search unit | 000 (JP2569952B2) | [`crate::abuffer`] |
 //! | k×k supersampling, box resolve | (comparison) | [`ssaa`] |
 //!
 //! Every method takes the same input (snapped screen-space triangles in scene order, a
@@ -56,6 +57,8 @@ pub enum AaMethod {
     Corner(CornerParams),
     /// Post-process anti-aliasing on the baseline's depth and colour (seed 004).
     PostFx(PostFxParams),
+    /// The A-buffer with the depth search unit (seed 000), [`crate::abuffer`].
+    Abuffer(crate::abuffer::AbufferParams),
     /// `k × k` ordered supersampling with a box resolve.
     Ssaa {
         /// Samples per pixel along each axis, 1..=64.
@@ -74,6 +77,7 @@ impl AaMethod {
             AaMethod::Corner(p) => p.label(),
             AaMethod::PostFx(p) => p.label(),
             AaMethod::Ssaa { k } => format!("ssaa {k}x{k}"),
+            AaMethod::Abuffer(p) => format!("abuffer {} {}", p.size, p.depth.name()),
         }
     }
 }
@@ -155,6 +159,27 @@ pub fn render_aa(
         AaMethod::Corner(p) => corner::render(tris, width, height, bg, p)?,
         AaMethod::PostFx(p) => postfx::render(tris, width, height, bg, p)?,
         AaMethod::Ssaa { k } => ssaa::render(tris, width, height, bg, *k)?,
+        AaMethod::Abuffer(p) => {
+            let a = crate::abuffer::render_abuffer(tris, width, height, bg, p).map_err(
+                |e| match e {
+                    crate::abuffer::AbufferError::Setup(s) => AaError::Setup(s),
+                    crate::abuffer::AbufferError::ScreenTooLarge(w, h) => AaError::Screen(w, h),
+                },
+            )?;
+            AaFrame {
+                width,
+                height,
+                rgb: a.rgb,
+                visible: None,
+                stats: AaStats {
+                    depth_evals: a.stats.depth_evals,
+                    samples_written: a.stats.fragments,
+                    // The resolve reads each stored fragment once.
+                    sample_reads: a.stats.fragments,
+                    ..Default::default()
+                },
+            }
+        }
     };
     f.stats.seconds = t0.elapsed().as_secs_f64();
     f.stats.pixels = width as u64 * height as u64;
