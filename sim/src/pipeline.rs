@@ -133,7 +133,7 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
                 let tris = &projected.as_ref().expect("front end runs first").tris;
                 if let AaMethod::Abuffer(p) = &fx.aa {
                     let a = abuffer::render_abuffer(tris, w, h, bg, p)?;
-                    let full = p.size.bits() as u32;
+                    let full = p.size.bits();
                     coverage = Some(
                         a.coverage
                             .iter()
