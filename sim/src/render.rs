@@ -105,6 +105,49 @@ impl SpanSource {
     }
 }
 
+/// Feeds a tile the commands that can change it, skipping those that cannot, with the same
+/// final state as feeding all of them:
+/// - an SP span that does not touch the tile toggles nothing there;
+/// - an EV span ORs DSF into FSF; where no span of its volume touched the tile (and no IF),
+///   DSF is what it was after the previous volume's end, when FSF already absorbed it, so
+///   the OR changes nothing: it is skipped too (its own range test still applies if it
+///   touches the tile);
+/// - IF spans and controls always go through; a `Check` only where its range touches.
+fn feed_tile(arr: &mut PixelArray, cmds: &[Command], base: u32, n: u32) {
+    use pixelproc_formats::Attr;
+    let touches = |xl: u16, xr: u16| (xl as u32) < base + n && (xr as u32) >= base && xl <= xr;
+    let mut touched = false;
+    for c in cmds {
+        match c {
+            Command::Span(w) => match w.attr {
+                Attr::Op | Attr::Sp => {
+                    if touches(w.xl, w.xr) {
+                        touched = true;
+                        arr.step(c);
+                    }
+                }
+                Attr::If => {
+                    touched = true;
+                    arr.step(c);
+                }
+                Attr::Ev => {
+                    if touched || touches(w.xl, w.xr) {
+                        arr.step(c);
+                    }
+                    touched = false;
+                }
+            },
+            Command::Check { xl, xr } => {
+                if touches(*xl, *xr) {
+                    arr.step(c);
+                }
+                touched = false;
+            }
+            _ => arr.step(c),
+        }
+    }
+}
+
 /// Renders every row on an array of `array_width` processors; a wider line is processed
 /// in tiles. Each tile gets `ClearLine`, the row's OP span words that touch it (an OP span
 /// outside a tile is a no-op there, so the span feeder skips it), then every command
@@ -146,9 +189,7 @@ where
                 for &k in list {
                     arr.step(&Command::Span(spans[k as usize]));
                 }
-                for c in cmds.iter() {
-                    arr.step(c);
-                }
+                feed_tile(arr, cmds, base, array_width as u32);
                 let n = (w - base).min(array_width as u32) as usize;
                 row[base as usize..base as usize + n].copy_from_slice(&arr.state()[..n]);
             }

@@ -349,16 +349,70 @@ pub fn volumes(occ: &[Occluder], light: DVec3, eye: DVec3) -> Vec<Volume> {
     out
 }
 
-/// Projects a volume's polygons (clip, snap) and returns its span words per row, in
-/// polygon order, each with attr SP.
+/// The box every view ray that matters lies in: the bounding box of all geometry and the
+/// eye, slightly enlarged. A segment from the eye to a visible point stays inside it
+/// (both ends do, and a box is convex), so the parts of shadow polygons outside it can
+/// never be crossed in front of a visible point: clipping them away changes no parity,
+/// and keeps infinite extrusions from spanning the screen to the horizon.
+pub fn ray_box(ls: &LoadedScene, eye: DVec3) -> (DVec3, DVec3) {
+    let (mut lo, mut hi) = (eye, eye);
+    for m in &ls.meshes {
+        for p in &m.positions {
+            lo = lo.min(DVec3::from(*p));
+            hi = hi.max(DVec3::from(*p));
+        }
+    }
+    let pad = (hi - lo).length() * 1e-3 + 1e-6;
+    (lo - DVec3::splat(pad), hi + DVec3::splat(pad))
+}
+
+/// Clips a homogeneous world-space polygon to an axis-aligned box.
+fn clip_to_box(poly: &[DVec4], lo: DVec3, hi: DVec3) -> Vec<DVec4> {
+    let mut poly = poly.to_vec();
+    for axis in 0..3 {
+        for (bound, sign) in [(lo[axis], 1.0), (hi[axis], -1.0)] {
+            if poly.is_empty() {
+                return poly;
+            }
+            // Inside: sign·(x_axis − bound·w) ≥ 0.
+            let d = |p: &DVec4| sign * (p[axis] - bound * p.w);
+            let mut out = Vec::with_capacity(poly.len() + 1);
+            for i in 0..poly.len() {
+                let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+                let (da, db) = (d(&a), d(&b));
+                if da >= 0.0 {
+                    out.push(a);
+                }
+                if (da >= 0.0) != (db >= 0.0) {
+                    let (p, q, dp, dq) = if da >= 0.0 {
+                        (a, b, da, db)
+                    } else {
+                        (b, a, db, da)
+                    };
+                    out.push(p + (q - p) * (dp / (dp - dq)));
+                }
+            }
+            poly = out;
+        }
+    }
+    poly
+}
+
+/// Projects a volume's polygons (clip to the ray box, then the view frustum; snap) and
+/// returns its span words per row, in polygon order, each with attr SP.
 fn volume_spans(
     pj: &Projector,
     v: &Volume,
+    bbox: (DVec3, DVec3),
     width: u32,
     height: u32,
 ) -> Result<Vec<(u32, SpanWord)>, SetupError> {
     let mut spans = Vec::new();
     for poly in &v.polys {
+        let poly = clip_to_box(poly, bbox.0, bbox.1);
+        if poly.len() < 3 {
+            continue;
+        }
         let cv: Vec<ClipVert> = poly
             .iter()
             .map(|p| ClipVert {
@@ -428,6 +482,7 @@ pub fn shadow_commands(
 ) -> Result<ShadowCommands, ShadowError> {
     let (w, h) = (ls.scene.width, ls.scene.height);
     let occ = occluders(ls);
+    let bbox = ray_box(ls, pj.eye);
     let mut rows: Vec<Vec<Command>> = vec![Vec::new(); h as usize];
     let mut stats = ShadowStats::default();
     for l in lights {
@@ -440,7 +495,7 @@ pub fn shadow_commands(
             stats.eye_inside += vols.iter().filter(|v| v.eye_inside).count();
             let per_vol: Vec<Vec<(u32, SpanWord)>> = vols
                 .par_iter()
-                .map(|v| volume_spans(pj, v, w, h))
+                .map(|v| volume_spans(pj, v, bbox, w, h))
                 .collect::<Result<_, _>>()?;
             for (v, spans) in vols.iter().zip(per_vol) {
                 let mut k = 0;
