@@ -15,6 +15,7 @@ pub mod opcodes;
 pub mod pixel_array;
 pub mod pixel_processor;
 pub mod span_parity;
+pub mod verilog;
 
 use thiserror::Error;
 
@@ -24,4 +25,7 @@ pub enum RtlError {
     /// The array width is outside `1 ..= 4096`.
     #[error("array width {0} is outside 1..=4096")]
     BadWidth(usize),
+    /// Writing a Verilog file failed.
+    #[error(transparent)]
+    Io(#[from] std::io::Error),
 }

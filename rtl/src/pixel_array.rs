@@ -312,13 +312,13 @@ impl Logic for PixelProcessorArray {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, e1_op, e1_bg, e1_word, e1_base, e1_rd, e2_op, e2_attr, e2_decal,
-            e2_rel_l, e2_rel_r, e2_m, e2_zl, e2_dz, e2_ilr, e2_ilg, e2_ilb, e2_dir, e2_dig,
-            e2_dib, e3_op, e3_attr, e3_decal, e3_rel_l, e3_rel_r, e3_m, e3_zl, e3_dz, e3_ilr,
-            e3_ilg, e3_ilb, e3_dir, e3_dig, e3_dib, e3_pz0, e3_pz1, e3_pz2, e3_pr0, e3_pr1,
-            e3_pg0, e3_pg1, e3_pb0, e3_pb1, e4_op, e4_attr, e4_decal, e4_rel_l, e4_rel_r,
-            e4_dz, e4_dir, e4_dig, e4_dib, e4_za, e4_zb, e4_ra, e4_rb, e4_ga, e4_gb, e4_ba,
-            e4_bb, rd_zb_r, rd_rgb_r, rd_dsf_r, rd_fsf_r, rd_count_r
+            self, clock, e1_op, e1_bg, e1_word, e1_base, e1_rd, e2_op, e2_attr, e2_decal, e2_rel_l,
+            e2_rel_r, e2_m, e2_zl, e2_dz, e2_ilr, e2_ilg, e2_ilb, e2_dir, e2_dig, e2_dib, e3_op,
+            e3_attr, e3_decal, e3_rel_l, e3_rel_r, e3_m, e3_zl, e3_dz, e3_ilr, e3_ilg, e3_ilb,
+            e3_dir, e3_dig, e3_dib, e3_pz0, e3_pz1, e3_pz2, e3_pr0, e3_pr1, e3_pg0, e3_pg1, e3_pb0,
+            e3_pb1, e4_op, e4_attr, e4_decal, e4_rel_l, e4_rel_r, e4_dz, e4_dir, e4_dig, e4_dib,
+            e4_za, e4_zb, e4_ra, e4_rb, e4_ga, e4_gb, e4_ba, e4_bb, rd_zb_r, rd_rgb_r, rd_dsf_r,
+            rd_fsf_r, rd_count_r
         );
         // ---- E1: register every input.
         self.e1_op.d.next = self.k_nop.val();

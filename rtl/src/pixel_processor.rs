@@ -284,9 +284,9 @@ impl Logic for PixelProcessor {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, tok_op, tok_attr, tok_decal, tok_rel_l, tok_rel_r, tok_z, tok_dz,
-            tok_ir, tok_ig, tok_ib, tok_dir, tok_dig, tok_dib, zb_r, rgb_r, capzb_r, caprgb_r,
-            capdsf_r, capfsf_r, capcount_r
+            self, clock, tok_op, tok_attr, tok_decal, tok_rel_l, tok_rel_r, tok_z, tok_dz, tok_ir,
+            tok_ig, tok_ib, tok_dir, tok_dig, tok_dib, zb_r, rgb_r, capzb_r, caprgb_r, capdsf_r,
+            capfsf_r, capcount_r
         );
         // Token register: loaded every clock.
         self.tok_op.d.next = self.t_op.val();
@@ -348,8 +348,8 @@ impl Logic for PixelProcessor {
         if self.tok_decal.q.val() {
             self.z_pass.next = !(self.zv.val() > self.zb_r.q.val());
         }
-        self.z_pass.next = self.z_pass.val()
-            & (self.tok_z.q.val().get_bits::<8>(36) == self.k_zero8.val());
+        self.z_pass.next =
+            self.z_pass.val() & (self.tok_z.q.val().get_bits::<8>(36) == self.k_zero8.val());
         // Intensity clamp: negative -> 0, >= 256.0 -> 255, else bits [19:12].
         self.ch_r.next = self.tok_ir.q.val().get_bits::<8>(12);
         if self.tok_ir.q.val().get_bits::<13>(20) != self.k_zero13.val() {

@@ -292,8 +292,8 @@ pub fn compare_commands_checked(
         let rtl = probe_all(&uut);
         for (p, got) in rtl.iter().enumerate() {
             // Commands sampled at edges 1..=t−L−p have been applied.
-            let k = (t as i64 - LATENCY_PROC0 as i64 - p as i64).clamp(0, cmds.len() as i64)
-                as usize;
+            let k =
+                (t as i64 - LATENCY_PROC0 as i64 - p as i64).clamp(0, cmds.len() as i64) as usize;
             let (st, cap) = gold.get(k);
             let mut exp = st[p];
             if ignore_flags {
@@ -335,7 +335,16 @@ pub fn compare_commands_checked(
                 comparisons += 1;
                 if got != exp {
                     let p = vecs[t - 1].rd_addr as usize;
-                    mismatch = Some(make_mismatch(t, p, "readout port", 0, cmds, &vecs, exp, got));
+                    mismatch = Some(make_mismatch(
+                        t,
+                        p,
+                        "readout port",
+                        0,
+                        cmds,
+                        &vecs,
+                        exp,
+                        got,
+                    ));
                     break 'run;
                 }
             }
@@ -380,7 +389,11 @@ fn make_mismatch(
             Command::Span(w) => format!("Span {:?} (hex {})", w, w.to_hex().unwrap_or_default()),
             other => format!("{other:?}"),
         };
-        (Some(k - 1), format!("{text} at tile base {b}"), format!("{:?}", vecs[k]))
+        (
+            Some(k - 1),
+            format!("{text} at tile base {b}"),
+            format!("{:?}", vecs[k]),
+        )
     } else {
         (None, "reset".to_string(), format!("{:?}", vecs[0]))
     };

@@ -100,10 +100,14 @@ pub fn random_triangles(rng: &mut Rng, count: usize, w: u32, h: u32) -> Vec<Snap
             };
             for i in 0..3 {
                 t.v[i] = [
-                    rng.range(-8 * SUBPIXEL_ONE as i64, (w as i64 + 8) * SUBPIXEL_ONE as i64)
-                        as i32,
-                    rng.range(-8 * SUBPIXEL_ONE as i64, (h as i64 + 8) * SUBPIXEL_ONE as i64)
-                        as i32,
+                    rng.range(
+                        -8 * SUBPIXEL_ONE as i64,
+                        (w as i64 + 8) * SUBPIXEL_ONE as i64,
+                    ) as i32,
+                    rng.range(
+                        -8 * SUBPIXEL_ONE as i64,
+                        (h as i64 + 8) * SUBPIXEL_ONE as i64,
+                    ) as i32,
                 ];
                 t.z[i] = rng.range(Z_GEOM_MIN as i64, Z_GEOM_MAX as i64) as u32;
                 for c in 0..3 {
@@ -210,9 +214,9 @@ pub fn corner_cases(n: u16) -> Vec<Command> {
         op(0, last, 1000 << 12, 0, 0, 0, false),
         op(0, 0, 999 << 12, 0, 255 << 12, 0, false),
         op(last, last, 999 << 12, 0, 255 << 12, 0, false),
-        op(3, 2, 1 << 12, 0, 0, 0, false),                    // empty span
-        op(2, 4, 1000 << 12, 0, 7 << 12, 0, false),           // tie, not decal: loses
-        op(2, 4, 1000 << 12, 0, 9 << 12, 0, true),            // tie, decal: wins
+        op(3, 2, 1 << 12, 0, 0, 0, false),          // empty span
+        op(2, 4, 1000 << 12, 0, 7 << 12, 0, false), // tie, not decal: loses
+        op(2, 4, 1000 << 12, 0, 9 << 12, 0, true),  // tie, decal: wins
         op(0, 4095, (1 << 36) - 1, -(1 << 37), 0, (1 << 20) - 1, false), // extremes
         op(1, 4095, 0, (1 << 37) - 1, (1 << 20) - 1, -(1 << 20), false),
         op(0, last, 5 << 12, -(6 << 12), 100 << 12, 200 << 12, false), // negative z wraps

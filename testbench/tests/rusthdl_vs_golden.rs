@@ -3,7 +3,9 @@
 
 use pixelproc_sim::pixel_array::Command;
 use pixelproc_testbench::compare::{compare_commands, compare_stream};
-use pixelproc_testbench::stimulus::{corner_cases, random_command, random_triangles, LineStream, Rng};
+use pixelproc_testbench::stimulus::{
+    corner_cases, random_command, random_triangles, LineStream, Rng,
+};
 
 fn assert_exact(c: &pixelproc_testbench::compare::Comparison) {
     if let Some(m) = &c.mismatch {
@@ -44,12 +46,22 @@ fn a_shadow_stream_on_a_shadowless_array_is_reported_with_a_trace() {
     // The comparison must be able to fail: without parity logic the flags stay 0.
     let cmds: Vec<(u32, Command)> = corner_cases(8).into_iter().map(|c| (0, c)).collect();
     let dir = std::env::temp_dir().join(format!("pixelproc-tb-{}", std::process::id()));
-    let c = pixelproc_testbench::compare::compare_commands_checked(&cmds, 8, false, false, Some(&dir))
-        .unwrap();
-    let m = c.mismatch.expect("flags differ, so a mismatch must be reported");
+    let c =
+        pixelproc_testbench::compare::compare_commands_checked(&cmds, 8, false, false, Some(&dir))
+            .unwrap();
+    let m = c
+        .mismatch
+        .expect("flags differ, so a mismatch must be reported");
     assert!(m.expected.dsf != m.got.dsf || m.expected.fsf != m.got.fsf);
     let vcd = m.vcd.expect("a VCD is written");
     let text = std::fs::read_to_string(&vcd).unwrap();
     assert!(text.contains("$var") && text.contains("cmd_op"));
     std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn quick_check_is_bit_exact() {
+    let s = pixelproc_testbench::quick_check().unwrap();
+    assert!(s.bit_exact, "{}", s.detail);
+    assert!(s.span_words > 0 && s.cycles > 0);
 }
