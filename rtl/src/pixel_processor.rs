@@ -346,7 +346,7 @@ impl Logic for PixelProcessor {
         self.zv.next = self.tok_z.q.val().get_bits::<24>(12);
         self.z_pass.next = self.zv.val() < self.zb_r.q.val();
         if self.tok_decal.q.val() {
-            self.z_pass.next = !(self.zv.val() > self.zb_r.q.val());
+            self.z_pass.next = self.zv.val() <= self.zb_r.q.val();
         }
         self.z_pass.next =
             self.z_pass.val() & (self.tok_z.q.val().get_bits::<8>(36) == self.k_zero8.val());
