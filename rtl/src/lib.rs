@@ -1,0 +1,31 @@
+//! RustHDL RTL of the pixelproc back-end: the pixel-processor array of seed 001
+//! (Matsumoto) with its span-parity shadow logic, and Verilog export.
+//!
+//! Blocks (one file each): [`span_parity::SpanParity`], [`pixel_processor::PixelProcessor`],
+//! [`pixel_array::PixelProcessorArray`]. The per-clock command interface mirrors the
+//! golden model's `Command` ([`opcodes`]); `docs/rtl.md` gives ports, latency,
+//! handshake, the new-scanline and reset protocol, and the lint and synthesis results.
+//!
+//! This crate depends on `pixelproc-formats` and `rust-hdl` only, never on the golden
+//! model.
+
+#![warn(missing_docs)]
+
+pub mod opcodes;
+pub mod pixel_array;
+pub mod pixel_processor;
+pub mod span_parity;
+pub mod verilog;
+
+use thiserror::Error;
+
+/// Errors of RTL construction and export.
+#[derive(Debug, Error)]
+pub enum RtlError {
+    /// The array width is outside `1 ..= 4096`.
+    #[error("array width {0} is outside 1..=4096")]
+    BadWidth(usize),
+    /// Writing a Verilog file failed.
+    #[error(transparent)]
+    Io(#[from] std::io::Error),
+}

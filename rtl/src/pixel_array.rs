@@ -1,0 +1,496 @@
+//! The pixel-processor array: `N` [`PixelProcessor`]s in a systolic chain behind a
+//! four-stage entry pipeline (seed 001, Matsumoto, sections 1, 3, 4 and 6).
+//!
+//! # Ports and handshake
+//!
+//! | port | dir | width | meaning |
+//! |---|---|---|---|
+//! | `clock` | in | 1 | all registers update on the rising edge |
+//! | `rst` | in | 1 | synchronous reset (hold ≥ 1 cycle): `ZB := Z_FAR`, RGB, flags, counters, readout := 0, pipeline := NOP |
+//! | `cmd_valid` | in | 1 | a command is present; `0` is a NOP |
+//! | `cmd_op` | in | 3 | opcode, [`crate::opcodes`] |
+//! | `cmd_bg` | in | 24 | background RGB888 for CLEAR_LINE |
+//! | `cmd_word` | in | 256 | packed span word (`SpanWord::pack` layout) for SPAN |
+//! | `tile_base` | in | 12 | first screen column of the tile, sampled with each command |
+//! | `rd_addr` | in | 12 | processor index to read out |
+//! | `rd_zb`, `rd_rgb`, `rd_dsf`, `rd_fsf`, `rd_count` | out | 24, 24, 1, 1, 8 | readout registers of processor `rd_addr` |
+//!
+//! The array accepts one command on every clock; there is no back-pressure (`ready` is
+//! always 1), so a source simply drives `cmd_valid` high for each command.
+//!
+//! # Latency and the relation to the golden model
+//!
+//! A command sampled on the input ports at rising edge `E` is applied to processor `p`'s
+//! registers at rising edge `E + LATENCY_PROC0 + p` ([`LATENCY_PROC0`] = 5). So after edge
+//! `T`, processor `p` holds the golden `PixelArray` state of processor `p` after the
+//! commands sampled at edges `0 ..= T − 5 − p`. Commands never interact across
+//! processors, so this skew is invisible in the result.
+//!
+//! # New scanline and readout
+//!
+//! CLEAR_LINE first copies each processor's registers into its readout registers, then
+//! sets `ZB := Z_FAR`, RGB := `cmd_bg`, DSF = FSF = COUNT := 0. After a line's last
+//! command, send the next line's CLEAR_LINE (or a final one); `N + 4` clocks after it was
+//! sampled, every processor's readout registers hold the finished line and stay valid
+//! until the next CLEAR_LINE reaches them. They are read with `rd_addr`: the value for
+//! `rd_addr` sampled at edge `E` appears on `rd_*` after edge `E + 1` (latency 2
+//! counting the address register). Readout of line `j` thus overlaps the span words of
+//! line `j + 1`.
+//!
+//! # Why a systolic chain
+//!
+//! `Z(p) = ZL + (p − XL)·dZ` is produced by one 44-bit adder per processor (`+dZ` from
+//! one processor to the next, the Super Buffer structure the seed cites) instead of a
+//! 38×12-bit multiplier per processor. The only multiplication is the tile offset
+//! `max(0, base − XL)·dZ` (a span that started in an earlier tile), done once at the
+//! entry with nine 16×16 products (three for Z, two per colour channel) in a pipeline.
+//! Every stage is a register-to-register path of one adder, so the clock rate does not
+//! depend on `N`; the cost is one token register per processor and `N + 5` clocks of
+//! latency.
+
+use crate::opcodes::*;
+use crate::pixel_processor::PixelProcessor;
+use rust_hdl::prelude::*;
+
+/// Rising edges from sampling a command to its effect on processor 0's registers.
+pub const LATENCY_PROC0: usize = 5;
+
+/// The pixel-processor array. Build with [`PixelProcessorArray::new`].
+#[derive(LogicBlock)]
+pub struct PixelProcessorArray {
+    /// Clock.
+    pub clock: Signal<In, Clock>,
+    /// Synchronous reset.
+    pub rst: Signal<In, Bit>,
+    /// Command valid.
+    pub cmd_valid: Signal<In, Bit>,
+    /// Command opcode.
+    pub cmd_op: Signal<In, Bits<3>>,
+    /// Background colour for CLEAR_LINE, RGB888.
+    pub cmd_bg: Signal<In, Bits<24>>,
+    /// Packed span word for SPAN.
+    pub cmd_word: Signal<In, Bits<256>>,
+    /// First screen column of the tile the array is processing.
+    pub tile_base: Signal<In, Bits<12>>,
+    /// Readout address (processor index).
+    pub rd_addr: Signal<In, Bits<12>>,
+    /// Readout: depth.
+    pub rd_zb: Signal<Out, Bits<24>>,
+    /// Readout: RGB888.
+    pub rd_rgb: Signal<Out, Bits<24>>,
+    /// Readout: DSF.
+    pub rd_dsf: Signal<Out, Bit>,
+    /// Readout: FSF.
+    pub rd_fsf: Signal<Out, Bit>,
+    /// Readout: shadow count.
+    pub rd_count: Signal<Out, Bits<8>>,
+    /// The processors, processor 0 (column `tile_base`) first.
+    pub procs: Vec<PixelProcessor>,
+    // E1: input registers.
+    e1_op: DFF<Bits<3>>,
+    e1_bg: DFF<Bits<24>>,
+    e1_word: DFF<Bits<256>>,
+    e1_base: DFF<Bits<12>>,
+    e1_rd: DFF<Bits<12>>,
+    // E2: decoded word, tile offset m = max(0, base − XL).
+    e2_op: DFF<Bits<3>>,
+    e2_attr: DFF<Bits<2>>,
+    e2_decal: DFF<Bit>,
+    e2_rel_l: DFF<Bits<14>>,
+    e2_rel_r: DFF<Bits<14>>,
+    e2_m: DFF<Bits<16>>,
+    e2_zl: DFF<Bits<36>>,
+    e2_dz: DFF<Bits<38>>,
+    e2_ilr: DFF<Bits<20>>,
+    e2_ilg: DFF<Bits<20>>,
+    e2_ilb: DFF<Bits<20>>,
+    e2_dir: DFF<Bits<21>>,
+    e2_dig: DFF<Bits<21>>,
+    e2_dib: DFF<Bits<21>>,
+    // E3: partial products.
+    e3_op: DFF<Bits<3>>,
+    e3_attr: DFF<Bits<2>>,
+    e3_decal: DFF<Bit>,
+    e3_rel_l: DFF<Bits<14>>,
+    e3_rel_r: DFF<Bits<14>>,
+    e3_m: DFF<Bits<16>>,
+    e3_zl: DFF<Bits<36>>,
+    e3_dz: DFF<Bits<38>>,
+    e3_ilr: DFF<Bits<20>>,
+    e3_ilg: DFF<Bits<20>>,
+    e3_ilb: DFF<Bits<20>>,
+    e3_dir: DFF<Bits<21>>,
+    e3_dig: DFF<Bits<21>>,
+    e3_dib: DFF<Bits<21>>,
+    e3_pz0: DFF<Bits<32>>,
+    e3_pz1: DFF<Bits<32>>,
+    e3_pz2: DFF<Bits<32>>,
+    e3_pr0: DFF<Bits<32>>,
+    e3_pr1: DFF<Bits<32>>,
+    e3_pg0: DFF<Bits<32>>,
+    e3_pg1: DFF<Bits<32>>,
+    e3_pb0: DFF<Bits<32>>,
+    e3_pb1: DFF<Bits<32>>,
+    // E4: two partial sums per quantity.
+    e4_op: DFF<Bits<3>>,
+    e4_attr: DFF<Bits<2>>,
+    e4_decal: DFF<Bit>,
+    e4_rel_l: DFF<Bits<14>>,
+    e4_rel_r: DFF<Bits<14>>,
+    e4_dz: DFF<Bits<38>>,
+    e4_dir: DFF<Bits<21>>,
+    e4_dig: DFF<Bits<21>>,
+    e4_dib: DFF<Bits<21>>,
+    e4_za: DFF<Bits<44>>,
+    e4_zb: DFF<Bits<44>>,
+    e4_ra: DFF<Bits<34>>,
+    e4_rb: DFF<Bits<34>>,
+    e4_ga: DFF<Bits<34>>,
+    e4_gb: DFF<Bits<34>>,
+    e4_ba: DFF<Bits<34>>,
+    e4_bb: DFF<Bits<34>>,
+    // Readout output registers.
+    rd_zb_r: DFF<Bits<24>>,
+    rd_rgb_r: DFF<Bits<24>>,
+    rd_dsf_r: DFF<Bit>,
+    rd_fsf_r: DFF<Bit>,
+    rd_count_r: DFF<Bits<8>>,
+    k_nop: Constant<Bits<3>>,
+    k_span: Constant<Bits<3>>,
+    k_clear_line: Constant<Bits<3>>,
+    k_one14: Constant<Bits<14>>,
+    k_zero16: Constant<Bits<16>>,
+    k_zero21: Constant<Bits<21>>,
+    k_zero38: Constant<Bits<38>>,
+    k_zero44: Constant<Bits<44>>,
+    k_zero34: Constant<Bits<34>>,
+    k_zfar: Constant<Bits<24>>,
+    k_zero24: Constant<Bits<24>>,
+    k_zero8: Constant<Bits<8>>,
+    l_xl: Signal<Local, Bits<14>>,
+    l_xr: Signal<Local, Bits<14>>,
+    l_base: Signal<Local, Bits<14>>,
+    l_d: Signal<Local, Bits<14>>,
+    l_dz: Signal<Local, Bits<38>>,
+    l_dzmid: Signal<Local, Bits<16>>,
+    l_dzhi: Signal<Local, Bits<16>>,
+    l_dihi_r: Signal<Local, Bits<16>>,
+    l_dihi_g: Signal<Local, Bits<16>>,
+    l_dihi_b: Signal<Local, Bits<16>>,
+    l_m44: Signal<Local, Bits<44>>,
+    l_m34: Signal<Local, Bits<34>>,
+}
+
+impl PixelProcessorArray {
+    /// An array of `width` processors (1 ..= 4096), with the span-parity logic in every
+    /// processor iff `shadows`.
+    pub fn new(width: usize, shadows: bool) -> Result<Self, crate::RtlError> {
+        if width == 0 || width > 4096 {
+            return Err(crate::RtlError::BadWidth(width));
+        }
+        fn k<const W: usize>(v: u64) -> Constant<Bits<W>> {
+            Constant::new(v.to_bits())
+        }
+        Ok(PixelProcessorArray {
+            clock: Default::default(),
+            rst: Default::default(),
+            cmd_valid: Default::default(),
+            cmd_op: Default::default(),
+            cmd_bg: Default::default(),
+            cmd_word: Default::default(),
+            tile_base: Default::default(),
+            rd_addr: Default::default(),
+            rd_zb: Default::default(),
+            rd_rgb: Default::default(),
+            rd_dsf: Default::default(),
+            rd_fsf: Default::default(),
+            rd_count: Default::default(),
+            procs: (0..width).map(|_| PixelProcessor::new(shadows)).collect(),
+            e1_op: Default::default(),
+            e1_bg: Default::default(),
+            e1_word: Default::default(),
+            e1_base: Default::default(),
+            e1_rd: Default::default(),
+            e2_op: Default::default(),
+            e2_attr: Default::default(),
+            e2_decal: Default::default(),
+            e2_rel_l: Default::default(),
+            e2_rel_r: Default::default(),
+            e2_m: Default::default(),
+            e2_zl: Default::default(),
+            e2_dz: Default::default(),
+            e2_ilr: Default::default(),
+            e2_ilg: Default::default(),
+            e2_ilb: Default::default(),
+            e2_dir: Default::default(),
+            e2_dig: Default::default(),
+            e2_dib: Default::default(),
+            e3_op: Default::default(),
+            e3_attr: Default::default(),
+            e3_decal: Default::default(),
+            e3_rel_l: Default::default(),
+            e3_rel_r: Default::default(),
+            e3_m: Default::default(),
+            e3_zl: Default::default(),
+            e3_dz: Default::default(),
+            e3_ilr: Default::default(),
+            e3_ilg: Default::default(),
+            e3_ilb: Default::default(),
+            e3_dir: Default::default(),
+            e3_dig: Default::default(),
+            e3_dib: Default::default(),
+            e3_pz0: Default::default(),
+            e3_pz1: Default::default(),
+            e3_pz2: Default::default(),
+            e3_pr0: Default::default(),
+            e3_pr1: Default::default(),
+            e3_pg0: Default::default(),
+            e3_pg1: Default::default(),
+            e3_pb0: Default::default(),
+            e3_pb1: Default::default(),
+            e4_op: Default::default(),
+            e4_attr: Default::default(),
+            e4_decal: Default::default(),
+            e4_rel_l: Default::default(),
+            e4_rel_r: Default::default(),
+            e4_dz: Default::default(),
+            e4_dir: Default::default(),
+            e4_dig: Default::default(),
+            e4_dib: Default::default(),
+            e4_za: Default::default(),
+            e4_zb: Default::default(),
+            e4_ra: Default::default(),
+            e4_rb: Default::default(),
+            e4_ga: Default::default(),
+            e4_gb: Default::default(),
+            e4_ba: Default::default(),
+            e4_bb: Default::default(),
+            rd_zb_r: Default::default(),
+            rd_rgb_r: Default::default(),
+            rd_dsf_r: Default::default(),
+            rd_fsf_r: Default::default(),
+            rd_count_r: Default::default(),
+            k_nop: Constant::new(OP_NOP.to_bits()),
+            k_span: Constant::new(OP_SPAN.to_bits()),
+            k_clear_line: Constant::new(OP_CLEAR_LINE.to_bits()),
+            k_one14: k(1),
+            k_zero16: k(0),
+            k_zero21: k(0),
+            k_zero38: k(0),
+            k_zero44: k(0),
+            k_zero34: k(0),
+            k_zfar: k(pixelproc_formats::Z_FAR as u64),
+            k_zero24: k(0),
+            k_zero8: k(0),
+            l_xl: Default::default(),
+            l_xr: Default::default(),
+            l_base: Default::default(),
+            l_d: Default::default(),
+            l_dz: Default::default(),
+            l_dzmid: Default::default(),
+            l_dzhi: Default::default(),
+            l_dihi_r: Default::default(),
+            l_dihi_g: Default::default(),
+            l_dihi_b: Default::default(),
+            l_m44: Default::default(),
+            l_m34: Default::default(),
+        })
+    }
+
+    /// Number of processors.
+    pub fn width(&self) -> usize {
+        self.procs.len()
+    }
+
+    /// True if the processors carry the span-parity logic.
+    pub fn has_shadows(&self) -> bool {
+        self.procs.first().is_some_and(|p| p.has_shadows())
+    }
+}
+
+impl Logic for PixelProcessorArray {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(
+            self, clock, e1_op, e1_bg, e1_word, e1_base, e1_rd, e2_op, e2_attr, e2_decal, e2_rel_l,
+            e2_rel_r, e2_m, e2_zl, e2_dz, e2_ilr, e2_ilg, e2_ilb, e2_dir, e2_dig, e2_dib, e3_op,
+            e3_attr, e3_decal, e3_rel_l, e3_rel_r, e3_m, e3_zl, e3_dz, e3_ilr, e3_ilg, e3_ilb,
+            e3_dir, e3_dig, e3_dib, e3_pz0, e3_pz1, e3_pz2, e3_pr0, e3_pr1, e3_pg0, e3_pg1, e3_pb0,
+            e3_pb1, e4_op, e4_attr, e4_decal, e4_rel_l, e4_rel_r, e4_dz, e4_dir, e4_dig, e4_dib,
+            e4_za, e4_zb, e4_ra, e4_rb, e4_ga, e4_gb, e4_ba, e4_bb, rd_zb_r, rd_rgb_r, rd_dsf_r,
+            rd_fsf_r, rd_count_r
+        );
+        // ---- E1: register every input.
+        self.e1_op.d.next = self.k_nop.val();
+        if self.cmd_valid.val() {
+            self.e1_op.d.next = self.cmd_op.val();
+        }
+        self.e1_bg.d.next = self.cmd_bg.val();
+        self.e1_word.d.next = self.cmd_word.val();
+        self.e1_base.d.next = self.tile_base.val();
+        self.e1_rd.d.next = self.rd_addr.val();
+        // ---- E2: decode the span word (layout of `SpanWord::pack`).
+        self.l_xl.next = bit_cast::<14, 12>(self.e1_word.q.val().get_bits::<12>(2));
+        self.l_xr.next = bit_cast::<14, 12>(self.e1_word.q.val().get_bits::<12>(14));
+        self.l_base.next = bit_cast::<14, 12>(self.e1_base.q.val());
+        self.l_d.next = self.l_base.val() - self.l_xl.val();
+        self.e2_op.d.next = self.e1_op.q.val();
+        self.e2_attr.d.next = self.e1_word.q.val().get_bits::<2>(0);
+        self.e2_decal.d.next = self.e1_word.q.val().get_bit(247);
+        self.e2_rel_l.d.next = (self.l_xl.val() - self.l_base.val()) - self.k_one14.val();
+        self.e2_rel_r.d.next = self.l_xr.val() - self.l_base.val();
+        self.e2_zl.d.next = self.e1_word.q.val().get_bits::<36>(26);
+        self.e2_dz.d.next = self.e1_word.q.val().get_bits::<38>(62);
+        self.e2_ilr.d.next = self.e1_word.q.val().get_bits::<20>(100);
+        self.e2_ilg.d.next = self.e1_word.q.val().get_bits::<20>(120);
+        self.e2_ilb.d.next = self.e1_word.q.val().get_bits::<20>(140);
+        self.e2_dir.d.next = self.e1_word.q.val().get_bits::<21>(160);
+        self.e2_dig.d.next = self.e1_word.q.val().get_bits::<21>(181);
+        self.e2_dib.d.next = self.e1_word.q.val().get_bits::<21>(202);
+        // Tile offset: the span started `base − XL` columns before this tile.
+        self.e2_m.d.next = self.k_zero16.val();
+        if !self.l_d.val().get_bit(13) {
+            self.e2_m.d.next = bit_cast::<16, 14>(self.l_d.val());
+        }
+        if self.e1_op.q.val() != self.k_span.val() {
+            // No increments; CLEAR_LINE carries the background in the Z accumulator.
+            self.e2_m.d.next = self.k_zero16.val();
+            self.e2_dz.d.next = self.k_zero38.val();
+            self.e2_dir.d.next = self.k_zero21.val();
+            self.e2_dig.d.next = self.k_zero21.val();
+            self.e2_dib.d.next = self.k_zero21.val();
+            self.e2_zl.d.next = bit_cast::<36, 24>(self.e1_bg.q.val());
+        }
+        // ---- E3: partial products m·dZ (3) and m·dI_c (2 each), 16×16 unsigned.
+        self.e3_op.d.next = self.e2_op.q.val();
+        self.e3_attr.d.next = self.e2_attr.q.val();
+        self.e3_decal.d.next = self.e2_decal.q.val();
+        self.e3_rel_l.d.next = self.e2_rel_l.q.val();
+        self.e3_rel_r.d.next = self.e2_rel_r.q.val();
+        self.e3_m.d.next = self.e2_m.q.val();
+        self.e3_zl.d.next = self.e2_zl.q.val();
+        self.e3_dz.d.next = self.e2_dz.q.val();
+        self.e3_ilr.d.next = self.e2_ilr.q.val();
+        self.e3_ilg.d.next = self.e2_ilg.q.val();
+        self.e3_ilb.d.next = self.e2_ilb.q.val();
+        self.e3_dir.d.next = self.e2_dir.q.val();
+        self.e3_dig.d.next = self.e2_dig.q.val();
+        self.e3_dib.d.next = self.e2_dib.q.val();
+        self.l_dz.next = self.e2_dz.q.val();
+        self.l_dzmid.next = self.l_dz.val().get_bits::<16>(16);
+        self.l_dzhi.next = bit_cast::<16, 6>(self.l_dz.val().get_bits::<6>(32));
+        self.l_dihi_r.next = bit_cast::<16, 5>(self.e2_dir.q.val().get_bits::<5>(16));
+        self.l_dihi_g.next = bit_cast::<16, 5>(self.e2_dig.q.val().get_bits::<5>(16));
+        self.l_dihi_b.next = bit_cast::<16, 5>(self.e2_dib.q.val().get_bits::<5>(16));
+        self.e3_pz0.d.next = self.e2_m.q.val() * self.l_dz.val().get_bits::<16>(0);
+        self.e3_pz1.d.next = self.e2_m.q.val() * self.l_dzmid.val();
+        self.e3_pz2.d.next = self.e2_m.q.val() * self.l_dzhi.val();
+        self.e3_pr0.d.next = self.e2_m.q.val() * self.e2_dir.q.val().get_bits::<16>(0);
+        self.e3_pr1.d.next = self.e2_m.q.val() * self.l_dihi_r.val();
+        self.e3_pg0.d.next = self.e2_m.q.val() * self.e2_dig.q.val().get_bits::<16>(0);
+        self.e3_pg1.d.next = self.e2_m.q.val() * self.l_dihi_g.val();
+        self.e3_pb0.d.next = self.e2_m.q.val() * self.e2_dib.q.val().get_bits::<16>(0);
+        self.e3_pb1.d.next = self.e2_m.q.val() * self.l_dihi_b.val();
+        // ---- E4: m·dZ = m·u38 − s·m·2^38 (u38 = dZ as unsigned), likewise for dI (2^21).
+        self.e4_op.d.next = self.e3_op.q.val();
+        self.e4_attr.d.next = self.e3_attr.q.val();
+        self.e4_decal.d.next = self.e3_decal.q.val();
+        self.e4_rel_l.d.next = self.e3_rel_l.q.val();
+        self.e4_rel_r.d.next = self.e3_rel_r.q.val();
+        self.e4_dz.d.next = self.e3_dz.q.val();
+        self.e4_dir.d.next = self.e3_dir.q.val();
+        self.e4_dig.d.next = self.e3_dig.q.val();
+        self.e4_dib.d.next = self.e3_dib.q.val();
+        self.l_m44.next = bit_cast::<44, 16>(self.e3_m.q.val());
+        self.l_m34.next = bit_cast::<34, 16>(self.e3_m.q.val());
+        self.e4_za.d.next =
+            bit_cast::<44, 36>(self.e3_zl.q.val()) + bit_cast::<44, 32>(self.e3_pz0.q.val());
+        self.e4_zb.d.next = (bit_cast::<44, 32>(self.e3_pz1.q.val()) << 16)
+            + (bit_cast::<44, 32>(self.e3_pz2.q.val()) << 32);
+        if self.e3_dz.q.val().get_bit(37) {
+            self.e4_zb.d.next = ((bit_cast::<44, 32>(self.e3_pz1.q.val()) << 16)
+                + (bit_cast::<44, 32>(self.e3_pz2.q.val()) << 32))
+                - (self.l_m44.val() << 38);
+        }
+        self.e4_ra.d.next =
+            bit_cast::<34, 20>(self.e3_ilr.q.val()) + bit_cast::<34, 32>(self.e3_pr0.q.val());
+        self.e4_rb.d.next = bit_cast::<34, 32>(self.e3_pr1.q.val()) << 16;
+        if self.e3_dir.q.val().get_bit(20) {
+            self.e4_rb.d.next =
+                (bit_cast::<34, 32>(self.e3_pr1.q.val()) << 16) - (self.l_m34.val() << 21);
+        }
+        self.e4_ga.d.next =
+            bit_cast::<34, 20>(self.e3_ilg.q.val()) + bit_cast::<34, 32>(self.e3_pg0.q.val());
+        self.e4_gb.d.next = bit_cast::<34, 32>(self.e3_pg1.q.val()) << 16;
+        if self.e3_dig.q.val().get_bit(20) {
+            self.e4_gb.d.next =
+                (bit_cast::<34, 32>(self.e3_pg1.q.val()) << 16) - (self.l_m34.val() << 21);
+        }
+        self.e4_ba.d.next =
+            bit_cast::<34, 20>(self.e3_ilb.q.val()) + bit_cast::<34, 32>(self.e3_pb0.q.val());
+        self.e4_bb.d.next = bit_cast::<34, 32>(self.e3_pb1.q.val()) << 16;
+        if self.e3_dib.q.val().get_bit(20) {
+            self.e4_bb.d.next =
+                (bit_cast::<34, 32>(self.e3_pb1.q.val()) << 16) - (self.l_m34.val() << 21);
+        }
+        if self.rst.val() {
+            self.e1_op.d.next = self.k_nop.val();
+            self.e2_op.d.next = self.k_nop.val();
+            self.e3_op.d.next = self.k_nop.val();
+            self.e4_op.d.next = self.k_nop.val();
+        }
+        // ---- The systolic chain: E4 feeds processor 0, processor p feeds p + 1.
+        for i in 0..self.procs.len() {
+            self.procs[i].clock.next = self.clock.val();
+            self.procs[i].rst.next = self.rst.val();
+        }
+        self.procs[0].t_op.next = self.e4_op.q.val();
+        self.procs[0].t_attr.next = self.e4_attr.q.val();
+        self.procs[0].t_decal.next = self.e4_decal.q.val();
+        self.procs[0].t_rel_l.next = self.e4_rel_l.q.val();
+        self.procs[0].t_rel_r.next = self.e4_rel_r.q.val();
+        self.procs[0].t_z.next = self.e4_za.q.val() + self.e4_zb.q.val();
+        self.procs[0].t_dz.next = self.e4_dz.q.val();
+        self.procs[0].t_ir.next = self.e4_ra.q.val() + self.e4_rb.q.val();
+        self.procs[0].t_ig.next = self.e4_ga.q.val() + self.e4_gb.q.val();
+        self.procs[0].t_ib.next = self.e4_ba.q.val() + self.e4_bb.q.val();
+        self.procs[0].t_dir.next = self.e4_dir.q.val();
+        self.procs[0].t_dig.next = self.e4_dig.q.val();
+        self.procs[0].t_dib.next = self.e4_dib.q.val();
+        for i in 1..self.procs.len() {
+            self.procs[i].t_op.next = self.procs[i - 1].o_op.val();
+            self.procs[i].t_attr.next = self.procs[i - 1].o_attr.val();
+            self.procs[i].t_decal.next = self.procs[i - 1].o_decal.val();
+            self.procs[i].t_rel_l.next = self.procs[i - 1].o_rel_l.val();
+            self.procs[i].t_rel_r.next = self.procs[i - 1].o_rel_r.val();
+            self.procs[i].t_z.next = self.procs[i - 1].o_z.val();
+            self.procs[i].t_dz.next = self.procs[i - 1].o_dz.val();
+            self.procs[i].t_ir.next = self.procs[i - 1].o_ir.val();
+            self.procs[i].t_ig.next = self.procs[i - 1].o_ig.val();
+            self.procs[i].t_ib.next = self.procs[i - 1].o_ib.val();
+            self.procs[i].t_dir.next = self.procs[i - 1].o_dir.val();
+            self.procs[i].t_dig.next = self.procs[i - 1].o_dig.val();
+            self.procs[i].t_dib.next = self.procs[i - 1].o_dib.val();
+        }
+        // ---- Readout: registered address (E1), one-of-N select, registered outputs.
+        self.rd_zb_r.d.next = self.k_zfar.val();
+        self.rd_rgb_r.d.next = self.k_zero24.val();
+        self.rd_dsf_r.d.next = false;
+        self.rd_fsf_r.d.next = false;
+        self.rd_count_r.d.next = self.k_zero8.val();
+        for i in 0..self.procs.len() {
+            if self.e1_rd.q.val().index() == i {
+                self.rd_zb_r.d.next = self.procs[i].cap_zb.val();
+                self.rd_rgb_r.d.next = self.procs[i].cap_rgb.val();
+                self.rd_dsf_r.d.next = self.procs[i].cap_dsf.val();
+                self.rd_fsf_r.d.next = self.procs[i].cap_fsf.val();
+                self.rd_count_r.d.next = self.procs[i].cap_count.val();
+            }
+        }
+        self.rd_zb.next = self.rd_zb_r.q.val();
+        self.rd_rgb.next = self.rd_rgb_r.q.val();
+        self.rd_dsf.next = self.rd_dsf_r.q.val();
+        self.rd_fsf.next = self.rd_fsf_r.q.val();
+        self.rd_count.next = self.rd_count_r.q.val();
+    }
+}
