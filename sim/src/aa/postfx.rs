@@ -549,21 +549,32 @@ fn run_pass(
         }
     };
     for v in 0..nv.saturating_sub(1) {
-        // State machine: state 0 = outside a run, 1 = inside; count = run length.
+        // State machine: state 0 = outside a run, 1 = inside; count = run length. A run
+        // ends where the edge stops or, with the 5-line window, where a perpendicular
+        // edge in line v or v+1 shows that the surface on one side changes inside the
+        // run (two edges meeting end to end on one boundary, the seed's Fig. 9): the run
+        // is split there and the two parts are blended separately.
         let mut state = 0;
         let mut count = 0usize;
+        let mut runs = Vec::new();
         for u in 0..=nu {
             let on = u < nu && across(u, v) == 2;
+            let split = window && on && state == 1 && (perp(u - 1, v) || perp(u - 1, v + 1));
+            if state == 1 && (!on || split) {
+                state = 0;
+                runs.push((u - count, count));
+            }
             if on {
                 if state == 0 {
                     state = 1;
                     count = 0;
                 }
                 count += 1;
-                continue;
             }
-            if state == 1 {
-                state = 0;
+        }
+        for (u0, count) in runs {
+            let u = u0 + count;
+            {
                 let (u0, len) = (u - count, count as i64);
                 // End heights (in half pixels): a perpendicular edge between b and b+1
                 // in line v (upper) → +1, in line v+1 (lower) → −1. With the 5-line
