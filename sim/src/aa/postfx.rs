@@ -18,9 +18,9 @@
 //! `|z₂ − z₁| > Zjump` is class 2 (object against background or another object); any
 //! other edge is class 1 (a crease between adjacent planes). Loop 1 blends class-1
 //! edges: from the 1×4 depths across the crease the two planes are extended and
-//! intersected, giving the crease position `t* ∈ [0, 1]` between the two centres
-//! (`t* = (z₂ − z₁ − (z₁ − z₀))…`, see `docs/postfx.md`); the pixel the crease does not
-//! pass through the centre of takes `|½ − t*|` of its neighbour's colour. Pixels blended
+//! intersected (eq. 18, `s = (sz3 + sz1 − 2·sz2)/(sz4 − sz3 − sz2 + sz1)`, see
+//! `crease_pass`); the pixel the crease does not reach the centre of takes `|s − ½|` of
+//! its neighbour's colour. Pixels blended
 //! here get the 1-bit flag and are skipped by loop 2.
 //!
 //! **Loop 2: the scanline state machine and trapezoid blending (seed 004, Fig. 7, 13,
@@ -41,9 +41,16 @@
 //! flagged pixel from the anti-aliased buffer and blends again ("priority to the first,
 //! blend again"). Colours are RGB8; a blend is `(c·(2^16 − a) + c'·a + 2^15) >> 16`.
 //!
-//! Not modelled: the seed's 5-line window for separating close parallel edges (runs are
-//! found from the two rows on either side of the boundary only), and the in-drawing
-//! maintenance of the second-difference buffer (here computed from the finished z).
+//! **5-line window (seed 004, Figs. 9–11).** With [`PostFxParams::window`] a run on the
+//! boundary between lines v and v+1 reads the edge bits of lines v−1..v+2: runs split
+//! where the surface on one side changes inside the run, and a step at a run end counts
+//! only if the edge continues on the neighbouring boundary (see `run_pass`).
+//!
+//! **Buffers written during drawing (seed 004, eqs. 1–4, "normal vector buffer").**
+//! [`draw_buffers`] replays the drawing in scene order and keeps the second-difference
+//! buffer by read-modify-write and a [`StoredNormal`] per pixel. Loop 1 uses the seed's
+//! eq. 18 for the crease position. Not modelled: the class-2 counting coefficient
+//! (eq. 19), whose counted pixels are defined only in Fig. 17.
 
 use super::{AaError, AaFrame, AaStats};
 use crate::render::{render_frame, SpanSource};
