@@ -18,9 +18,9 @@
 //! `|z₂ − z₁| > Zjump` is class 2 (object against background or another object); any
 //! other edge is class 1 (a crease between adjacent planes). Loop 1 blends class-1
 //! edges: from the 1×4 depths across the crease the two planes are extended and
-//! intersected, giving the crease position `t* ∈ [0, 1]` between the two centres
-//! (`t* = (z₂ − z₁ − (z₁ − z₀))…`, see `docs/postfx.md`); the pixel the crease does not
-//! pass through the centre of takes `|½ − t*|` of its neighbour's colour. Pixels blended
+//! intersected (eq. 18, `s = (sz3 + sz1 − 2·sz2)/(sz4 − sz3 − sz2 + sz1)`, see
+//! `crease_pass`); the pixel the crease does not reach the centre of takes `|s − ½|` of
+//! its neighbour's colour. Pixels blended
 //! here get the 1-bit flag and are skipped by loop 2.
 //!
 //! **Loop 2: the scanline state machine and trapezoid blending (seed 004, Fig. 7, 13,
@@ -41,13 +41,45 @@
 //! flagged pixel from the anti-aliased buffer and blends again ("priority to the first,
 //! blend again"). Colours are RGB8; a blend is `(c·(2^16 − a) + c'·a + 2^15) >> 16`.
 //!
-//! Not modelled: the seed's 5-line window for separating close parallel edges (runs are
-//! found from the two rows on either side of the boundary only), and the in-drawing
-//! maintenance of the second-difference buffer (here computed from the finished z).
+//! **5-line window (seed 004, Figs. 9–11).** With [`PostFxParams::window`] a run on the
+//! boundary between lines v and v+1 reads the edge bits of lines v−1..v+2: runs split
+//! where the surface on one side changes inside the run, and a step at a run end counts
+//! only if the edge continues on the neighbouring boundary (see `run_pass`).
+//!
+//! **Buffers written during drawing (seed 004, eqs. 1–4, "normal vector buffer").**
+//! [`draw_buffers`] replays the drawing in scene order and keeps the second-difference
+//! buffer by read-modify-write and a [`StoredNormal`] per pixel. Loop 1 uses the seed's
+//! eq. 18 for the crease position. Not modelled: the class-2 counting coefficient
+//! (eq. 19), whose counted pixels are defined only in Fig. 17.
 
-use super::{baseline_visible, AaError, AaFrame, AaStats};
+use super::{AaError, AaFrame, AaStats};
 use crate::render::{render_frame, SpanSource};
-use crate::setup::SnappedTri;
+use crate::setup::{SnappedTri, TriSetup};
+use pixelproc_formats::Z_FAR;
+
+/// Where the normals of the normal edge test come from (seed 004, "edges from normals").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum NormalSource {
+    /// Reconstructed from the finished z-buffer, `n = (Δx z, Δy z, −S)` (seed eq. 9).
+    #[default]
+    Reconstructed,
+    /// A per-pixel normal buffer written at each depth-test pass during drawing: the
+    /// visible plane's unit normal as two Q1.15 components and the sign of the third
+    /// ([`StoredNormal`]).
+    Stored,
+}
+
+/// Where the z second differences come from (seed 004, eqs. 1–4 and 5–7).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SecondDiffSource {
+    /// Computed by scanning the finished z-buffer.
+    #[default]
+    FinalZ,
+    /// A second-difference buffer initialised to 0 and updated read-modify-write during
+    /// drawing whenever a neighbour's z changes (eq. 4). Gives the same buffer, hence the
+    /// same edge bits, as [`SecondDiffSource::FinalZ`].
+    DuringDraw,
+}
 
 /// Parameters of post-process anti-aliasing.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -56,7 +88,7 @@ pub struct PostFxParams {
     pub zth: u32,
     /// A depth jump above this makes an edge class 2 (silhouette).
     pub zjump: u32,
-    /// Also detect edges from reconstructed normals.
+    /// Also detect edges from normals.
     pub normals: bool,
     /// Depth units per pixel used as the normal's z component.
     pub normal_scale: u32,
@@ -64,6 +96,13 @@ pub struct PostFxParams {
     pub cos_q16: u32,
     /// Blend class-1 (crease) edges in a first loop.
     pub creases: bool,
+    /// Use the 5-line window (2 lines above, 2 below) to tell which edge a perpendicular
+    /// step at a run end belongs to. `false`: the two lines at the boundary only.
+    pub window: bool,
+    /// Stored or reconstructed normals (when [`PostFxParams::normals`] is set).
+    pub normal_source: NormalSource,
+    /// Second differences from the final z-buffer or maintained during drawing.
+    pub d2_source: SecondDiffSource,
 }
 
 impl Default for PostFxParams {
@@ -75,6 +114,9 @@ impl Default for PostFxParams {
             normal_scale: 256,
             cos_q16: 58982, // 0.9
             creases: true,
+            window: true,
+            normal_source: NormalSource::Reconstructed,
+            d2_source: SecondDiffSource::FinalZ,
         }
     }
 }
@@ -83,13 +125,224 @@ impl PostFxParams {
     /// A short label.
     pub fn label(&self) -> String {
         format!(
-            "postfx zth={} zjump={}{}{}",
+            "postfx zth={} zjump={}{}{}{}{}",
             self.zth,
             self.zjump,
-            if self.normals { " normals" } else { "" },
-            if self.creases { " creases" } else { "" }
+            match (self.normals, self.normal_source) {
+                (false, _) => "",
+                (true, NormalSource::Reconstructed) => " normals",
+                (true, NormalSource::Stored) => " normals=stored",
+            },
+            if self.creases { " creases" } else { "" },
+            if self.window { "" } else { " window=3" },
+            if self.d2_source == SecondDiffSource::DuringDraw {
+                " d2=draw"
+            } else {
+                ""
+            }
         )
     }
+}
+
+/// One entry of the stored normal buffer: the unit normal of the visible plane in the
+/// space (x px, y px, z/S), `S` = [`PostFxParams::normal_scale`], as two components in
+/// Q1.15 and the sign of the third (seed 004: "two components and a sign suffice").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StoredNormal {
+    /// x component, Q1.15.
+    pub nx: i16,
+    /// y component, Q1.15.
+    pub ny: i16,
+    /// The z component is negative (always, for a depth plane seen from the front;
+    /// kept because the format stores it).
+    pub nz_neg: bool,
+}
+
+impl StoredNormal {
+    /// The background's normal, `(0, 0, −1)`.
+    pub const BACKGROUND: StoredNormal = StoredNormal {
+        nx: 0,
+        ny: 0,
+        nz_neg: true,
+    };
+
+    /// The three components in Q1.15 (as `i64`), the third recovered as
+    /// `±⌊√(2^30 − nx² − ny²)⌋`.
+    pub fn unpack(&self) -> [i64; 3] {
+        let (x, y) = (self.nx as i64, self.ny as i64);
+        let r = ((1i64 << 30) - x * x - y * y).max(0) as u128;
+        let z = isqrt(r) as i64;
+        [x, y, if self.nz_neg { -z } else { z }]
+    }
+
+    /// The unit normal of the plane through three (Q.8 pixel position, 24-bit depth)
+    /// points, `∝ (∂z/∂x, ∂z/∂y, −S)`, rounded to Q1.15. `None` for a degenerate triangle.
+    pub fn of_plane(v: [[i32; 2]; 3], z: [u32; 3], s: u32) -> Option<StoredNormal> {
+        let (e1x, e1y) = ((v[1][0] - v[0][0]) as i128, (v[1][1] - v[0][1]) as i128);
+        let (e2x, e2y) = ((v[2][0] - v[0][0]) as i128, (v[2][1] - v[0][1]) as i128);
+        let (d1, d2) = (z[1] as i128 - z[0] as i128, z[2] as i128 - z[0] as i128);
+        let det = e1x * e2y - e1y * e2x;
+        if det == 0 {
+            return None;
+        }
+        let sg = det.signum();
+        // (∂z/∂x, ∂z/∂y, −S)·det/256, with the sign making the third component negative.
+        let a = sg * 256 * (d1 * e2y - d2 * e1y);
+        let b = sg * 256 * (d2 * e1x - d1 * e2x);
+        let c = -(s as i128) * det.abs();
+        let len = isqrt((a * a + b * b + c * c) as u128) as i128;
+        let q = |u: i128| -> i16 {
+            // round(u·2^15 / len), clamped to the i16 range.
+            (((u << 16) + len).div_euclid(2 * len)).clamp(-32767, 32767) as i16
+        };
+        Some(StoredNormal {
+            nx: q(a),
+            ny: q(b),
+            nz_neg: c < 0,
+        })
+    }
+}
+
+/// Integer square root `⌊√n⌋`.
+fn isqrt(n: u128) -> u128 {
+    if n < 2 {
+        return n;
+    }
+    let mut x = (n as f64).sqrt() as u128;
+    while x * x > n {
+        x -= 1;
+    }
+    while (x + 1) * (x + 1) <= n {
+        x += 1;
+    }
+    x
+}
+
+/// The per-pixel buffers produced during drawing, in scene order with the array's depth
+/// test (same span words, `<`, decals `≤`).
+#[derive(Clone, Debug)]
+pub struct DrawBuffers {
+    /// Width.
+    pub w: usize,
+    /// Height.
+    pub h: usize,
+    /// 24-bit z-buffer.
+    pub z: Vec<u32>,
+    /// Visible triangle (input index, −1 background).
+    pub visible: Vec<i32>,
+    /// `d2x = z(x+1, y) + z(x−1, y) − 2·z(x, y)` (borders replicate), kept up to date by
+    /// read-modify-write on every z change (seed eq. 4); 26-bit signed.
+    pub d2x: Vec<i32>,
+    /// Likewise in y.
+    pub d2y: Vec<i32>,
+    /// Stored normal of the visible plane.
+    pub normals: Vec<StoredNormal>,
+    /// Depth tests made.
+    pub depth_tests: u64,
+    /// Read-modify-writes of the second-difference buffer.
+    pub d2_updates: u64,
+}
+
+/// Weight of `z(p)` in the second difference at `c` along an axis of length `n` with
+/// replicated borders: the sum of the stencil taps `(c−1: +1, c: −2, c+1: +1)` that clamp
+/// to `p`.
+fn d2_weight(c: i64, p: i64, n: i64) -> i32 {
+    let taps: [(i64, i32); 3] = [(c - 1, 1), (c, -2), (c + 1, 1)];
+    taps.iter()
+        .filter(|tk| tk.0.clamp(0, n - 1) == p)
+        .map(|tk| tk.1)
+        .sum()
+}
+
+/// Draws `tris` in scene order into a z-buffer, maintaining the second-difference buffer
+/// (seed 004, eq. 4: when z at a pixel changes from `z0` to `z1`, every second difference
+/// whose stencil contains that pixel gets `weight·(z1 − z0)` by read-modify-write) and
+/// writing the visible plane's normal at each depth-test pass.
+pub fn draw_buffers(
+    tris: &[SnappedTri],
+    width: u32,
+    height: u32,
+    normal_scale: u32,
+) -> Result<DrawBuffers, AaError> {
+    let (w, h) = (width as usize, height as usize);
+    let mut set = Vec::new();
+    for (k, t) in tris.iter().enumerate() {
+        if let Some(s) = TriSetup::new(t)? {
+            let n = match &t.host {
+                Some(hp) => StoredNormal::of_plane(hp.v, hp.z, normal_scale),
+                None => StoredNormal::of_plane(t.v, t.z, normal_scale),
+            }
+            .unwrap_or(StoredNormal::BACKGROUND);
+            set.push((k, s, n));
+        }
+    }
+    let mut b = DrawBuffers {
+        w,
+        h,
+        z: vec![Z_FAR; w * h],
+        visible: vec![-1; w * h],
+        d2x: vec![0; w * h],
+        d2y: vec![0; w * h],
+        normals: vec![StoredNormal::BACKGROUND; w * h],
+        depth_tests: 0,
+        d2_updates: 0,
+    };
+    let (wi, hi) = (w as i64, h as i64);
+    for j in 0..hi {
+        for (k, s, n) in &set {
+            let Some(sw) = s.span(j, width) else { continue };
+            for x in sw.xl as i64..=sw.xr as i64 {
+                let i = j as usize * w + x as usize;
+                b.depth_tests += 1;
+                let z1 = sw.z_at(x);
+                let pass = if sw.decal { z1 <= b.z[i] } else { z1 < b.z[i] };
+                if !pass {
+                    continue;
+                }
+                let dz = z1 as i32 - b.z[i] as i32;
+                b.z[i] = z1;
+                b.visible[i] = *k as i32;
+                b.normals[i] = *n;
+                if dz == 0 {
+                    continue;
+                }
+                for c in (x - 1).max(0)..=(x + 1).min(wi - 1) {
+                    let wt = d2_weight(c, x, wi);
+                    if wt != 0 {
+                        b.d2x[j as usize * w + c as usize] += wt * dz;
+                        b.d2_updates += 1;
+                    }
+                }
+                for c in (j - 1).max(0)..=(j + 1).min(hi - 1) {
+                    let wt = d2_weight(c, j, hi);
+                    if wt != 0 {
+                        b.d2y[c as usize * w + x as usize] += wt * dz;
+                        b.d2_updates += 1;
+                    }
+                }
+            }
+        }
+    }
+    Ok(b)
+}
+
+/// Second differences of a finished z-buffer (seed eq. 7, borders replicate):
+/// `(d2x, d2y)`.
+pub fn second_differences(z: &[u32], w: usize, h: usize) -> (Vec<i32>, Vec<i32>) {
+    let at = |x: i64, y: i64| -> i32 {
+        z[y.clamp(0, h as i64 - 1) as usize * w + x.clamp(0, w as i64 - 1) as usize] as i32
+    };
+    let mut dx = vec![0; w * h];
+    let mut dy = vec![0; w * h];
+    for y in 0..h as i64 {
+        for x in 0..w as i64 {
+            let k = y as usize * w + x as usize;
+            let c = at(x, y);
+            dx[k] = at(x + 1, y) + at(x - 1, y) - 2 * c;
+            dy[k] = at(x, y + 1) + at(x, y - 1) - 2 * c;
+        }
+    }
+    (dx, dy)
 }
 
 /// Edge bits between pixels and their class.
@@ -104,8 +357,27 @@ pub struct Edges {
     pub ey: Vec<u8>,
 }
 
-/// Computes the edge bits of a depth buffer (see the module header).
+/// Computes the edge bits of a finished depth buffer: second differences from `z`,
+/// reconstructed normals (see the module header). Equivalent to [`detect_edges_from`]
+/// with the buffers of [`second_differences`] and no stored normals.
 pub fn detect_edges(z: &[u32], w: usize, h: usize, p: &PostFxParams) -> Edges {
+    let (dx, dy) = second_differences(z, w, h);
+    detect_edges_from(z, &dx, &dy, None, w, h, p)
+}
+
+/// Computes the edge bits from a z-buffer, its second differences (from the final z or
+/// maintained during drawing) and, if given and selected by
+/// [`PostFxParams::normal_source`], a stored normal buffer (else normals are
+/// reconstructed from `z`).
+pub fn detect_edges_from(
+    z: &[u32],
+    d2x: &[i32],
+    d2y: &[i32],
+    stored: Option<&[StoredNormal]>,
+    w: usize,
+    h: usize,
+    p: &PostFxParams,
+) -> Edges {
     let at = |x: i64, y: i64| -> i64 {
         let x = x.clamp(0, w as i64 - 1) as usize;
         let y = y.clamp(0, h as i64 - 1) as usize;
@@ -117,10 +389,10 @@ pub fn detect_edges(z: &[u32], w: usize, h: usize, p: &PostFxParams) -> Edges {
     for y in 0..h as i64 {
         for x in 0..w as i64 {
             let c = at(x, y);
-            for (dx, dy) in [(1i64, 0i64), (0, 1)] {
+            let k0 = y as usize * w + x as usize;
+            for (dx, dy, d2) in [(1i64, 0i64, d2x[k0]), (0, 1, d2y[k0])] {
                 let (zm, zp) = (at(x - dx, y - dy), at(x + dx, y + dy));
-                let d2 = zp + zm - 2 * c;
-                if d2.abs() > p.zth as i64 {
+                if (d2 as i64).abs() > p.zth as i64 {
                     // Side with the larger first difference.
                     let (nx, ny) = if (zp - c).abs() >= (c - zm).abs() {
                         (x, y)
@@ -138,48 +410,83 @@ pub fn detect_edges(z: &[u32], w: usize, h: usize, p: &PostFxParams) -> Edges {
         }
     }
     if p.normals {
-        let s = p.normal_scale as i128;
-        let n = |x: i64, y: i64| -> [i128; 3] {
-            [
-                (at(x + 1, y) - at(x, y)) as i128,
-                (at(x, y + 1) - at(x, y)) as i128,
-                -s,
-            ]
-        };
-        let c = p.cos_q16 as i128;
-        let differs = |a: [i128; 3], b: [i128; 3]| {
-            let dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-            let na = a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
-            let nb = b[0] * b[0] + b[1] * b[1] + b[2] * b[2];
-            // dot < cos·|a||b|  ⇔  dot < 0 or dot² < cos²·|a|²|b|² (cos ≥ 0).
-            if dot < 0 {
-                return true;
-            }
-            // Scale down to stay in range: compare (dot·2^16)² < c²·na·nb.
-            let l = (dot << 16).checked_mul(dot << 16);
-            let r = (c * c).checked_mul(na).and_then(|v| v.checked_mul(nb));
-            match (l, r) {
-                (Some(l), Some(r)) => l < r,
-                _ => {
-                    let (df, naf, nbf) = (dot as f64, na as f64, nb as f64);
-                    df * df * 65536.0 * 65536.0 < (c * c) as f64 * naf * nbf
+        match (p.normal_source, stored) {
+            (NormalSource::Stored, Some(nb)) => {
+                // Dot product of unit normals (Q2.30) against cos θ (Q.16 → Q.30).
+                let cth = (p.cos_q16 as i64) << 14;
+                let nv: Vec<[i64; 3]> = nb.iter().map(|n| n.unpack()).collect();
+                let differs =
+                    |a: [i64; 3], b: [i64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2] < cth;
+                for y in 0..h {
+                    for x in 0..w {
+                        let k = y * w + x;
+                        if x + 1 < w && differs(nv[k], nv[k + 1]) {
+                            ex[k] = ex[k]
+                                .max(class(at(x as i64, y as i64), at(x as i64 + 1, y as i64)));
+                        }
+                        if y + 1 < h && differs(nv[k], nv[k + w]) {
+                            ey[k] = ey[k]
+                                .max(class(at(x as i64, y as i64), at(x as i64, y as i64 + 1)));
+                        }
+                    }
                 }
             }
-        };
-        for y in 0..h as i64 {
-            for x in 0..w as i64 {
-                let k = y as usize * w + x as usize;
-                let a = n(x, y);
-                if x + 1 < w as i64 && differs(a, n(x + 1, y)) {
-                    ex[k] = ex[k].max(class(at(x, y), at(x + 1, y)));
-                }
-                if y + 1 < h as i64 && differs(a, n(x, y + 1)) {
-                    ey[k] = ey[k].max(class(at(x, y), at(x, y + 1)));
-                }
-            }
+            _ => reconstructed_normal_edges(&at, &mut ex, &mut ey, w, h, p, &class),
         }
     }
     Edges { w, h, ex, ey }
+}
+
+/// Normal edges from normals reconstructed from z (seed eq. 9).
+fn reconstructed_normal_edges(
+    at: &dyn Fn(i64, i64) -> i64,
+    ex: &mut [u8],
+    ey: &mut [u8],
+    w: usize,
+    h: usize,
+    p: &PostFxParams,
+    class: &dyn Fn(i64, i64) -> u8,
+) {
+    let s = p.normal_scale as i128;
+    let n = |x: i64, y: i64| -> [i128; 3] {
+        [
+            (at(x + 1, y) - at(x, y)) as i128,
+            (at(x, y + 1) - at(x, y)) as i128,
+            -s,
+        ]
+    };
+    let c = p.cos_q16 as i128;
+    let differs = |a: [i128; 3], b: [i128; 3]| {
+        let dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let na = a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
+        let nb = b[0] * b[0] + b[1] * b[1] + b[2] * b[2];
+        // dot < cos·|a||b|  ⇔  dot < 0 or dot² < cos²·|a|²|b|² (cos ≥ 0).
+        if dot < 0 {
+            return true;
+        }
+        // Compare (dot·2^16)² < c²·na·nb.
+        let l = (dot << 16).checked_mul(dot << 16);
+        let r = (c * c).checked_mul(na).and_then(|v| v.checked_mul(nb));
+        match (l, r) {
+            (Some(l), Some(r)) => l < r,
+            _ => {
+                let (df, naf, nbf) = (dot as f64, na as f64, nb as f64);
+                df * df * 65536.0 * 65536.0 < (c * c) as f64 * naf * nbf
+            }
+        }
+    };
+    for y in 0..h as i64 {
+        for x in 0..w as i64 {
+            let k = y as usize * w + x as usize;
+            let a = n(x, y);
+            if x + 1 < w as i64 && differs(a, n(x + 1, y)) {
+                ex[k] = ex[k].max(class(at(x, y), at(x + 1, y)));
+            }
+            if y + 1 < h as i64 && differs(a, n(x, y + 1)) {
+                ey[k] = ey[k].max(class(at(x, y), at(x, y + 1)));
+            }
+        }
+    }
 }
 
 #[inline]
@@ -225,6 +532,7 @@ fn run_pass(
     skip: &[bool],
     e: &Edges,
     transpose: bool,
+    window: bool,
     reads: &mut u64,
 ) {
     let (w, h) = (e.w, e.h);
@@ -248,37 +556,60 @@ fn run_pass(
         }
     };
     for v in 0..nv.saturating_sub(1) {
-        // State machine: state 0 = outside a run, 1 = inside; count = run length.
+        // State machine: state 0 = outside a run, 1 = inside; count = run length. A run
+        // ends where the edge stops or, with the 5-line window, where a perpendicular
+        // edge in line v or v+1 shows that the surface on one side changes inside the
+        // run (two edges meeting end to end on one boundary, the seed's Fig. 9): the run
+        // is split there and the two parts are blended separately.
         let mut state = 0;
         let mut count = 0usize;
+        let mut runs = Vec::new();
         for u in 0..=nu {
             let on = u < nu && across(u, v) == 2;
+            let split = window && on && state == 1 && (perp(u - 1, v) || perp(u - 1, v + 1));
+            if state == 1 && (!on || split) {
+                state = 0;
+                runs.push((u - count, count));
+            }
             if on {
                 if state == 0 {
                     state = 1;
                     count = 0;
                 }
                 count += 1;
-                continue;
             }
-            if state == 1 {
-                state = 0;
+        }
+        for (u0, count) in runs {
+            let u = u0 + count;
+            {
                 let (u0, len) = (u - count, count as i64);
-                // End heights (in half pixels): step in line v (upper) → +1, line v+1 → −1.
-                let end_h = |b: Option<usize>| match b {
-                    None => 0,
-                    Some(b) => {
-                        if perp(b, v) {
-                            1
-                        } else if perp(b, v + 1) {
-                            -1
-                        } else {
-                            0
+                // End heights (in half pixels): a perpendicular edge between b and b+1
+                // in line v (upper) → +1, in line v+1 (lower) → −1. With the 5-line
+                // window a step counts only if the run continues on the neighbouring
+                // boundary (v−1 for a step up, v+1 for a step down) at column c just
+                // beyond the end; an edge of a close parallel neighbour fails this test.
+                // If neither or both pass, the 3-line rule decides.
+                let end_h = |b: usize, c: usize| -> i64 {
+                    let (up3, dn3) = (perp(b, v), perp(b, v + 1));
+                    if window {
+                        let up = up3 && v >= 1 && across(c, v - 1) == 2;
+                        let dn = dn3 && v + 2 < nv && across(c, v + 1) == 2;
+                        match (up, dn) {
+                            (true, false) => return 1,
+                            (false, true) => return -1,
+                            _ => {}
                         }
                     }
+                    if up3 {
+                        1
+                    } else if dn3 {
+                        -1
+                    } else {
+                        0
+                    }
                 };
-                let hl = end_h(u0.checked_sub(1));
-                let hr = end_h((u < nu).then_some(u - 1).filter(|&b| b + 1 < nu));
+                let hl = if u0 > 0 { end_h(u0 - 1, u0 - 1) } else { 0 };
+                let hr = if u < nu { end_h(u - 1, u) } else { 0 };
                 if hl == 0 && hr == 0 {
                     continue;
                 }
@@ -326,11 +657,21 @@ fn run_pass(
     }
 }
 
-/// Loop 1: crease (class-1) edges. Returns the per-pixel "blended here" bits.
+/// Loop 1: crease (class-1) edges, seed eq. 18. Returns the per-pixel "blended here" bits.
+///
+/// For an edge between pixel `sz2` (the pixel of interest) and its neighbour `sz3` on the
+/// 1×5 line `sz1 sz2 | sz3 sz4` of the cross: `s = (sz3 + sz1 − 2·sz2)/(sz4 − sz3 − sz2 +
+/// sz1)`. The numerator is the second difference at `sz2` (read from the second-difference
+/// buffer), the denominator the change of slope; `s` is the distance from the centre of
+/// `sz3` back to the line where the two planes (through `sz1, sz2` and `sz3, sz4`) meet.
+/// The pixel the crease does not reach the centre of takes `|s − ½|` of its neighbour.
+#[allow(clippy::too_many_arguments)]
 fn crease_pass(
     src: &[[u8; 3]],
     dst: &mut [[u8; 3]],
     z: &[u32],
+    d2x: &[i32],
+    d2y: &[i32],
     e: &Edges,
     reads: &mut u64,
 ) -> Vec<bool> {
@@ -342,35 +683,31 @@ fn crease_pass(
     for y in 0..h as i64 {
         for x in 0..w as i64 {
             let k = y as usize * w + x as usize;
-            for (dx, dy, bit) in [(1i64, 0i64, e.ex[k]), (0, 1, e.ey[k])] {
+            for (dx, dy, bit, d2) in [(1i64, 0i64, e.ex[k], d2x[k]), (0, 1, e.ey[k], d2y[k])] {
                 if bit != 1 {
                     continue;
                 }
-                // 1×4 depths across the crease: z0 z1 | z2 z3 (between z1 and z2).
-                let z0 = at(x - dx, y - dy);
-                let z1 = at(x, y);
-                let z2 = at(x + dx, y + dy);
-                let z3 = at(x + 2 * dx, y + 2 * dy);
-                // Left plane z1 + s1·t, right plane z2 + s2·(t − 1); s1 = z1 − z0, s2 = z3 − z2.
-                // Intersection: t* = (z2 − z1 − s2) / (s1 − s2), in Q.16.
-                let (s1, s2) = (z1 - z0, z3 - z2);
-                if s1 == s2 {
+                let sz1 = at(x - dx, y - dy);
+                let sz2 = at(x, y);
+                let sz3 = at(x + dx, y + dy);
+                let sz4 = at(x + 2 * dx, y + 2 * dy);
+                let num = d2 as i128; // = sz3 + sz1 − 2·sz2
+                let den = (sz4 - sz3 - sz2 + sz1) as i128;
+                if den == 0 {
                     continue;
                 }
-                let num = (z2 - z1 - s2) as i128;
-                let den = (s1 - s2) as i128;
-                let t = ((num << 16) / den) as i64;
-                if !(0..=1 << 16).contains(&t) {
+                let s = ((num << 16) / den) as i64;
+                if !(0..=1 << 16).contains(&s) {
                     continue;
                 }
                 let k2 = (y + dy) as usize * w + (x + dx) as usize;
                 *reads += 2;
                 let half = 1i64 << 15;
-                if t < half {
-                    dst[k] = blend(src[k], src[k2], half - t);
+                if s > half {
+                    dst[k] = blend(src[k], src[k2], s - half);
                     done[k] = true;
-                } else if t > half {
-                    dst[k2] = blend(src[k2], src[k], t - half);
+                } else if s < half {
+                    dst[k2] = blend(src[k2], src[k], half - s);
                     done[k2] = true;
                 }
             }
@@ -392,21 +729,47 @@ pub fn render(
     let z = frame.depth();
     let (w, h) = (width as usize, height as usize);
     let img: Vec<[u8; 3]> = frame.rgb8().chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
-    let e = detect_edges(&z, w, h, p);
-    let mut reads = 0u64;
+    // Second differences and normals: from the finished buffers, or the buffers kept
+    // during drawing (which also give the visible triangle).
+    let need_draw = p.d2_source == SecondDiffSource::DuringDraw
+        || (p.normals && p.normal_source == NormalSource::Stored);
+    let (d2x, d2y, stored, visible, evals, extra) = if need_draw {
+        let b = draw_buffers(tris, width, height, p.normal_scale)?;
+        let (d2x, d2y) = match p.d2_source {
+            SecondDiffSource::DuringDraw => (b.d2x, b.d2y),
+            SecondDiffSource::FinalZ => second_differences(&z, w, h),
+        };
+        (
+            d2x,
+            d2y,
+            Some(b.normals),
+            b.visible,
+            b.depth_tests,
+            b.d2_updates,
+        )
+    } else {
+        let (d2x, d2y) = second_differences(&z, w, h);
+        let (visible, evals) = super::baseline_visible(tris, width, height)?;
+        (d2x, d2y, None, visible, evals, 0)
+    };
+    let e = detect_edges_from(&z, &d2x, &d2y, stored.as_deref(), w, h, p);
+    let mut reads = extra;
     // Loop 1.
     let mut after1 = img.clone();
     let skip = if p.creases {
-        crease_pass(&img, &mut after1, &z, &e, &mut reads)
+        crease_pass(&img, &mut after1, &z, &d2x, &d2y, &e, &mut reads)
     } else {
         vec![false; w * h]
     };
     // Loop 2: x pass then y pass, combined through the flag.
     let mut out = after1.clone();
     let mut flag = vec![false; w * h];
-    run_pass(&after1, &mut out, &mut flag, &skip, &e, false, &mut reads);
-    run_pass(&after1, &mut out, &mut flag, &skip, &e, true, &mut reads);
-    let (visible, evals) = baseline_visible(tris, width, height)?;
+    run_pass(
+        &after1, &mut out, &mut flag, &skip, &e, false, p.window, &mut reads,
+    );
+    run_pass(
+        &after1, &mut out, &mut flag, &skip, &e, true, p.window, &mut reads,
+    );
     Ok(AaFrame {
         width,
         height,
