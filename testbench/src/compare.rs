@@ -60,6 +60,9 @@ pub fn encode(base: u32, cmd: &Command) -> Result<PortVector, TbError> {
         }
         Command::ClearFlags => v.op = OP_CLEAR_FLAGS as u8,
         Command::AccumulateShadow => v.op = OP_ACCUMULATE as u8,
+        Command::LatchShadow { .. } | Command::Check { .. } => {
+            return Err(TbError::Unsupported(format!("{cmd:?}")))
+        }
     }
     Ok(v)
 }
@@ -76,6 +79,7 @@ pub fn probe_all(uut: &PixelProcessorArray) -> Vec<ProcState> {
                 dsf,
                 fsf,
                 count,
+                ..Default::default()
             }
         })
         .collect()
@@ -89,6 +93,7 @@ fn probe_cap(uut: &PixelProcessorArray, p: usize) -> ProcState {
         dsf,
         fsf,
         count,
+        ..Default::default()
     }
 }
 
@@ -330,6 +335,7 @@ pub fn compare_commands_checked(
                 dsf: uut.rd_dsf.val(),
                 fsf: uut.rd_fsf.val(),
                 count: uut.rd_count.val().to_u8(),
+                ..Default::default()
             };
             if let Some(exp) = prev_cap {
                 comparisons += 1;

@@ -29,6 +29,9 @@ pub enum TbError {
     /// File system error.
     #[error(transparent)]
     Io(#[from] std::io::Error),
+    /// A golden command the RTL does not implement yet.
+    #[error("the RTL array has no opcode for {0}")]
+    Unsupported(String),
 }
 
 use pixelproc_sim::pixel_array::Command;

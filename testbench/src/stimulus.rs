@@ -29,7 +29,13 @@ impl LineStream {
     ) -> Result<LineStream, pixelproc_sim::setup::SetupError> {
         let src = SpanSource::new(tris, width, height)?;
         let lines = (0..height)
-            .map(|j| src.row_spans(j).map(Command::Span).collect())
+            .map(|j| {
+                src.row_spans(j)
+                    .iter()
+                    .copied()
+                    .map(Command::Span)
+                    .collect()
+            })
             .collect();
         Ok(LineStream {
             width,
