@@ -35,6 +35,9 @@ impl Frame {
     }
 }
 
+/// Rows per band of the span generator.
+pub const BAND: i64 = 16;
+
 /// The span words of a frame, per scanline, in scene (draw) order.
 pub struct SpanSource {
     width: u32,
@@ -44,34 +47,45 @@ pub struct SpanSource {
 }
 
 impl SpanSource {
-    /// Sets up every triangle (degenerate ones are dropped) and generates its span words
-    /// (triangles in parallel, then gathered per row in scene order: the same words and
-    /// order as a sequential run).
+    /// Sets up every triangle (degenerate ones are dropped), bins them by bands of
+    /// [`BAND`] rows, and generates each band's span words in parallel, triangles in scene
+    /// order within each row: the same words and order as a sequential run.
     pub fn new(tris: &[SnappedTri], width: u32, height: u32) -> Result<SpanSource, SetupError> {
         assert!(width <= MAX_SCREEN && height <= MAX_SCREEN);
-        let per_tri: Vec<Vec<(u32, SpanWord)>> = tris
+        let set: Vec<Option<TriSetup>> = tris
             .par_iter()
-            .map(|t| {
-                let mut v = Vec::new();
-                if let Some(s) = TriSetup::new(t)? {
-                    s.for_each_span(width, height, |j, w| v.push((j, w)));
+            .map(TriSetup::new)
+            .collect::<Result<_, _>>()?;
+        let set: Vec<TriSetup> = set.into_iter().flatten().collect();
+        let nb = (height as i64 + BAND - 1) / BAND;
+        let mut bins: Vec<Vec<u32>> = vec![Vec::new(); nb as usize];
+        for (k, t) in set.iter().enumerate() {
+            let lo = t.row_min.max(0);
+            let hi = t.row_max.min(height as i64 - 1);
+            if lo > hi {
+                continue;
+            }
+            for b in lo / BAND..=hi / BAND {
+                bins[b as usize].push(k as u32);
+            }
+        }
+        let bands: Vec<Vec<Vec<SpanWord>>> = bins
+            .par_iter()
+            .enumerate()
+            .map(|(b, list)| {
+                let lo = b as i64 * BAND;
+                let hi = (lo + BAND - 1).min(height as i64 - 1);
+                let mut rows = vec![Vec::new(); (hi - lo + 1) as usize];
+                for &k in list {
+                    set[k as usize].for_each_span_in(lo, hi, width, |j, w| {
+                        rows[(j as i64 - lo) as usize].push(w)
+                    });
                 }
-                Ok(v)
+                rows
             })
-            .collect::<Result<_, SetupError>>()?;
-        let mut counts = vec![0usize; height as usize];
-        for v in &per_tri {
-            for (j, _) in v {
-                counts[*j as usize] += 1;
-            }
-        }
-        let mut rows: Vec<Vec<SpanWord>> = counts.iter().map(|&n| Vec::with_capacity(n)).collect();
-        let triangles = per_tri.iter().filter(|v| !v.is_empty()).count();
-        for v in per_tri {
-            for (j, w) in v {
-                rows[j as usize].push(w);
-            }
-        }
+            .collect();
+        let triangles = set.len();
+        let rows = bands.into_iter().flatten().collect();
         Ok(SpanSource {
             width,
             height,
@@ -99,7 +113,7 @@ impl SpanSource {
         self.rows.iter().map(Vec::len).sum()
     }
 
-    /// Number of triangles that produced at least one span.
+    /// Number of non-degenerate triangles set up.
     pub fn visible_triangles(&self) -> usize {
         self.triangles
     }

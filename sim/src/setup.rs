@@ -352,9 +352,14 @@ impl TriSetup {
     /// Calls `f(row, word)` for every row `0..height` the triangle covers, top to bottom.
     /// Same words as [`TriSetup::span`], with the per-row plane origins stepped exactly
     /// (additions only) instead of divided afresh.
-    pub fn for_each_span(&self, width: u32, height: u32, mut f: impl FnMut(u32, SpanWord)) {
-        let first = self.row_min.max(0);
-        let last = self.row_max.min(height as i64 - 1);
+    pub fn for_each_span(&self, width: u32, height: u32, f: impl FnMut(u32, SpanWord)) {
+        self.for_each_span_in(0, height as i64 - 1, width, f)
+    }
+
+    /// As [`TriSetup::for_each_span`], for the rows `lo..=hi` only.
+    pub fn for_each_span_in(&self, lo: i64, hi: i64, width: u32, mut f: impl FnMut(u32, SpanWord)) {
+        let first = self.row_min.max(lo).max(0);
+        let last = self.row_max.min(hi);
         if first > last {
             return;
         }
