@@ -72,6 +72,20 @@ struct EffectArgs {
     /// Supersampling: k×k samples per pixel, 1..=64 (default 4).
     #[arg(long, value_name = "K", help_heading = "Anti-aliasing parameters")]
     ssaa: Option<u32>,
+    /// Post-process: lines in the pattern window, 5 (seed 004, default) or 3.
+    #[arg(long, value_name = "LINES", help_heading = "Anti-aliasing parameters")]
+    postfx_window: Option<u32>,
+    /// Post-process: edges from normals: off (default), recon (from z) or stored.
+    #[arg(long, value_name = "SRC", help_heading = "Anti-aliasing parameters")]
+    postfx_normals: Option<String>,
+    /// Post-process: second differences from the final z-buffer (final, default) or kept
+    /// during drawing (draw).
+    #[arg(long, value_name = "SRC", help_heading = "Anti-aliasing parameters")]
+    postfx_d2: Option<String>,
+    /// A-buffer: also run every depth-selection variant and report where each orders or
+    /// resolves fragments differently from exhaustive (slower).
+    #[arg(long, help_heading = "Anti-aliasing parameters")]
+    compare_depth: bool,
     /// Turn shadows off whatever the scene's lights say.
     #[arg(long)]
     no_shadows: bool,
@@ -95,6 +109,10 @@ impl EffectArgs {
             samples: None,
             pattern: None,
             ssaa: None,
+            postfx_window: None,
+            postfx_normals: None,
+            postfx_d2: None,
+            compare_depth: false,
             no_shadows: false,
             array_width: None,
             shadow_form: None,
@@ -147,7 +165,11 @@ fn overrides(fx: &EffectArgs, aovs: &[String]) -> Result<Overrides> {
         || fx.filter.is_some()
         || fx.samples.is_some()
         || fx.pattern.is_some()
-        || fx.ssaa.is_some();
+        || fx.ssaa.is_some()
+        || fx.postfx_window.is_some()
+        || fx.postfx_normals.is_some()
+        || fx.postfx_d2.is_some()
+        || fx.compare_depth;
     if params && fx.aa.is_none() {
         bail!("anti-aliasing parameters need --aa METHOD");
     }
@@ -160,6 +182,10 @@ fn overrides(fx: &EffectArgs, aovs: &[String]) -> Result<Overrides> {
         samples: fx.samples,
         pattern: fx.pattern.clone(),
         ssaa: fx.ssaa,
+        postfx_window: fx.postfx_window,
+        postfx_normals: fx.postfx_normals.clone(),
+        postfx_d2: fx.postfx_d2.clone(),
+        compare_depth: fx.compare_depth,
     });
     Ok(Overrides {
         aa,
@@ -274,6 +300,28 @@ fn cmd_render(a: &RenderArgs) -> Result<()> {
             st.reads_per_pixel()
         ),
         None => {}
+    }
+    if let Some(AaReport::Abuffer(st)) = &out.aa {
+        if st.variant_evals.iter().any(|&e| e > 0) {
+            say!(
+                "  depth selection vs exhaustive, over {} multi-fragment pixels:",
+                st.multi_pixels
+            );
+            for (k, v) in pixelproc_sim::mask_search::DepthSelect::ALL
+                .iter()
+                .enumerate()
+            {
+                say!(
+                    "    {:<10} {:>9} evaluations ({:.2}/sorted fragment), order differs in {:>6} px, visible bits in {:>6} px, colour in {:>6} px",
+                    v.name(),
+                    st.variant_evals[k],
+                    st.variant_evals[k] as f64 / st.sorted_fragments.max(1) as f64,
+                    st.order_diff[k],
+                    st.visible_diff[k],
+                    st.rgb_diff[k]
+                );
+            }
+        }
     }
     write_png(&out_path, &out.image)?;
     say!("wrote {}", out_path.display());

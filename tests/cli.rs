@@ -175,3 +175,80 @@ fn degenerate_triangles_are_not_an_error() {
     let img = image::open(d.path().join("d.png")).unwrap().to_rgb8();
     assert!(img.pixels().all(|p| p.0 == [0, 0, 0]));
 }
+
+#[test]
+fn anti_aliasing_flags_and_scene_field() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    // Every method renders the default scene.
+    for args in [
+        vec!["--aa", "abuffer", "--mask", "8x8", "--depth", "exhaustive"],
+        vec![
+            "--aa",
+            "multiscan",
+            "--subscanlines",
+            "2",
+            "--filter",
+            "gauss",
+        ],
+        vec!["--aa", "corner", "--samples", "2"],
+        vec!["--aa", "postfx", "--postfx-normals", "stored"],
+        vec!["--aa", "ssaa", "--ssaa", "2"],
+    ] {
+        let mut a = vec!["render", "@default", "-o", "aa.png"];
+        a.extend(&args);
+        let o = pixelproc(p, &a);
+        assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+        assert!(
+            String::from_utf8_lossy(&o.stdout).contains("anti-aliasing"),
+            "{args:?}"
+        );
+    }
+    std::fs::remove_file(p.join("aa.png")).unwrap();
+    expect_error(
+        p,
+        &[
+            "render", "@default", "-o", "a.png", "--aa", "corner", "--mask", "4x4",
+        ],
+        "--mask applies to --aa abuffer",
+    );
+    expect_error(
+        p,
+        &["render", "@default", "-o", "a.png", "--subscanlines", "4"],
+        "need --aa",
+    );
+    expect_error(
+        p,
+        &[
+            "render",
+            "@default",
+            "-o",
+            "a.png",
+            "--aa",
+            "multiscan",
+            "--subscanlines",
+            "17",
+        ],
+        "outside 1..=16",
+    );
+    // The scene's effects.aa object, with the same parameter names as the flags.
+    write(
+        p,
+        "ms.json",
+        r#"{"width":16,"height":16,"triangles":[{"v":[[0,0,0],[16,3,0],[0,16,0]],"color":[1,1,1]}],"effects":{"aa":{"method":"multiscan","subscanlines":4}}}"#,
+    );
+    let o = pixelproc(p, &["render", "ms.json", "-o", "ms.png"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("multiscan n=4"));
+    std::fs::remove_file(p.join("ms.png")).unwrap();
+    write(
+        p,
+        "bad_aa.json",
+        r#"{"width":16,"height":16,"triangles":[],"effects":{"aa":{"method":"multiscan","subscanline":4}}}"#,
+    );
+    expect_error(
+        p,
+        &["render", "bad_aa.json", "-o", "b.png"],
+        "unknown field",
+    );
+}

@@ -10,6 +10,7 @@ use crate::scene::LoadedScene;
 use std::fmt;
 use thiserror::Error;
 
+use crate::aa::postfx::{NormalSource, SecondDiffSource};
 pub use crate::aa::AaMethod;
 use crate::aa::{CornerParams, Filter, MultiscanParams, Pattern, PostFxParams};
 use crate::abuffer::AbufferParams;
@@ -49,6 +50,20 @@ pub struct AaSpec {
     /// Supersampling factor k (k×k samples), 1..=64 (default 4).
     #[serde(default)]
     pub ssaa: Option<u32>,
+    /// Post-process: lines in the pattern window, 5 (default) or 3.
+    #[serde(default)]
+    pub postfx_window: Option<u32>,
+    /// Post-process: normal edges `off` (default), `recon` (from z) or `stored`.
+    #[serde(default)]
+    pub postfx_normals: Option<String>,
+    /// Post-process: second differences from the `final` z-buffer (default) or kept
+    /// during `draw`ing.
+    #[serde(default)]
+    pub postfx_d2: Option<String>,
+    /// A-buffer: also run every depth-selection variant and count where it orders or
+    /// resolves fragments differently from `exhaustive` (slower; for reports).
+    #[serde(default)]
+    pub compare_depth: bool,
 }
 
 impl AaSpec {
@@ -78,6 +93,10 @@ impl AaSpec {
         only(self.samples.is_some(), "--samples", "corner")?;
         only(self.pattern.is_some(), "--pattern", "corner")?;
         only(self.ssaa.is_some(), "--ssaa", "ssaa")?;
+        only(self.postfx_window.is_some(), "--postfx-window", "postfx")?;
+        only(self.postfx_normals.is_some(), "--postfx-normals", "postfx")?;
+        only(self.postfx_d2.is_some(), "--postfx-d2", "postfx")?;
+        only(self.compare_depth, "--compare-depth", "abuffer")?;
         Ok(match m {
             "none" => AaMethod::None,
             "abuffer" => {
@@ -99,7 +118,7 @@ impl AaSpec {
                     size,
                     depth,
                     interpenetrating,
-                    compare_variants: false,
+                    compare_variants: self.compare_depth,
                 })
             }
             "multiscan" => {
@@ -137,7 +156,34 @@ impl AaSpec {
                 };
                 AaMethod::Corner(CornerParams::new(pattern, centre))
             }
-            "postfx" => AaMethod::PostFx(PostFxParams::default()),
+            "postfx" => {
+                let mut p = PostFxParams::default();
+                match self.postfx_window.unwrap_or(5) {
+                    5 => p.window = true,
+                    3 => p.window = false,
+                    n => return Err(PlanError(format!("--postfx-window {n}: expected 5 or 3"))),
+                }
+                match self.postfx_normals.as_deref().unwrap_or("off") {
+                    "off" => p.normals = false,
+                    "recon" => (p.normals, p.normal_source) = (true, NormalSource::Reconstructed),
+                    "stored" => (p.normals, p.normal_source) = (true, NormalSource::Stored),
+                    n => {
+                        return Err(PlanError(format!(
+                            "--postfx-normals {n}: expected off, recon or stored"
+                        )))
+                    }
+                }
+                p.d2_source = match self.postfx_d2.as_deref().unwrap_or("final") {
+                    "final" => SecondDiffSource::FinalZ,
+                    "draw" => SecondDiffSource::DuringDraw,
+                    d => {
+                        return Err(PlanError(format!(
+                            "--postfx-d2 {d}: expected final or draw"
+                        )))
+                    }
+                };
+                AaMethod::PostFx(p)
+            }
             "ssaa" => {
                 let k = self.ssaa.unwrap_or(4);
                 if !(1..=64).contains(&k) {
