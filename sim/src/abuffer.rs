@@ -31,7 +31,7 @@
 
 use crate::mask::MaskEdges;
 use crate::mask_search::{DepthPick, DepthSelect, DepthSelector};
-use crate::setup::{SetupError, SnappedTri};
+use crate::setup::{round_div, ExactPlane, SetupError, SnappedTri};
 use pixelproc_formats::abuffer::{saturate_plane, FragPlane, MaskSize, PLANE_FRAC};
 use pixelproc_formats::{I_FRAC, MAX_SCREEN, SUBPIXEL_ONE, Z_GEOM_MAX, Z_GEOM_MIN};
 use rayon::prelude::*;
@@ -284,42 +284,7 @@ pub fn process_pixel(
     }
 }
 
-/// An exact rational plane `v(x, y) = v0 + (nx·(x − x0) + ny·(y − y0)) / area2` (Q.8).
-#[derive(Clone, Copy, Debug)]
-struct ExactPlane {
-    v0: i128,
-    x0: i128,
-    y0: i128,
-    nx: i128,
-    ny: i128,
-    area2: i128,
-}
-
-/// `round(n / d)`, ties toward +∞, exact.
-fn round_div(n: i128, d: i128) -> i128 {
-    let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
-    (2 * n + d).div_euclid(2 * d)
-}
-
 impl ExactPlane {
-    fn new(v: [[i32; 2]; 3], val: [i64; 3]) -> Option<ExactPlane> {
-        let (x0, y0) = (v[0][0] as i128, v[0][1] as i128);
-        let (dx1, dy1) = (v[1][0] as i128 - x0, v[1][1] as i128 - y0);
-        let (dx2, dy2) = (v[2][0] as i128 - x0, v[2][1] as i128 - y0);
-        let area2 = dx1 * dy2 - dx2 * dy1;
-        if area2 == 0 {
-            return None;
-        }
-        let (dv1, dv2) = ((val[1] - val[0]) as i128, (val[2] - val[0]) as i128);
-        Some(ExactPlane {
-            v0: val[0] as i128,
-            x0,
-            y0,
-            nx: dv1 * dy2 - dv2 * dy1,
-            ny: dx1 * dv2 - dx2 * dv1,
-            area2,
-        })
-    }
     /// `round(v · 2^frac)` at the centre of pixel (i, j).
     fn at_centre(&self, i: i64, j: i64, frac: u32) -> i128 {
         let one = SUBPIXEL_ONE as i128;

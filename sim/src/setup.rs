@@ -122,20 +122,22 @@ impl Edge {
     }
 }
 
-/// A plane `v(x, y) = v0 + (nx·(x − x0) + ny·(y − y0)) / area2`, exact rationals.
+/// A plane `v(x, y) = v0 + (nx·(x − x0) + ny·(y − y0)) / area2` through three snapped
+/// points, exact rationals (`area2 > 0`). The one exact plane of the golden model: span
+/// setup, fragments, multi-scanning and the samplers all evaluate it.
 #[derive(Clone, Copy, Debug)]
-struct Plane {
-    v0: i128,
-    x0: i128,
-    y0: i128,
-    nx: i128,
-    ny: i128,
-    area2: i128,
+pub(crate) struct ExactPlane {
+    pub(crate) v0: i128,
+    pub(crate) x0: i128,
+    pub(crate) y0: i128,
+    pub(crate) nx: i128,
+    pub(crate) ny: i128,
+    pub(crate) area2: i128,
 }
 
-impl Plane {
-    /// Plane through three points; `area2` must be non-zero.
-    fn new(v: [[i32; 2]; 3], val: [i64; 3]) -> Option<Plane> {
+impl ExactPlane {
+    /// Plane through three points; `None` if they are collinear.
+    pub(crate) fn new(v: [[i32; 2]; 3], val: [i64; 3]) -> Option<ExactPlane> {
         let (x0, y0) = (v[0][0] as i128, v[0][1] as i128);
         let (dx1, dy1) = (v[1][0] as i128 - x0, v[1][1] as i128 - y0);
         let (dx2, dy2) = (v[2][0] as i128 - x0, v[2][1] as i128 - y0);
@@ -147,7 +149,7 @@ impl Plane {
         let dv2 = (val[2] - val[0]) as i128;
         // Normalised to area2 > 0 (the value is unchanged: all terms flip with it).
         let s = area2.signum();
-        Some(Plane {
+        Some(ExactPlane {
             v0: val[0] as i128,
             x0,
             y0,
@@ -168,7 +170,7 @@ impl Plane {
 
     /// Exact incremental evaluator of `round(v(x_q8, y) · 2^frac)` down successive rows
     /// (y += 1 px): the quotient and remainder of `2·N + area2` by `2·area2` are stepped by
-    /// the constant row increment, so every row's value equals [`Plane::at`] bit for bit
+    /// the constant row increment, so every row's value equals [`ExactPlane::at`] bit for bit
     /// with additions only.
     fn rows(&self, x_q8: i64, first_row: i64, frac: u32) -> RowEval {
         let one = SUBPIXEL_ONE as i128;
@@ -194,7 +196,7 @@ impl Plane {
     }
 }
 
-/// See [`Plane::rows`].
+/// See [`ExactPlane::rows`].
 #[derive(Clone, Copy, Debug)]
 struct RowEval {
     q: i128,
@@ -221,7 +223,7 @@ impl RowEval {
 }
 
 /// `round(n / d)` with ties toward +∞, exact.
-fn round_div(n: i128, d: i128) -> i128 {
+pub(crate) fn round_div(n: i128, d: i128) -> i128 {
     let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
     (2 * n + d).div_euclid(2 * d)
 }
@@ -236,8 +238,8 @@ fn ceil_div(n: i64, d: i64) -> i64 {
 #[derive(Clone, Debug)]
 pub struct TriSetup {
     edges: [Edge; 3],
-    z: Plane,
-    c: [Plane; 3],
+    z: ExactPlane,
+    c: [ExactPlane; 3],
     /// First scanline whose centre may be covered (unclamped).
     pub row_min: i64,
     /// Last scanline whose centre may be covered (unclamped).
@@ -285,11 +287,11 @@ impl TriSetup {
             Edge::new(v[2], v[0]),
         ];
         let zp = match &t.host {
-            Some(h) => Plane::new(h.v, h.z.map(|x| x as i64)),
-            None => Plane::new(v, z.map(|x| x as i64)),
+            Some(h) => ExactPlane::new(h.v, h.z.map(|x| x as i64)),
+            None => ExactPlane::new(v, z.map(|x| x as i64)),
         };
         let Some(zp) = zp else { return Ok(None) };
-        let cp = |k: usize| Plane::new(v, [c[0][k] as i64, c[1][k] as i64, c[2][k] as i64]);
+        let cp = |k: usize| ExactPlane::new(v, [c[0][k] as i64, c[1][k] as i64, c[2][k] as i64]);
         let (Some(c0), Some(c1), Some(c2)) = (cp(0), cp(1), cp(2)) else {
             return Ok(None);
         };

@@ -67,9 +67,9 @@
 
 use rayon::prelude::*;
 
-use super::sampler::round_div;
 use super::{AaError, AaFrame, AaStats};
 use crate::setup::SnappedTri;
+use crate::setup::{round_div, ExactPlane as Plane};
 
 /// Q.16 pixel unit.
 const ONE16: i64 = 1 << 16;
@@ -110,17 +110,6 @@ impl MultiscanParams {
     }
 }
 
-/// An exact plane on Q.8 points; evaluation on a sub-scanline in Q.16 x.
-#[derive(Clone, Copy, Debug)]
-struct Plane {
-    v0: i128,
-    x0: i128,
-    y0: i128,
-    nx: i128,
-    ny: i128,
-    area2: i128,
-}
-
 /// A plane restricted to one sub-scanline: `value(x16) = (k + s·x16) / d`.
 #[derive(Clone, Copy, Debug)]
 struct RowPlane {
@@ -137,28 +126,9 @@ impl RowPlane {
 }
 
 impl Plane {
-    fn new(v: [[i32; 2]; 3], val: [i64; 3]) -> Option<Plane> {
-        let (x0, y0) = (v[0][0] as i128, v[0][1] as i128);
-        let (dx1, dy1) = (v[1][0] as i128 - x0, v[1][1] as i128 - y0);
-        let (dx2, dy2) = (v[2][0] as i128 - x0, v[2][1] as i128 - y0);
-        let area2 = dx1 * dy2 - dx2 * dy1;
-        if area2 == 0 {
-            return None;
-        }
-        let (dv1, dv2) = ((val[1] - val[0]) as i128, (val[2] - val[0]) as i128);
-        Some(Plane {
-            v0: val[0] as i128,
-            x0,
-            y0,
-            nx: dv1 * dy2 - dv2 * dy1,
-            ny: dx1 * dv2 - dx2 * dv1,
-            area2,
-        })
-    }
-
     /// v = v0 + (nx·(x16/256 − x0) + ny·(256·ynum/yden − y0)) / area2, over the common
     /// denominator 256·yden·area2.
-    fn row(&self, ynum: i64, yden: i64) -> RowPlane {
+    fn subscanline_row(&self, ynum: i64, yden: i64) -> RowPlane {
         let (yn, yd) = (ynum as i128, yden as i128);
         let d = 256 * yd * self.area2;
         let k =
@@ -532,8 +502,8 @@ pub fn render(
                         let (xl, xr) = t.interval(ynum, yden, from_above)?;
                         Some(Active {
                             t,
-                            z: t.z.row(ynum, yden),
-                            c: t.c.map(|c| c.row(ynum, yden)),
+                            z: t.z.subscanline_row(ynum, yden),
+                            c: t.c.map(|c| c.subscanline_row(ynum, yden)),
                             xl,
                             xr,
                         })

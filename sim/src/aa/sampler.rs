@@ -18,6 +18,7 @@
 //! carries the +2048 rounding offset, so the background is stored as `bg·4096 + 2048`
 //! and resolves truncate.
 
+use crate::setup::{round_div, ExactPlane as Plane};
 use rayon::prelude::*;
 
 use crate::setup::SnappedTri;
@@ -74,39 +75,9 @@ impl SampleBuf {
     }
 }
 
-/// An exact plane `v(X, Y) = v0 + (nx·(X − x0) + ny·(Y − y0)) / area2` on Q.8 points.
-#[derive(Clone, Copy, Debug)]
-struct Plane {
-    v0: i128,
-    x0: i128,
-    y0: i128,
-    nx: i128,
-    ny: i128,
-    area2: i128,
-}
-
 impl Plane {
-    fn new(v: [[i32; 2]; 3], val: [i64; 3]) -> Option<Plane> {
-        let (x0, y0) = (v[0][0] as i128, v[0][1] as i128);
-        let (dx1, dy1) = (v[1][0] as i128 - x0, v[1][1] as i128 - y0);
-        let (dx2, dy2) = (v[2][0] as i128 - x0, v[2][1] as i128 - y0);
-        let area2 = dx1 * dy2 - dx2 * dy1;
-        if area2 == 0 {
-            return None;
-        }
-        let (dv1, dv2) = ((val[1] - val[0]) as i128, (val[2] - val[0]) as i128);
-        Some(Plane {
-            v0: val[0] as i128,
-            x0,
-            y0,
-            nx: dv1 * dy2 - dv2 * dy1,
-            ny: dx1 * dv2 - dx2 * dv1,
-            area2,
-        })
-    }
-
     /// `(V(0, b) in Q.32, step per a in Q.32)` on lattice row `b`.
-    fn row(&self, l: &Lattice, b: i64) -> (i128, i128) {
+    fn lattice_row(&self, l: &Lattice, b: i64) -> (i128, i128) {
         let den = l.den as i128;
         let d = self.area2 * den;
         let yn = 256 * (b as i128 * l.sy as i128 + l.oy as i128) - self.y0 * den;
@@ -115,12 +86,6 @@ impl Plane {
         let step = self.nx * 256 * l.sx as i128;
         (round_div(num << 32, d), round_div(step << 32, d))
     }
-}
-
-/// `round(n / d)`, ties toward +∞.
-pub(crate) fn round_div(n: i128, d: i128) -> i128 {
-    let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
-    (2 * n + d).div_euclid(2 * d)
 }
 
 /// A triangle prepared for sampling.
@@ -229,7 +194,7 @@ fn rasterize_one(st: &[SampTri], l: &Lattice, bgq: [u32; 3]) -> SampleBuf {
                     e[k] = ea * 256 * (a_lo * l.sx + l.ox) + eb * yq + ec * l.den;
                     de[k] = ea * 256 * l.sx;
                 }
-                let (z0, dz) = t.z.row(l, b);
+                let (z0, dz) = t.z.lattice_row(l, b);
                 let mut cols: Option<[(i128, i128); 3]> = None;
                 for a in a_lo..=a_hi {
                     let inside = (0..3).all(|k| e[k] > 0 || (e[k] == 0 && t.edges[k].3));
@@ -241,7 +206,7 @@ fn rasterize_one(st: &[SampTri], l: &Lattice, bgq: [u32; 3]) -> SampleBuf {
                         if pass {
                             zr[s] = zv;
                             tr[s] = t.idx;
-                            let cc = *cols.get_or_insert_with(|| t.c.map(|p| p.row(l, b)));
+                            let cc = *cols.get_or_insert_with(|| t.c.map(|p| p.lattice_row(l, b)));
                             for ch in 0..3 {
                                 let v = (cc[ch].0 + a as i128 * cc[ch].1) >> 32;
                                 cr[s][ch] = v.clamp(0, (255 << 12) + 4095) as u32;
