@@ -161,10 +161,17 @@ impl PixelArray {
                 }
             }
             Command::Nop => {}
-            Command::Span(ref w) => match w.attr {
-                Attr::Op => self.op_span(w),
-                _ => self.shadow_span(w),
-            },
+            Command::Span(ref w) => self.step_span(w),
+        }
+    }
+
+    /// One clock with a span word: the same as `step(&Command::Span(*w))`, without
+    /// copying the word.
+    #[inline]
+    pub fn step_span(&mut self, w: &SpanWord) {
+        match w.attr {
+            Attr::Op => self.op_span(w),
+            _ => self.shadow_span(w),
         }
     }
 

@@ -201,7 +201,7 @@ where
                 arr.set_base(base);
                 arr.step(&Command::ClearLine { bg });
                 for &k in list {
-                    arr.step(&Command::Span(spans[k as usize]));
+                    arr.step_span(&spans[k as usize]);
                 }
                 feed_tile(arr, cmds, base, array_width as u32);
                 let n = (w - base).min(array_width as u32) as usize;
