@@ -4,6 +4,7 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, Parser, Subcommand};
+use pixelproc_rtl::verilog::TopConfig;
 use pixelproc_sim::pipeline::{render, AaReport, Image, RenderOutput};
 use pixelproc_sim::plan::{AaMethod, AaSpec, Aov, Effects, Overrides, AA_NAMES};
 use pixelproc_sim::scene::{self, LoadedScene};
@@ -40,6 +41,25 @@ enum Cmd {
     Render(RenderArgs),
     /// Render a scene several times and print the median time of each stage.
     Bench(BenchArgs),
+    /// Write the Verilog of the blocks a scene's effects call for (and every block).
+    Verilog(VerilogArgs),
+}
+
+#[derive(Args)]
+struct VerilogArgs {
+    /// Scene whose effects choose the top's blocks (shadows → span-parity logic).
+    #[arg(default_value = "@default")]
+    scene: String,
+    /// Output directory.
+    #[arg(
+        short,
+        long,
+        value_name = "DIR",
+        default_value = "pixelproc-out/verilog"
+    )]
+    output: PathBuf,
+    #[command(flatten)]
+    fx: EffectArgs,
 }
 
 #[derive(Args)]
@@ -372,6 +392,32 @@ fn cmd_bench(a: &BenchArgs) -> Result<()> {
     Ok(())
 }
 
+/// The hardware configuration a scene's effects call for.
+fn top_config(fx: &Effects) -> TopConfig {
+    TopConfig {
+        width: fx.array_width,
+        shadows: !fx.shadow_lights.is_empty(),
+    }
+}
+
+fn cmd_verilog(a: &VerilogArgs) -> Result<()> {
+    let ls = load(&a.scene)?;
+    let fx = Effects::resolve(&ls, &overrides(&a.fx, &[])?)?;
+    let top = top_config(&fx);
+    let files = pixelproc_rtl::verilog::write_verilog_dir(&a.output, top)
+        .with_context(|| format!("cannot write Verilog into {}", a.output.display()))?;
+    say!(
+        "{}: top = pixel-processor array of {} processors, {} span-parity logic",
+        ls.name,
+        top.width,
+        if top.shadows { "with" } else { "without" }
+    );
+    for f in files {
+        say!("wrote {}", f.display());
+    }
+    Ok(())
+}
+
 fn main() {
     let cli = Cli::parse();
     let res = match &cli.cmd {
@@ -383,6 +429,7 @@ fn main() {
         }),
         Some(Cmd::Render(a)) => cmd_render(a),
         Some(Cmd::Bench(a)) => cmd_bench(a),
+        Some(Cmd::Verilog(a)) => cmd_verilog(a),
     };
     if let Err(e) = res {
         eprintln!("error: {e:#}");

@@ -252,3 +252,42 @@ fn anti_aliasing_flags_and_scene_field() {
         "unknown field",
     );
 }
+
+#[test]
+fn verilog_top_holds_only_what_the_scene_needs() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    write(
+        p,
+        "flat.json",
+        r#"{"width":16,"height":16,"triangles":[{"v":[[0,0,0],[16,3,0],[0,16,0]],"color":[1,1,1]}]}"#,
+    );
+    let o = pixelproc(
+        p,
+        &["verilog", "flat.json", "-o", "flat", "--array-width", "8"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let top = std::fs::read_to_string(p.join("flat/pixelproc_top.v")).unwrap();
+    assert!(top.contains("module pixelproc_top"));
+    assert!(
+        !top.contains("parity"),
+        "a scene without shadows must not get the span-parity logic"
+    );
+    let o = pixelproc(
+        p,
+        &[
+            "verilog",
+            "@default",
+            "-o",
+            "shadowed",
+            "--array-width",
+            "8",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let top = std::fs::read_to_string(p.join("shadowed/pixelproc_top.v")).unwrap();
+    assert!(
+        top.contains("parity"),
+        "the default scene's light casts shadows"
+    );
+}
