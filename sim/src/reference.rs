@@ -174,7 +174,12 @@ fn edge_functions(p: &[[f64; 2]]) -> Vec<Affine> {
 
 /// `pieces \ occluder` for convex pieces and a convex occluder.
 fn subtract(pieces: Vec<Poly>, occ: &[[f64; 2]]) -> Vec<Poly> {
-    let edges = edge_functions(occ);
+    // A repeated vertex gives a zero-length edge whose "half-plane" is the whole plane:
+    // both sides of it would keep the whole piece and count it twice. Skip such edges.
+    let edges: Vec<Affine> = edge_functions(occ)
+        .into_iter()
+        .filter(|e| e.a != 0.0 || e.b != 0.0)
+        .collect();
     let mut out = Vec::new();
     for piece in pieces {
         let mut rest = piece;
@@ -431,6 +436,15 @@ mod tests {
         let rest = subtract(vec![a], &b);
         let area: f64 = rest.iter().map(|p| area_centroid(p).0).sum();
         assert!((area - 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn subtract_ignores_a_repeated_occluder_vertex() {
+        let a: Poly = vec![[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]];
+        let b: Poly = vec![[1.0, 1.0], [3.0, 1.0], [3.0, 1.0], [3.0, 3.0], [1.0, 3.0]];
+        let rest = subtract(vec![a], &b);
+        let area: f64 = rest.iter().map(|p| area_centroid(p).0).sum();
+        assert!((area - 3.0).abs() < 1e-12, "{area}");
     }
 
     #[test]
