@@ -43,6 +43,9 @@ enum Cmd {
     Bench(BenchArgs),
     /// Write the Verilog of the blocks a scene's effects call for (and every block).
     Verilog(VerilogArgs),
+    /// Measure every anti-aliasing method and setting: error against the exact
+    /// reference, time, cost; writes CSV, Markdown, a chart and heat maps.
+    Tradeoff(TradeoffArgs),
 }
 
 #[derive(Args)]
@@ -60,6 +63,27 @@ struct VerilogArgs {
     output: PathBuf,
     #[command(flatten)]
     fx: EffectArgs,
+}
+
+#[derive(Args)]
+struct TradeoffArgs {
+    /// Folder of scene files (*.json) instead of the built-in scene set.
+    #[arg(long, value_name = "DIR")]
+    scenes: Option<PathBuf>,
+    /// Output folder.
+    #[arg(
+        short,
+        long,
+        value_name = "DIR",
+        default_value = "pixelproc-out/tradeoff"
+    )]
+    output: PathBuf,
+    /// Timed runs per setting and scene (the median is reported).
+    #[arg(long, default_value_t = 3)]
+    runs: usize,
+    /// A small subset of scenes and settings (tests, CI).
+    #[arg(long)]
+    quick: bool,
 }
 
 #[derive(Args)]
@@ -418,6 +442,39 @@ fn cmd_verilog(a: &VerilogArgs) -> Result<()> {
     Ok(())
 }
 
+fn cmd_tradeoff(a: &TradeoffArgs) -> Result<()> {
+    use pixelproc_sim::tradeoff::{run_tradeoff, TradeoffOptions};
+    let mut command = String::from("pixelproc tradeoff");
+    if let Some(d) = &a.scenes {
+        command += &format!(" --scenes {}", d.display());
+    }
+    command += &format!(" -o {} --runs {}", a.output.display(), a.runs);
+    if a.quick {
+        command += " --quick";
+    }
+    let (sw, w) = run_tradeoff(&TradeoffOptions {
+        scenes_dir: a.scenes.clone(),
+        out_dir: a.output.clone(),
+        runs: a.runs,
+        quick: a.quick,
+        progress: true,
+        command,
+    })?;
+    say!(
+        "{} settings × {} scenes, median of {} runs on one thread",
+        sw.rows.len(),
+        sw.scenes.len(),
+        sw.runs
+    );
+    for p in [&w.csv, &w.scenes_csv, &w.markdown, &w.chart]
+        .into_iter()
+        .chain(w.heatmap.as_ref())
+    {
+        say!("wrote {}", p.display());
+    }
+    Ok(())
+}
+
 fn main() {
     let cli = Cli::parse();
     let res = match &cli.cmd {
@@ -430,6 +487,7 @@ fn main() {
         Some(Cmd::Render(a)) => cmd_render(a),
         Some(Cmd::Bench(a)) => cmd_bench(a),
         Some(Cmd::Verilog(a)) => cmd_verilog(a),
+        Some(Cmd::Tradeoff(a)) => cmd_tradeoff(a),
     };
     if let Err(e) = res {
         eprintln!("error: {e:#}");

@@ -433,6 +433,10 @@ pub struct AbufferFrame {
     pub coverage: Vec<u16>,
     /// Fragment-count AOV: fragments per pixel before merging, row-major.
     pub fragments: Vec<u16>,
+    /// Visible-surface AOV, row-major: the input index of the triangle with the most
+    /// visible subpixels after packing (lowest index on a tie), or −1 when the free
+    /// (background) subpixels are at least as many.
+    pub visible: Vec<i32>,
     /// Statistics.
     pub stats: AbufferStats,
 }
@@ -476,12 +480,14 @@ pub fn render_abuffer(
     let mut rgb = vec![0u8; w * h * 3];
     let mut coverage = vec![0u16; w * h];
     let mut fragments = vec![0u16; w * h];
+    let mut visible = vec![-1i32; w * h];
     let stats = rgb
         .par_chunks_mut(w * 3)
         .zip(coverage.par_chunks_mut(w))
         .zip(fragments.par_chunks_mut(w))
+        .zip(visible.par_chunks_mut(w))
         .enumerate()
-        .map(|(j, ((rgb_row, cov_row), frag_row))| {
+        .map(|(j, (((rgb_row, cov_row), frag_row), vis_row))| {
             let band = &bands[j / BAND as usize];
             render_row(
                 j as i64,
@@ -493,6 +499,7 @@ pub fn render_abuffer(
                 rgb_row,
                 cov_row,
                 frag_row,
+                vis_row,
             )
         })
         .reduce(AbufferStats::default, |mut a, b| {
@@ -505,8 +512,22 @@ pub fn render_abuffer(
         rgb,
         coverage,
         fragments,
+        visible,
         stats,
     })
+}
+
+/// The triangle with the most visible subpixels (lowest index on a tie), or −1 when the
+/// free subpixels are at least as many.
+fn dominant(frags: &[Fragment], packed: &Packed) -> i32 {
+    let mut best = (-1i32, packed.free.count_ones());
+    for (f, v) in frags.iter().zip(&packed.visible) {
+        let n = v.count_ones();
+        if n > best.1 || (n == best.1 && best.0 >= 0 && (f.prim as i32) < best.0) {
+            best = (f.prim as i32, n);
+        }
+    }
+    best.0
 }
 
 /// Renders one row; returns its statistics.
@@ -521,6 +542,7 @@ fn render_row<'a>(
     rgb_row: &mut [u8],
     cov_row: &mut [u16],
     frag_row: &mut [u16],
+    vis_row: &mut [i32],
 ) -> AbufferStats {
     let size = params.size;
     let full = size.full();
@@ -568,6 +590,7 @@ fn render_row<'a>(
             };
             rgb_row[3 * iu..3 * iu + 3].copy_from_slice(&resolve(&[f], &packed, bg, size));
             cov_row[iu] = size.bits() as u16;
+            vis_row[iu] = f.prim as i32;
             st.fast_pixels += 1;
             continue;
         }
@@ -576,6 +599,7 @@ fn render_row<'a>(
         let out = process_pixel(&frags, sel, params.depth, params.interpenetrating, bg, size);
         rgb_row[3 * iu..3 * iu + 3].copy_from_slice(&out.rgb);
         cov_row[iu] = out.covered.count_ones() as u16;
+        vis_row[iu] = dominant(&frags, &out.packed);
         st.merges += out.merges as u64;
         st.depth_evals += out.evals as u64;
         st.search_steps += out.steps as u64;

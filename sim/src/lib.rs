@@ -21,3 +21,4 @@ pub mod render;
 pub mod scene;
 pub mod setup;
 pub mod shadow;
+pub mod tradeoff;

@@ -174,7 +174,12 @@ fn edge_functions(p: &[[f64; 2]]) -> Vec<Affine> {
 
 /// `pieces \ occluder` for convex pieces and a convex occluder.
 fn subtract(pieces: Vec<Poly>, occ: &[[f64; 2]]) -> Vec<Poly> {
-    let edges = edge_functions(occ);
+    // A repeated vertex gives a zero-length edge whose "half-plane" is the whole plane:
+    // both sides of it would keep the whole piece and count it twice. Skip such edges.
+    let edges: Vec<Affine> = edge_functions(occ)
+        .into_iter()
+        .filter(|e| e.a != 0.0 || e.b != 0.0)
+        .collect();
     let mut out = Vec::new();
     for piece in pieces {
         let mut rest = piece;
@@ -207,6 +212,8 @@ pub struct RefImage {
     /// Row-major dominant visible surface: the input index of the triangle with the
     /// largest visible area in the pixel, or −1 when the background's area is largest.
     pub dominant: Vec<i32>,
+    /// Row-major visible area of the dominant surface (background included), 0..=1.
+    pub dominant_area: Vec<f64>,
     /// Total visible area of each input triangle over the whole image, in pixels².
     pub visible_area: Vec<f64>,
     /// Row-major: more than one triangle has a visible piece of positive area here.
@@ -261,7 +268,14 @@ impl RefImage {
 }
 
 /// One row of the reference: colour, coverage, dominant, mixed, visible area per triangle.
-type RowOut = (Vec<[f64; 3]>, Vec<f64>, Vec<i32>, Vec<bool>, Vec<f64>);
+type RowOut = (
+    Vec<[f64; 3]>,
+    Vec<f64>,
+    Vec<i32>,
+    Vec<f64>,
+    Vec<bool>,
+    Vec<f64>,
+);
 
 /// Whether `q` is drawn in front of `p` where their planes coincide.
 fn coplanar_wins(q: usize, qt: &RefTri, p: usize, pt: &RefTri) -> bool {
@@ -296,6 +310,7 @@ pub fn reference_image(tris: &[SnappedTri], width: u32, height: u32, bg: [u8; 3]
             let mut rgb = Vec::with_capacity(width as usize);
             let mut cov = Vec::with_capacity(width as usize);
             let mut dom = Vec::with_capacity(width as usize);
+            let mut dom_area = Vec::with_capacity(width as usize);
             let mut part = Vec::with_capacity(width as usize);
             let mut vis = vec![0.0; tris.len()];
             for i in 0..width {
@@ -375,15 +390,16 @@ pub fn reference_image(tris: &[SnappedTri], width: u32, height: u32, bg: [u8; 3]
                     acc[ch] += (1.0 - covered) * bgf[ch];
                 }
                 if 1.0 - covered >= best.1 {
-                    best.0 = -1;
+                    best = (-1, 1.0 - covered);
                 }
                 let visible_surfaces = areas.iter().filter(|&&a| a > 1e-9).count();
                 rgb.push(acc);
                 cov.push(covered);
                 dom.push(best.0);
+                dom_area.push(best.1);
                 part.push(visible_surfaces > 1);
             }
-            (rgb, cov, dom, part, vis)
+            (rgb, cov, dom, dom_area, part, vis)
         })
         .collect();
     let mut img = RefImage {
@@ -392,13 +408,15 @@ pub fn reference_image(tris: &[SnappedTri], width: u32, height: u32, bg: [u8; 3]
         rgb: Vec::new(),
         covered: Vec::new(),
         dominant: Vec::new(),
+        dominant_area: Vec::new(),
         visible_area: vec![0.0; tris.len()],
         mixed: Vec::new(),
     };
-    for (rgb, cov, dom, part, vis) in per_row {
+    for (rgb, cov, dom, dom_area, part, vis) in per_row {
         img.rgb.extend(rgb);
         img.covered.extend(cov);
         img.dominant.extend(dom);
+        img.dominant_area.extend(dom_area);
         img.mixed.extend(part);
         for (a, b) in img.visible_area.iter_mut().zip(vis) {
             *a += b;
@@ -418,6 +436,15 @@ mod tests {
         let rest = subtract(vec![a], &b);
         let area: f64 = rest.iter().map(|p| area_centroid(p).0).sum();
         assert!((area - 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn subtract_ignores_a_repeated_occluder_vertex() {
+        let a: Poly = vec![[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]];
+        let b: Poly = vec![[1.0, 1.0], [3.0, 1.0], [3.0, 1.0], [3.0, 3.0], [1.0, 3.0]];
+        let rest = subtract(vec![a], &b);
+        let area: f64 = rest.iter().map(|p| area_centroid(p).0).sum();
+        assert!((area - 3.0).abs() < 1e-12, "{area}");
     }
 
     #[test]

@@ -170,7 +170,7 @@ pub fn render_aa(
                 width,
                 height,
                 rgb: a.rgb,
-                visible: None,
+                visible: Some(a.visible),
                 stats: AaStats {
                     depth_evals: a.stats.depth_evals,
                     samples_written: a.stats.fragments,
