@@ -173,20 +173,25 @@ pub struct Packed {
 
 /// Packs merged groups: free mask starts full and is ANDed away in depth order.
 pub fn pack(frags: &[Fragment], picks: &[DepthPick], groups: &[Group], size: MaskSize) -> Packed {
+    // Ties follow the pixel-processor array's depth test: among ordinary fragments the
+    // earlier primitive wins (`Z < ZB`), among decals the later one (`Z ≤ ZB`).
+    let tie = |k: usize| {
+        let prim = frags[k].prim as i64;
+        if frags[k].decal {
+            -prim
+        } else {
+            prim
+        }
+    };
     let part_key = |k: usize| {
         let p = &picks[k];
-        (
-            p.zmin,
-            p.zmax.unwrap_or(p.zmin),
-            !frags[k].decal,
-            frags[k].prim,
-        )
+        (p.zmin, p.zmax.unwrap_or(p.zmin), !frags[k].decal, tie(k))
     };
     let mut gorder: Vec<usize> = (0..groups.len()).collect();
     gorder.sort_by_key(|&g| {
         let gr = &groups[g];
         let decal = gr.parts.iter().any(|&k| frags[k].decal);
-        let first = gr.parts.iter().map(|&k| frags[k].prim).min().unwrap_or(0);
+        let first = gr.parts.iter().map(|&k| tie(k)).min().unwrap_or(0);
         (gr.zmin, gr.zmax, !decal, first)
     });
     let mut free = size.full();
