@@ -29,8 +29,9 @@ pub enum TbError {
     /// File system error.
     #[error(transparent)]
     Io(#[from] std::io::Error),
-    /// A golden command the RTL does not implement yet.
-    #[error("the RTL array has no opcode for {0}")]
+    /// A golden command the array's command port cannot carry (a CHECK range beyond
+    /// column 4095).
+    #[error("the RTL array cannot encode {0}")]
     Unsupported(String),
 }
 

@@ -175,15 +175,24 @@ pub fn random_word(rng: &mut Rng, max_x: u16) -> SpanWord {
     w
 }
 
-/// A random command: mostly spans, with every other command mixed in.
+/// A random command: mostly spans, with every other command mixed in (LATCH_SHADOW
+/// with every bit index, CHECK over random and empty ranges).
 pub fn random_command(rng: &mut Rng, max_x: u16) -> Command {
-    match rng.range(0, 15) {
+    match rng.range(0, 17) {
         0 => Command::ClearLine {
             bg: (rng.next_u64() & 0xff_ffff) as u32,
         },
         1 => Command::ClearFlags,
         2 => Command::AccumulateShadow,
         3 => Command::Nop,
+        4 => Command::LatchShadow {
+            bit: rng.range(0, 7) as u8,
+        },
+        5 => {
+            let xl = rng.range(0, max_x as i64) as u16;
+            let xr = rng.range(xl as i64 - 2, max_x as i64).max(0) as u16;
+            Command::Check { xl, xr }
+        }
         _ => Command::Span(random_word(rng, max_x)),
     }
 }
@@ -201,6 +210,7 @@ pub fn corner_cases(n: u16) -> Vec<Command> {
             il: [il, il, il],
             di: [di, -di - 1, 0],
             decal,
+            nclass: (xl as u8) ^ 0xa5,
             ..Default::default()
         })
     };
@@ -233,6 +243,17 @@ pub fn corner_cases(n: u16) -> Vec<Command> {
         Command::AccumulateShadow,
         sh(Attr::If, 4, 3, 0, 0),
         sh(Attr::Ev, 0, last, (1 << 36) - 1, 0),
+        Command::LatchShadow { bit: 0 },
+        Command::LatchShadow { bit: 7 },
+        Command::ClearFlags,
+        sh(Attr::Sp, 2, 6, 0, 0),
+        Command::Check { xl: 3, xr: 4 },
+        Command::Check { xl: 6, xr: 5 }, // empty check range
+        Command::LatchShadow { bit: 3 },
+        sh(Attr::Sp, 0, last, 0, 0),
+        Command::Check { xl: 0, xr: 4095 },
+        Command::LatchShadow { bit: 5 },
+        op(1, 2, 1, 0, 0, 0, false), // nclass replaced where nearer
     ];
     for _ in 0..260 {
         v.push(Command::AccumulateShadow); // saturates at 255
