@@ -36,9 +36,12 @@
 //! after it was
 //! sampled, every processor's readout registers hold the finished line and stay valid
 //! until the next CLEAR_LINE reaches them. They are read with `rd_addr`: the value for
-//! `rd_addr` sampled at edge `E` appears on `rd_*` after edge `E + 1` (latency 2
-//! counting the address register). Readout of line `j` thus overlaps the span words of
-//! line `j + 1`.
+//! `rd_addr` sampled at edge `E` selects processor `a` at edge `E + 1` (a select flip-flop
+//! in each processor), and `rd_*` show `a`'s readout registers as they were after edge
+//! `E + 1` from edge `E + 2` on (address register, select register, output register;
+//! an address `>= N` reads 0). The OR of the one selected processor's registers
+//! replaces a wide multiplexer, so no address decode sits in the data path. Readout of
+//! line `j` thus overlaps the span words of line `j + 1`.
 //!
 //! # Why a systolic chain
 //!
@@ -168,6 +171,8 @@ pub struct PixelProcessorArray {
     rd_mask_r: DFF<Bits<8>>,
     rd_nclass_r: DFF<Bits<8>>,
     k_reset: Constant<Bits<3>>,
+    k_zero74: Constant<Bits<74>>,
+    l_rd: Signal<Local, Bits<74>>,
     k_nop: Constant<Bits<3>>,
     k_span: Constant<Bits<3>>,
     k_clear_line: Constant<Bits<3>>,
@@ -177,9 +182,6 @@ pub struct PixelProcessorArray {
     k_zero38: Constant<Bits<38>>,
     k_zero44: Constant<Bits<44>>,
     k_zero34: Constant<Bits<34>>,
-    k_zfar: Constant<Bits<24>>,
-    k_zero24: Constant<Bits<24>>,
-    k_zero8: Constant<Bits<8>>,
     l_xl: Signal<Local, Bits<14>>,
     l_xr: Signal<Local, Bits<14>>,
     l_base: Signal<Local, Bits<14>>,
@@ -291,6 +293,8 @@ impl PixelProcessorArray {
             rd_mask_r: Default::default(),
             rd_nclass_r: Default::default(),
             k_reset: Constant::new(OP_RESET.to_bits()),
+            k_zero74: Constant::new(0u64.to_bits()),
+            l_rd: Default::default(),
             k_nop: Constant::new(OP_NOP.to_bits()),
             k_span: Constant::new(OP_SPAN.to_bits()),
             k_clear_line: Constant::new(OP_CLEAR_LINE.to_bits()),
@@ -300,9 +304,6 @@ impl PixelProcessorArray {
             k_zero38: k(0),
             k_zero44: k(0),
             k_zero34: k(0),
-            k_zfar: k(pixelproc_formats::Z_FAR as u64),
-            k_zero24: k(0),
-            k_zero8: k(0),
             l_xl: Default::default(),
             l_xr: Default::default(),
             l_base: Default::default(),
@@ -559,25 +560,21 @@ impl Logic for PixelProcessorArray {
             self.procs[i].t_dig.next = self.procs[i - 1].o_dig.val();
             self.procs[i].t_dib.next = self.procs[i - 1].o_dib.val();
         }
-        // ---- Readout: registered address (E1), one-of-N select, registered outputs.
-        self.rd_zb_r.d.next = self.k_zfar.val();
-        self.rd_rgb_r.d.next = self.k_zero24.val();
-        self.rd_dsf_r.d.next = false;
-        self.rd_fsf_r.d.next = false;
-        self.rd_count_r.d.next = self.k_zero8.val();
-        self.rd_mask_r.d.next = self.k_zero8.val();
-        self.rd_nclass_r.d.next = self.k_zero8.val();
+        // ---- Readout: registered address (E1), per-processor select registered in the
+        // processor, OR of the (one) selected processor's packed readout registers,
+        // registered outputs.
+        self.l_rd.next = self.k_zero74.val();
         for i in 0..self.procs.len() {
-            if self.e1_rd.q.val().index() == i {
-                self.rd_zb_r.d.next = self.procs[i].cap_zb.val();
-                self.rd_rgb_r.d.next = self.procs[i].cap_rgb.val();
-                self.rd_dsf_r.d.next = self.procs[i].cap_dsf.val();
-                self.rd_fsf_r.d.next = self.procs[i].cap_fsf.val();
-                self.rd_count_r.d.next = self.procs[i].cap_count.val();
-                self.rd_mask_r.d.next = self.procs[i].cap_mask.val();
-                self.rd_nclass_r.d.next = self.procs[i].cap_nclass.val();
-            }
+            self.procs[i].rd_sel.next = self.e1_rd.q.val().index() == i;
+            self.l_rd.next = self.l_rd.val() | self.procs[i].rdo.val();
         }
+        self.rd_count_r.d.next = self.l_rd.val().get_bits::<8>(0);
+        self.rd_fsf_r.d.next = self.l_rd.val().get_bit(8);
+        self.rd_dsf_r.d.next = self.l_rd.val().get_bit(9);
+        self.rd_rgb_r.d.next = self.l_rd.val().get_bits::<24>(10);
+        self.rd_zb_r.d.next = self.l_rd.val().get_bits::<24>(34);
+        self.rd_mask_r.d.next = self.l_rd.val().get_bits::<8>(58);
+        self.rd_nclass_r.d.next = self.l_rd.val().get_bits::<8>(66);
         self.rd_zb.next = self.rd_zb_r.q.val();
         self.rd_rgb.next = self.rd_rgb_r.q.val();
         self.rd_dsf.next = self.rd_dsf_r.q.val();

@@ -103,6 +103,11 @@ pub struct PixelProcessor {
     pub t_dig: Signal<In, Bits<21>>,
     /// Token in: `dI` blue.
     pub t_dib: Signal<In, Bits<21>>,
+    /// Readout select (this processor is addressed), registered here.
+    pub rd_sel: Signal<In, Bit>,
+    /// Readout registers, packed `{NCLASS, MASK, ZB, RGB, DSF, FSF, COUNT}` (74 bits), if
+    /// selected at the last edge, else 0 (the array ORs all processors' values).
+    pub rdo: Signal<Out, Bits<74>>,
     /// Token out (for processor `p + 1`): opcode.
     pub o_op: Signal<Out, Bits<3>>,
     /// Token out: attribute.
@@ -179,6 +184,10 @@ pub struct PixelProcessor {
     capcount_r: DFF<Bits<8>>,
     capmask_r: DFF<Bits<8>>,
     capnclass_r: DFF<Bits<8>>,
+    rdsel_r: DFF<Bit>,
+    k_zero74: Constant<Bits<74>>,
+    k_bit8: Constant<Bits<74>>,
+    k_bit9: Constant<Bits<74>>,
     k_clear_line: Constant<Bits<3>>,
     k_span: Constant<Bits<3>>,
     k_reset: Constant<Bits<3>>,
@@ -235,6 +244,8 @@ impl PixelProcessor {
             t_dir: Default::default(),
             t_dig: Default::default(),
             t_dib: Default::default(),
+            rd_sel: Default::default(),
+            rdo: Default::default(),
             o_op: Default::default(),
             o_attr: Default::default(),
             o_decal: Default::default(),
@@ -289,6 +300,10 @@ impl PixelProcessor {
             capcount_r: Default::default(),
             capmask_r: Default::default(),
             capnclass_r: Default::default(),
+            rdsel_r: Default::default(),
+            k_zero74: Constant::new(0u64.to_bits()),
+            k_bit8: Constant::new(256u64.to_bits()),
+            k_bit9: Constant::new(512u64.to_bits()),
             k_clear_line: Constant::new(OP_CLEAR_LINE.to_bits()),
             k_span: Constant::new(OP_SPAN.to_bits()),
             k_reset: Constant::new(OP_RESET.to_bits()),
@@ -395,7 +410,8 @@ impl Logic for PixelProcessor {
             capfsf_r,
             capcount_r,
             capmask_r,
-            capnclass_r
+            capnclass_r,
+            rdsel_r
         );
         // ---- Stage A: the token register, loaded every clock.
         self.tok_op.d.next = self.t_op.val();
@@ -555,6 +571,21 @@ impl Logic for PixelProcessor {
             self.b_rgb.d.next = self.tok_z.q.val().get_bits::<24>(0);
         }
         // ---- Outputs.
+        self.rdsel_r.d.next = self.rd_sel.val();
+        self.rdo.next = self.k_zero74.val();
+        if self.rdsel_r.q.val() {
+            self.rdo.next = (bit_cast::<74, 8>(self.capnclass_r.q.val()) << 66)
+                | (bit_cast::<74, 8>(self.capmask_r.q.val()) << 58)
+                | (bit_cast::<74, 24>(self.capzb_r.q.val()) << 34)
+                | (bit_cast::<74, 24>(self.caprgb_r.q.val()) << 10)
+                | (bit_cast::<74, 8>(self.capcount_r.q.val()));
+            if self.capdsf_r.q.val() {
+                self.rdo.next = self.rdo.val() | self.k_bit9.val();
+            }
+            if self.capfsf_r.q.val() {
+                self.rdo.next = self.rdo.val() | self.k_bit8.val();
+            }
+        }
         self.cap_zb.next = self.capzb_r.q.val();
         self.cap_rgb.next = self.caprgb_r.q.val();
         self.cap_dsf.next = self.capdsf_r.q.val();

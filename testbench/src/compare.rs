@@ -348,8 +348,8 @@ pub fn compare_commands_checked(
                 break 'run;
             }
         }
-        // Readout port: value of rd_addr sampled one edge earlier, from the readout
-        // registers as they were after that edge.
+        // Readout port: the readout registers after edge t − 1 of the processor whose
+        // address was sampled at edge t − 2.
         if t >= 1 {
             let got = ProcState {
                 zb: uut.rd_zb.val().to_u32(),
@@ -363,7 +363,7 @@ pub fn compare_commands_checked(
             if let Some(exp) = prev_cap {
                 comparisons += 1;
                 if got != exp {
-                    let p = vecs[t - 1].rd_addr as usize;
+                    let p = vecs[t - 2].rd_addr as usize;
                     mismatch = Some(make_mismatch(
                         t,
                         p,
@@ -378,8 +378,15 @@ pub fn compare_commands_checked(
                 }
             }
         }
-        let a = v.rd_addr as usize;
-        prev_cap = (t >= LATENCY_PROC0 + a).then(|| probe_cap(&uut, a));
+        // After edge t the port shows, at edge t + 1, the readout registers (as now) of
+        // the processor whose address was sampled at edge t − 1.
+        prev_cap = None;
+        if t >= 1 {
+            let a = vecs[t - 1].rd_addr as usize;
+            if t >= LATENCY_PROC0 + a {
+                prev_cap = Some(probe_cap(&uut, a));
+            }
+        }
     }
     let seconds = start.elapsed().as_secs_f64();
     if let (Some(m), Some(dir)) = (mismatch.as_mut(), vcd_dir) {

@@ -7,10 +7,10 @@
 //! - `expect.hex`, 32 hex digits (128 bits): `{check, 53'b0, rd_nclass[8], rd_mask[8],
 //!   rd_zb[24], rd_rgb[24], rd_dsf, rd_fsf, rd_count[8]}` expected after that clock's
 //!   rising edge; `check` (bit 127) is 0 where the port shows a processor the reset token
-//!   has not reached yet (power-up values) and on line 0.
+//!   has not reached yet (power-up values) and on lines 0 and 1.
 //!
 //! Expected values come from the golden `PixelArray` only: after edge `t` the readout
-//! port shows processor `a = rd_addr(t − 1)`'s readout registers after edge `t − 1`,
+//! port shows processor `a = rd_addr(t − 2)`'s readout registers after edge `t − 1`,
 //! i.e. the golden state before the latest `ClearLine` among the first
 //! `t − 1 − LATENCY_PROC0 − a` commands. `tb_pixelproc.v` drives the vectors, compares
 //! every output after every clock, prints the first mismatch (cycle, inputs, both
@@ -119,10 +119,10 @@ pub fn write_vectors(
             hi, v.word[3], v.word[2], v.word[1], v.word[0]
         )
         .ok();
-        let e = if t == 0 {
+        let e = if t < 2 {
             0
         } else {
-            let a = vecs[t - 1].rd_addr as usize;
+            let a = vecs[t - 2].rd_addr as usize;
             let kk = t as i64 - 1 - LATENCY_PROC0 as i64 - a as i64;
             if kk < 0 {
                 0
