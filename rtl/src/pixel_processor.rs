@@ -136,20 +136,6 @@ pub struct PixelProcessor {
     pub o_dig: Signal<Out, Bits<21>>,
     /// Token out: `dI` blue.
     pub o_dib: Signal<Out, Bits<21>>,
-    /// Readout register: `ZB` before the last CLEAR_LINE.
-    pub cap_zb: Signal<Out, Bits<24>>,
-    /// Readout register: RGB888 before the last CLEAR_LINE.
-    pub cap_rgb: Signal<Out, Bits<24>>,
-    /// Readout register: DSF before the last CLEAR_LINE.
-    pub cap_dsf: Signal<Out, Bit>,
-    /// Readout register: FSF before the last CLEAR_LINE.
-    pub cap_fsf: Signal<Out, Bit>,
-    /// Readout register: COUNT before the last CLEAR_LINE.
-    pub cap_count: Signal<Out, Bits<8>>,
-    /// Readout register: MASK before the last CLEAR_LINE.
-    pub cap_mask: Signal<Out, Bits<8>>,
-    /// Readout register: NCLASS before the last CLEAR_LINE.
-    pub cap_nclass: Signal<Out, Bits<8>>,
     /// The shadow logic: one element with shadows, none without.
     pub parity: Vec<SpanParity>,
     tok_op: DFF<Bits<3>>,
@@ -260,13 +246,6 @@ impl PixelProcessor {
             o_dir: Default::default(),
             o_dig: Default::default(),
             o_dib: Default::default(),
-            cap_zb: Default::default(),
-            cap_rgb: Default::default(),
-            cap_dsf: Default::default(),
-            cap_fsf: Default::default(),
-            cap_count: Default::default(),
-            cap_mask: Default::default(),
-            cap_nclass: Default::default(),
             parity,
             tok_op: Default::default(),
             tok_attr: Default::default(),
@@ -586,12 +565,5 @@ impl Logic for PixelProcessor {
                 self.rdo.next = self.rdo.val() | self.k_bit8.val();
             }
         }
-        self.cap_zb.next = self.capzb_r.q.val();
-        self.cap_rgb.next = self.caprgb_r.q.val();
-        self.cap_dsf.next = self.capdsf_r.q.val();
-        self.cap_fsf.next = self.capfsf_r.q.val();
-        self.cap_count.next = self.capcount_r.q.val();
-        self.cap_mask.next = self.capmask_r.q.val();
-        self.cap_nclass.next = self.capnclass_r.q.val();
     }
 }
