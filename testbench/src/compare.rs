@@ -1,13 +1,15 @@
 //! Clock-by-clock comparison of the RustHDL `PixelProcessorArray` with the golden
 //! `PixelArray::step`.
 //!
-//! Alignment (see `pixelproc_rtl::pixel_array`): the command sampled at rising edge `t`
-//! reaches processor `p`'s registers at edge `t + L + p`, `L = LATENCY_PROC0`. So after
-//! edge `T`, processor `p` must equal the golden state of processor `p` after the first
-//! `T − L − p + 1` commands (the reset state if that is `<= 0`). Every processor's
-//! `ZB`, `RGB`, `DSF`, `FSF`, `COUNT` and readout registers are checked after every edge,
-//! and the readout port (`rd_addr` sweeping the processors) is checked against the
-//! readout registers one edge earlier.
+//! Alignment (see `pixelproc_rtl::pixel_array`): the reset is sampled at edge 0 and the
+//! commands at edges 1, 2, ...; what is sampled at edge `t` reaches processor `p`'s
+//! registers at edge `t + L + p`, `L = LATENCY_PROC0`. So after edge `T ≥ L + p`,
+//! processor `p` must equal the golden state of processor `p` after the first
+//! `T − L − p` commands (before that it holds power-up values and is not compared).
+//! Every processor's `ZB`, `RGB`, `DSF`, `FSF`, `COUNT`, `MASK`, `NCLASS` and readout
+//! registers are checked after every edge, and the readout port (`rd_addr` sweeping the
+//! processors) after edge `T` against the readout registers after edge `T − 1` of the
+//! processor addressed at edge `T − 2`.
 
 use crate::stimulus::LineStream;
 use crate::TbError;
