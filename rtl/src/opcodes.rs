@@ -15,3 +15,13 @@ pub const OP_SPAN: u64 = 2;
 pub const OP_CLEAR_FLAGS: u64 = 3;
 /// `COUNT := min(COUNT + FSF, 255)`.
 pub const OP_ACCUMULATE: u64 = 4;
+/// `MASK := MASK | (FSF << bit)`: latch one point light's shadow into the light mask
+/// (seed 001 section 6, several lights). The bit index travels in `cmd_bg[2:0]`.
+pub const OP_LATCH_SHADOW: u64 = 5;
+/// `FSF := FSF | DSF` for `XL <= col <= XR` only: the software form's check span (seed
+/// 001 section 5). The range travels in the span word's `XL`/`XR` fields of `cmd_word`.
+pub const OP_CHECK: u64 = 6;
+/// Reset, the `rst` input as a token: it travels down the chain behind the entry
+/// pipeline, so processor `p` is reset `LATENCY_PROC0 + p` edges after `rst` was sampled
+/// and no reset net fans out to every processor. A command with this opcode resets too.
+pub const OP_RESET: u64 = 7;

@@ -6,14 +6,14 @@
 //! | port | dir | width | meaning |
 //! |---|---|---|---|
 //! | `clock` | in | 1 | all registers update on the rising edge |
-//! | `rst` | in | 1 | synchronous reset (hold ≥ 1 cycle): `ZB := Z_FAR`, RGB, flags, counters, readout := 0, pipeline := NOP |
+//! | `rst` | in | 1 | synchronous reset, sent down the chain as a RESET token: `ZB := Z_FAR`, RGB, NCLASS, flags, counter, mask, readout := 0 (readout `ZB := Z_FAR`) |
 //! | `cmd_valid` | in | 1 | a command is present; `0` is a NOP |
 //! | `cmd_op` | in | 3 | opcode, [`crate::opcodes`] |
-//! | `cmd_bg` | in | 24 | background RGB888 for CLEAR_LINE |
-//! | `cmd_word` | in | 256 | packed span word (`SpanWord::pack` layout) for SPAN |
+//! | `cmd_bg` | in | 24 | argument: background RGB888 for CLEAR_LINE, light bit (`[2:0]`) for LATCH_SHADOW |
+//! | `cmd_word` | in | 256 | packed span word (`SpanWord::pack` layout) for SPAN; `XL`/`XR` fields for CHECK |
 //! | `tile_base` | in | 12 | first screen column of the tile, sampled with each command |
 //! | `rd_addr` | in | 12 | processor index to read out |
-//! | `rd_zb`, `rd_rgb`, `rd_dsf`, `rd_fsf`, `rd_count` | out | 24, 24, 1, 1, 8 | readout registers of processor `rd_addr` |
+//! | `rd_zb`, `rd_rgb`, `rd_dsf`, `rd_fsf`, `rd_count`, `rd_mask`, `rd_nclass` | out | 24, 24, 1, 1, 8, 8, 8 | readout registers of processor `rd_addr` |
 //!
 //! The array accepts one command on every clock; there is no back-pressure (`ready` is
 //! always 1), so a source simply drives `cmd_valid` high for each command.
@@ -21,21 +21,27 @@
 //! # Latency and the relation to the golden model
 //!
 //! A command sampled on the input ports at rising edge `E` is applied to processor `p`'s
-//! registers at rising edge `E + LATENCY_PROC0 + p` ([`LATENCY_PROC0`] = 5). So after edge
-//! `T`, processor `p` holds the golden `PixelArray` state of processor `p` after the
-//! commands sampled at edges `0 ..= T − 5 − p`. Commands never interact across
-//! processors, so this skew is invisible in the result.
+//! registers at rising edge `E + LATENCY_PROC0 + p` ([`LATENCY_PROC0`] = 6: input
+//! register, decode, partial products, partial sums, token register, decision register).
+//! So after edge `T`, processor `p` holds the golden `PixelArray` state of processor `p`
+//! after the commands sampled at edges `.. ≤ T − 6 − p`. Commands never interact across
+//! processors, so this skew is invisible in the result. `rst` is such a command too: a
+//! processor holds its power-up values until the RESET token reaches it.
 //!
 //! # New scanline and readout
 //!
 //! CLEAR_LINE first copies each processor's registers into its readout registers, then
-//! sets `ZB := Z_FAR`, RGB := `cmd_bg`, DSF = FSF = COUNT := 0. After a line's last
-//! command, send the next line's CLEAR_LINE (or a final one); `N + 4` clocks after it was
+//! sets `ZB := Z_FAR`, RGB := `cmd_bg`, NCLASS = DSF = FSF = COUNT = MASK := 0. After a
+//! line's last command, send the next line's CLEAR_LINE (or a final one); `N + 5` clocks
+//! after it was
 //! sampled, every processor's readout registers hold the finished line and stay valid
 //! until the next CLEAR_LINE reaches them. They are read with `rd_addr`: the value for
-//! `rd_addr` sampled at edge `E` appears on `rd_*` after edge `E + 1` (latency 2
-//! counting the address register). Readout of line `j` thus overlaps the span words of
-//! line `j + 1`.
+//! `rd_addr` sampled at edge `E` selects processor `a` at edge `E + 1` (a select flip-flop
+//! in each processor), and `rd_*` show `a`'s readout registers as they were after edge
+//! `E + 1` from edge `E + 2` on (address register, select register, output register;
+//! an address `>= N` reads 0). The OR of the one selected processor's registers
+//! replaces a wide multiplexer, so no address decode sits in the data path. Readout of
+//! line `j` thus overlaps the span words of line `j + 1`.
 //!
 //! # Why a systolic chain
 //!
@@ -45,7 +51,7 @@
 //! `max(0, base − XL)·dZ` (a span that started in an earlier tile), done once at the
 //! entry with nine 16×16 products (three for Z, two per colour channel) in a pipeline.
 //! Every stage is a register-to-register path of one adder, so the clock rate does not
-//! depend on `N`; the cost is one token register per processor and `N + 5` clocks of
+//! depend on `N`; the cost is one token register per processor and `N + 6` clocks of
 //! latency.
 
 use crate::opcodes::*;
@@ -53,7 +59,7 @@ use crate::pixel_processor::PixelProcessor;
 use rust_hdl::prelude::*;
 
 /// Rising edges from sampling a command to its effect on processor 0's registers.
-pub const LATENCY_PROC0: usize = 5;
+pub const LATENCY_PROC0: usize = 6;
 
 /// The pixel-processor array. Build with [`PixelProcessorArray::new`].
 #[derive(LogicBlock)]
@@ -84,6 +90,10 @@ pub struct PixelProcessorArray {
     pub rd_fsf: Signal<Out, Bit>,
     /// Readout: shadow count.
     pub rd_count: Signal<Out, Bits<8>>,
+    /// Readout: light mask.
+    pub rd_mask: Signal<Out, Bits<8>>,
+    /// Readout: normal class.
+    pub rd_nclass: Signal<Out, Bits<8>>,
     /// The processors, processor 0 (column `tile_base`) first.
     pub procs: Vec<PixelProcessor>,
     // E1: input registers.
@@ -96,6 +106,7 @@ pub struct PixelProcessorArray {
     e2_op: DFF<Bits<3>>,
     e2_attr: DFF<Bits<2>>,
     e2_decal: DFF<Bit>,
+    e2_nclass: DFF<Bits<8>>,
     e2_rel_l: DFF<Bits<14>>,
     e2_rel_r: DFF<Bits<14>>,
     e2_m: DFF<Bits<16>>,
@@ -111,6 +122,7 @@ pub struct PixelProcessorArray {
     e3_op: DFF<Bits<3>>,
     e3_attr: DFF<Bits<2>>,
     e3_decal: DFF<Bit>,
+    e3_nclass: DFF<Bits<8>>,
     e3_rel_l: DFF<Bits<14>>,
     e3_rel_r: DFF<Bits<14>>,
     e3_m: DFF<Bits<16>>,
@@ -135,6 +147,7 @@ pub struct PixelProcessorArray {
     e4_op: DFF<Bits<3>>,
     e4_attr: DFF<Bits<2>>,
     e4_decal: DFF<Bit>,
+    e4_nclass: DFF<Bits<8>>,
     e4_rel_l: DFF<Bits<14>>,
     e4_rel_r: DFF<Bits<14>>,
     e4_dz: DFF<Bits<38>>,
@@ -155,18 +168,17 @@ pub struct PixelProcessorArray {
     rd_dsf_r: DFF<Bit>,
     rd_fsf_r: DFF<Bit>,
     rd_count_r: DFF<Bits<8>>,
+    rd_mask_r: DFF<Bits<8>>,
+    rd_nclass_r: DFF<Bits<8>>,
+    k_reset: Constant<Bits<3>>,
+    k_zero74: Constant<Bits<74>>,
+    l_rd: Signal<Local, Bits<74>>,
     k_nop: Constant<Bits<3>>,
     k_span: Constant<Bits<3>>,
-    k_clear_line: Constant<Bits<3>>,
     k_one14: Constant<Bits<14>>,
     k_zero16: Constant<Bits<16>>,
     k_zero21: Constant<Bits<21>>,
     k_zero38: Constant<Bits<38>>,
-    k_zero44: Constant<Bits<44>>,
-    k_zero34: Constant<Bits<34>>,
-    k_zfar: Constant<Bits<24>>,
-    k_zero24: Constant<Bits<24>>,
-    k_zero8: Constant<Bits<8>>,
     l_xl: Signal<Local, Bits<14>>,
     l_xr: Signal<Local, Bits<14>>,
     l_base: Signal<Local, Bits<14>>,
@@ -205,6 +217,8 @@ impl PixelProcessorArray {
             rd_dsf: Default::default(),
             rd_fsf: Default::default(),
             rd_count: Default::default(),
+            rd_mask: Default::default(),
+            rd_nclass: Default::default(),
             procs: (0..width).map(|_| PixelProcessor::new(shadows)).collect(),
             e1_op: Default::default(),
             e1_bg: Default::default(),
@@ -214,6 +228,7 @@ impl PixelProcessorArray {
             e2_op: Default::default(),
             e2_attr: Default::default(),
             e2_decal: Default::default(),
+            e2_nclass: Default::default(),
             e2_rel_l: Default::default(),
             e2_rel_r: Default::default(),
             e2_m: Default::default(),
@@ -228,6 +243,7 @@ impl PixelProcessorArray {
             e3_op: Default::default(),
             e3_attr: Default::default(),
             e3_decal: Default::default(),
+            e3_nclass: Default::default(),
             e3_rel_l: Default::default(),
             e3_rel_r: Default::default(),
             e3_m: Default::default(),
@@ -251,6 +267,7 @@ impl PixelProcessorArray {
             e4_op: Default::default(),
             e4_attr: Default::default(),
             e4_decal: Default::default(),
+            e4_nclass: Default::default(),
             e4_rel_l: Default::default(),
             e4_rel_r: Default::default(),
             e4_dz: Default::default(),
@@ -270,18 +287,17 @@ impl PixelProcessorArray {
             rd_dsf_r: Default::default(),
             rd_fsf_r: Default::default(),
             rd_count_r: Default::default(),
+            rd_mask_r: Default::default(),
+            rd_nclass_r: Default::default(),
+            k_reset: Constant::new(OP_RESET.to_bits()),
+            k_zero74: Constant::new(0u64.to_bits()),
+            l_rd: Default::default(),
             k_nop: Constant::new(OP_NOP.to_bits()),
             k_span: Constant::new(OP_SPAN.to_bits()),
-            k_clear_line: Constant::new(OP_CLEAR_LINE.to_bits()),
             k_one14: k(1),
             k_zero16: k(0),
             k_zero21: k(0),
             k_zero38: k(0),
-            k_zero44: k(0),
-            k_zero34: k(0),
-            k_zfar: k(pixelproc_formats::Z_FAR as u64),
-            k_zero24: k(0),
-            k_zero8: k(0),
             l_xl: Default::default(),
             l_xr: Default::default(),
             l_base: Default::default(),
@@ -312,18 +328,86 @@ impl Logic for PixelProcessorArray {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, e1_op, e1_bg, e1_word, e1_base, e1_rd, e2_op, e2_attr, e2_decal, e2_rel_l,
-            e2_rel_r, e2_m, e2_zl, e2_dz, e2_ilr, e2_ilg, e2_ilb, e2_dir, e2_dig, e2_dib, e3_op,
-            e3_attr, e3_decal, e3_rel_l, e3_rel_r, e3_m, e3_zl, e3_dz, e3_ilr, e3_ilg, e3_ilb,
-            e3_dir, e3_dig, e3_dib, e3_pz0, e3_pz1, e3_pz2, e3_pr0, e3_pr1, e3_pg0, e3_pg1, e3_pb0,
-            e3_pb1, e4_op, e4_attr, e4_decal, e4_rel_l, e4_rel_r, e4_dz, e4_dir, e4_dig, e4_dib,
-            e4_za, e4_zb, e4_ra, e4_rb, e4_ga, e4_gb, e4_ba, e4_bb, rd_zb_r, rd_rgb_r, rd_dsf_r,
-            rd_fsf_r, rd_count_r
+            self,
+            clock,
+            e1_op,
+            e1_bg,
+            e1_word,
+            e1_base,
+            e1_rd,
+            e2_op,
+            e2_attr,
+            e2_decal,
+            e2_nclass,
+            e2_rel_l,
+            e2_rel_r,
+            e2_m,
+            e2_zl,
+            e2_dz,
+            e2_ilr,
+            e2_ilg,
+            e2_ilb,
+            e2_dir,
+            e2_dig,
+            e2_dib,
+            e3_op,
+            e3_attr,
+            e3_decal,
+            e3_nclass,
+            e3_rel_l,
+            e3_rel_r,
+            e3_m,
+            e3_zl,
+            e3_dz,
+            e3_ilr,
+            e3_ilg,
+            e3_ilb,
+            e3_dir,
+            e3_dig,
+            e3_dib,
+            e3_pz0,
+            e3_pz1,
+            e3_pz2,
+            e3_pr0,
+            e3_pr1,
+            e3_pg0,
+            e3_pg1,
+            e3_pb0,
+            e3_pb1,
+            e4_op,
+            e4_attr,
+            e4_decal,
+            e4_nclass,
+            e4_rel_l,
+            e4_rel_r,
+            e4_dz,
+            e4_dir,
+            e4_dig,
+            e4_dib,
+            e4_za,
+            e4_zb,
+            e4_ra,
+            e4_rb,
+            e4_ga,
+            e4_gb,
+            e4_ba,
+            e4_bb,
+            rd_zb_r,
+            rd_rgb_r,
+            rd_dsf_r,
+            rd_fsf_r,
+            rd_count_r,
+            rd_mask_r,
+            rd_nclass_r
         );
         // ---- E1: register every input.
         self.e1_op.d.next = self.k_nop.val();
         if self.cmd_valid.val() {
             self.e1_op.d.next = self.cmd_op.val();
+        }
+        if self.rst.val() {
+            // Reset travels down the pipeline and the chain as a token.
+            self.e1_op.d.next = self.k_reset.val();
         }
         self.e1_bg.d.next = self.cmd_bg.val();
         self.e1_word.d.next = self.cmd_word.val();
@@ -337,6 +421,7 @@ impl Logic for PixelProcessorArray {
         self.e2_op.d.next = self.e1_op.q.val();
         self.e2_attr.d.next = self.e1_word.q.val().get_bits::<2>(0);
         self.e2_decal.d.next = self.e1_word.q.val().get_bit(247);
+        self.e2_nclass.d.next = self.e1_word.q.val().get_bits::<8>(239);
         self.e2_rel_l.d.next = (self.l_xl.val() - self.l_base.val()) - self.k_one14.val();
         self.e2_rel_r.d.next = self.l_xr.val() - self.l_base.val();
         self.e2_zl.d.next = self.e1_word.q.val().get_bits::<36>(26);
@@ -365,6 +450,7 @@ impl Logic for PixelProcessorArray {
         self.e3_op.d.next = self.e2_op.q.val();
         self.e3_attr.d.next = self.e2_attr.q.val();
         self.e3_decal.d.next = self.e2_decal.q.val();
+        self.e3_nclass.d.next = self.e2_nclass.q.val();
         self.e3_rel_l.d.next = self.e2_rel_l.q.val();
         self.e3_rel_r.d.next = self.e2_rel_r.q.val();
         self.e3_m.d.next = self.e2_m.q.val();
@@ -395,6 +481,7 @@ impl Logic for PixelProcessorArray {
         self.e4_op.d.next = self.e3_op.q.val();
         self.e4_attr.d.next = self.e3_attr.q.val();
         self.e4_decal.d.next = self.e3_decal.q.val();
+        self.e4_nclass.d.next = self.e3_nclass.q.val();
         self.e4_rel_l.d.next = self.e3_rel_l.q.val();
         self.e4_rel_r.d.next = self.e3_rel_r.q.val();
         self.e4_dz.d.next = self.e3_dz.q.val();
@@ -433,20 +520,14 @@ impl Logic for PixelProcessorArray {
             self.e4_bb.d.next =
                 (bit_cast::<34, 32>(self.e3_pb1.q.val()) << 16) - (self.l_m34.val() << 21);
         }
-        if self.rst.val() {
-            self.e1_op.d.next = self.k_nop.val();
-            self.e2_op.d.next = self.k_nop.val();
-            self.e3_op.d.next = self.k_nop.val();
-            self.e4_op.d.next = self.k_nop.val();
-        }
         // ---- The systolic chain: E4 feeds processor 0, processor p feeds p + 1.
         for i in 0..self.procs.len() {
             self.procs[i].clock.next = self.clock.val();
-            self.procs[i].rst.next = self.rst.val();
         }
         self.procs[0].t_op.next = self.e4_op.q.val();
         self.procs[0].t_attr.next = self.e4_attr.q.val();
         self.procs[0].t_decal.next = self.e4_decal.q.val();
+        self.procs[0].t_nclass.next = self.e4_nclass.q.val();
         self.procs[0].t_rel_l.next = self.e4_rel_l.q.val();
         self.procs[0].t_rel_r.next = self.e4_rel_r.q.val();
         self.procs[0].t_z.next = self.e4_za.q.val() + self.e4_zb.q.val();
@@ -461,6 +542,7 @@ impl Logic for PixelProcessorArray {
             self.procs[i].t_op.next = self.procs[i - 1].o_op.val();
             self.procs[i].t_attr.next = self.procs[i - 1].o_attr.val();
             self.procs[i].t_decal.next = self.procs[i - 1].o_decal.val();
+            self.procs[i].t_nclass.next = self.procs[i - 1].o_nclass.val();
             self.procs[i].t_rel_l.next = self.procs[i - 1].o_rel_l.val();
             self.procs[i].t_rel_r.next = self.procs[i - 1].o_rel_r.val();
             self.procs[i].t_z.next = self.procs[i - 1].o_z.val();
@@ -472,25 +554,27 @@ impl Logic for PixelProcessorArray {
             self.procs[i].t_dig.next = self.procs[i - 1].o_dig.val();
             self.procs[i].t_dib.next = self.procs[i - 1].o_dib.val();
         }
-        // ---- Readout: registered address (E1), one-of-N select, registered outputs.
-        self.rd_zb_r.d.next = self.k_zfar.val();
-        self.rd_rgb_r.d.next = self.k_zero24.val();
-        self.rd_dsf_r.d.next = false;
-        self.rd_fsf_r.d.next = false;
-        self.rd_count_r.d.next = self.k_zero8.val();
+        // ---- Readout: registered address (E1), per-processor select registered in the
+        // processor, OR of the (one) selected processor's packed readout registers,
+        // registered outputs.
+        self.l_rd.next = self.k_zero74.val();
         for i in 0..self.procs.len() {
-            if self.e1_rd.q.val().index() == i {
-                self.rd_zb_r.d.next = self.procs[i].cap_zb.val();
-                self.rd_rgb_r.d.next = self.procs[i].cap_rgb.val();
-                self.rd_dsf_r.d.next = self.procs[i].cap_dsf.val();
-                self.rd_fsf_r.d.next = self.procs[i].cap_fsf.val();
-                self.rd_count_r.d.next = self.procs[i].cap_count.val();
-            }
+            self.procs[i].rd_sel.next = self.e1_rd.q.val().index() == i;
+            self.l_rd.next = self.l_rd.val() | self.procs[i].rdo.val();
         }
+        self.rd_count_r.d.next = self.l_rd.val().get_bits::<8>(0);
+        self.rd_fsf_r.d.next = self.l_rd.val().get_bit(8);
+        self.rd_dsf_r.d.next = self.l_rd.val().get_bit(9);
+        self.rd_rgb_r.d.next = self.l_rd.val().get_bits::<24>(10);
+        self.rd_zb_r.d.next = self.l_rd.val().get_bits::<24>(34);
+        self.rd_mask_r.d.next = self.l_rd.val().get_bits::<8>(58);
+        self.rd_nclass_r.d.next = self.l_rd.val().get_bits::<8>(66);
         self.rd_zb.next = self.rd_zb_r.q.val();
         self.rd_rgb.next = self.rd_rgb_r.q.val();
         self.rd_dsf.next = self.rd_dsf_r.q.val();
         self.rd_fsf.next = self.rd_fsf_r.q.val();
         self.rd_count.next = self.rd_count_r.q.val();
+        self.rd_mask.next = self.rd_mask_r.q.val();
+        self.rd_nclass.next = self.rd_nclass_r.q.val();
     }
 }

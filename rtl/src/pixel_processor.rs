@@ -1,60 +1,93 @@
 //! One pixel processor of the scanline array (seed 001, Matsumoto, section 1 "one
-//! scanline's worth of pixel processors" and section 3 "scanline Z-buffer").
+//! scanline's worth of pixel processors", section 3 "scanline Z-buffer", section 6
+//! "several lights").
 //!
 //! Processor `p` owns screen column `col = base + p`. It holds the depth register `ZB`
-//! (24 bits), the intensity register (RGB888), optionally a [`SpanParity`] block (DSF,
-//! FSF, COUNT; only when the scene has shadows), and readout registers that keep the
-//! previous scanline's values.
+//! (24 bits), the intensity register (RGB888), the normal class of the visible surface
+//! (`NCLASS`, 8 bits), optionally a [`SpanParity`] block (DSF, FSF, COUNT, MASK; only
+//! when the scene has shadows), and readout registers that keep the previous scanline's
+//! values.
 //!
 //! **Systolic token.** Commands reach the processor as a *token* in its token register
-//! (loaded from the `t_*` ports at every rising edge). In the cycle the token sits in
-//! that register the processor acts on it (its registers update at the next rising edge)
-//! and drives the token for processor `p + 1` on the `o_*` ports:
+//! (stage A, loaded from the `t_*` ports at every rising edge). In the cycle the token
+//! sits in that register the processor drives the token for processor `p + 1` on the
+//! `o_*` ports:
 //! - `o_rel_l = rel_l − 1`, `o_rel_r = rel_r − 1` (the running range differences
 //!   `XL − col − 1` and `XR − col`),
-//! - `o_z = z + dZ`, `o_i_c = i_c + dI_c` if `col >= XL`, else unchanged.
+//! - `o_z = z + dZ`, `o_i_c = i_c + dI_c` if `col >= XL`, else unchanged,
 //!
 //! so a token holding `ZL + max(0, col − XL)·dZ` at column `col` holds the same quantity
 //! at column `col + 1`: one adder per quantity per processor, no multiplier.
 //!
+//! **Decide, then write (two stages).** In stage A the processor also *decides*: range
+//! test, `Z < ZB` / `Z <= ZB`, intensity clamp. The decision is registered (stage B,
+//! 64 flip-flops) and applied at the next edge: `ZB`, RGB, `NCLASS`, the parity flags.
+//! The depth compare therefore drives one flip-flop instead of the enables of 56 state
+//! flip-flops. A token directly behind another one sees the `ZB` its predecessor is about
+//! to write: stage A compares against `zb_next`, the value `ZB` takes at the coming edge
+//! (the bypass), so back-to-back spans at one processor are exact.
+//!
 //! **OP span** (`op = SPAN`, `attr = OP`): if `XL <= col <= XR` and `Z < ZB` (`Z <= ZB`
-//! for a decal span), `ZB := Z`, `RGB := clamp(I >> 12, 0, 255)` per channel, where
-//! `Z = z[35:12]` and the test is the golden `((z >> 12) as u32) < ZB` (so `z[43:36]`
-//! must be zero).
+//! for a decal span), `ZB := Z`, `RGB := clamp(I >> 12, 0, 255)` per channel,
+//! `NCLASS := nclass`, where `Z = z[35:12]` and the test is the golden
+//! `((z >> 12) as u32) < ZB` (so `z[43:36]` must be zero).
 //!
 //! **Widths.** `z` is Q32.12 modulo 2^44: every value the golden model compares is
 //! `(ZL + k·dZ) >> 12` truncated to 32 bits with `0 <= k < 4096`, i.e. bits `[43:12]`.
 //! `i_c` is Q22.12 two's complement, 34 bits: `|k·dI| < 2^32` and `IL < 2^20`, so the
 //! covered values never wrap and the clamp sees their true sign.
 //!
-//! Latency: state registers update one rising edge after the token register is loaded.
-//! `rst` (synchronous) sets `ZB := Z_FAR`, `RGB := 0`, flags and counter to 0, the
-//! readout registers likewise, and the token to `NOP`.
+//! **Other commands.** CLEAR_LINE carries the background in `z[23:0]`, LATCH_SHADOW its
+//! light bit in `z[2:0]`, CHECK its range in `rel_l`/`rel_r`. RESET (the `rst` input,
+//! travelling down the chain as a token so that no net fans out to every processor) sets
+//! `ZB := Z_FAR`, everything else to 0, readout `ZB` to `Z_FAR`.
+//!
+//! Latency: state registers update two rising edges after the token register is loaded.
 
 use crate::opcodes::*;
 use crate::span_parity::SpanParity;
 use pixelproc_formats::Z_FAR;
 use rust_hdl::prelude::*;
 
-/// One pixel processor. `shadows = false` builds it without the parity block: DSF, FSF
-/// and COUNT then read 0 and shadow commands do nothing.
+/// The registers of one processor as read by a testbench.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ProcRegs {
+    /// Depth buffer.
+    pub zb: u32,
+    /// RGB888.
+    pub rgb: u32,
+    /// Shadow decision flag (0 without shadows).
+    pub dsf: bool,
+    /// Final shadow flag (0 without shadows).
+    pub fsf: bool,
+    /// Shadow counter (0 without shadows).
+    pub count: u8,
+    /// Light mask (0 without shadows).
+    pub mask: u8,
+    /// Normal class of the visible surface.
+    pub nclass: u8,
+}
+
+/// One pixel processor. `shadows = false` builds it without the parity block: DSF, FSF,
+/// COUNT and MASK then read 0 and shadow commands do nothing.
 #[derive(LogicBlock)]
 pub struct PixelProcessor {
     /// Clock.
     pub clock: Signal<In, Clock>,
-    /// Synchronous reset.
-    pub rst: Signal<In, Bit>,
-    /// Token in: opcode.
+    /// Token in: opcode (RESET included).
     pub t_op: Signal<In, Bits<3>>,
     /// Token in: span attribute.
     pub t_attr: Signal<In, Bits<2>>,
     /// Token in: decal flag (depth test passes on equality).
     pub t_decal: Signal<In, Bit>,
+    /// Token in: normal class of the span's surface.
+    pub t_nclass: Signal<In, Bits<8>>,
     /// Token in: `XL − col − 1` (14-bit two's complement).
     pub t_rel_l: Signal<In, Bits<14>>,
     /// Token in: `XR − col` (14-bit two's complement).
     pub t_rel_r: Signal<In, Bits<14>>,
-    /// Token in: depth accumulator, Q32.12 mod 2^44 (carries `bg` in bits 23:0 on CLEAR_LINE).
+    /// Token in: depth accumulator, Q32.12 mod 2^44 (the argument of CLEAR_LINE and
+    /// LATCH_SHADOW in bits 23:0).
     pub t_z: Signal<In, Bits<44>>,
     /// Token in: `dZ`, Q26.12 two's complement.
     pub t_dz: Signal<In, Bits<38>>,
@@ -70,12 +103,19 @@ pub struct PixelProcessor {
     pub t_dig: Signal<In, Bits<21>>,
     /// Token in: `dI` blue.
     pub t_dib: Signal<In, Bits<21>>,
+    /// Readout select (this processor is addressed), registered here.
+    pub rd_sel: Signal<In, Bit>,
+    /// Readout registers, packed `{NCLASS, MASK, ZB, RGB, DSF, FSF, COUNT}` (74 bits), if
+    /// selected at the last edge, else 0 (the array ORs all processors' values).
+    pub rdo: Signal<Out, Bits<74>>,
     /// Token out (for processor `p + 1`): opcode.
     pub o_op: Signal<Out, Bits<3>>,
     /// Token out: attribute.
     pub o_attr: Signal<Out, Bits<2>>,
     /// Token out: decal.
     pub o_decal: Signal<Out, Bit>,
+    /// Token out: normal class.
+    pub o_nclass: Signal<Out, Bits<8>>,
     /// Token out: `rel_l − 1`.
     pub o_rel_l: Signal<Out, Bits<14>>,
     /// Token out: `rel_r − 1`.
@@ -96,21 +136,12 @@ pub struct PixelProcessor {
     pub o_dig: Signal<Out, Bits<21>>,
     /// Token out: `dI` blue.
     pub o_dib: Signal<Out, Bits<21>>,
-    /// Readout register: `ZB` before the last CLEAR_LINE.
-    pub cap_zb: Signal<Out, Bits<24>>,
-    /// Readout register: RGB888 before the last CLEAR_LINE.
-    pub cap_rgb: Signal<Out, Bits<24>>,
-    /// Readout register: DSF before the last CLEAR_LINE.
-    pub cap_dsf: Signal<Out, Bit>,
-    /// Readout register: FSF before the last CLEAR_LINE.
-    pub cap_fsf: Signal<Out, Bit>,
-    /// Readout register: COUNT before the last CLEAR_LINE.
-    pub cap_count: Signal<Out, Bits<8>>,
     /// The shadow logic: one element with shadows, none without.
     pub parity: Vec<SpanParity>,
     tok_op: DFF<Bits<3>>,
     tok_attr: DFF<Bits<2>>,
     tok_decal: DFF<Bit>,
+    tok_nclass: DFF<Bits<8>>,
     tok_rel_l: DFF<Bits<14>>,
     tok_rel_r: DFF<Bits<14>>,
     tok_z: DFF<Bits<44>>,
@@ -121,16 +152,31 @@ pub struct PixelProcessor {
     tok_dir: DFF<Bits<21>>,
     tok_dig: DFF<Bits<21>>,
     tok_dib: DFF<Bits<21>>,
+    b_op: DFF<Bits<3>>,
+    b_attr: DFF<Bits<2>>,
+    b_covered: DFF<Bit>,
+    b_zlt: DFF<Bit>,
+    b_write: DFF<Bit>,
+    b_z: DFF<Bits<24>>,
+    b_rgb: DFF<Bits<24>>,
+    b_nclass: DFF<Bits<8>>,
     zb_r: DFF<Bits<24>>,
     rgb_r: DFF<Bits<24>>,
+    nclass_r: DFF<Bits<8>>,
     capzb_r: DFF<Bits<24>>,
     caprgb_r: DFF<Bits<24>>,
     capdsf_r: DFF<Bit>,
     capfsf_r: DFF<Bit>,
     capcount_r: DFF<Bits<8>>,
-    k_nop: Constant<Bits<3>>,
+    capmask_r: DFF<Bits<8>>,
+    capnclass_r: DFF<Bits<8>>,
+    rdsel_r: DFF<Bit>,
+    k_zero74: Constant<Bits<74>>,
+    k_bit8: Constant<Bits<74>>,
+    k_bit9: Constant<Bits<74>>,
     k_clear_line: Constant<Bits<3>>,
     k_span: Constant<Bits<3>>,
+    k_reset: Constant<Bits<3>>,
     k_attr_op: Constant<Bits<2>>,
     k_zfar: Constant<Bits<24>>,
     k_zero8: Constant<Bits<8>>,
@@ -147,13 +193,17 @@ pub struct PixelProcessor {
     right_of_xl: Signal<Local, Bit>,
     covered: Signal<Local, Bit>,
     zv: Signal<Local, Bits<24>>,
+    z_hi_ok: Signal<Local, Bit>,
+    z_lt: Signal<Local, Bit>,
     z_pass: Signal<Local, Bit>,
+    zb_next: Signal<Local, Bits<24>>,
     ch_r: Signal<Local, Bits<8>>,
     ch_g: Signal<Local, Bits<8>>,
     ch_b: Signal<Local, Bits<8>>,
     dsf_now: Signal<Local, Bit>,
     fsf_now: Signal<Local, Bit>,
     count_now: Signal<Local, Bits<8>>,
+    mask_now: Signal<Local, Bits<8>>,
 }
 
 impl PixelProcessor {
@@ -166,10 +216,10 @@ impl PixelProcessor {
         };
         PixelProcessor {
             clock: Default::default(),
-            rst: Default::default(),
             t_op: Default::default(),
             t_attr: Default::default(),
             t_decal: Default::default(),
+            t_nclass: Default::default(),
             t_rel_l: Default::default(),
             t_rel_r: Default::default(),
             t_z: Default::default(),
@@ -180,9 +230,12 @@ impl PixelProcessor {
             t_dir: Default::default(),
             t_dig: Default::default(),
             t_dib: Default::default(),
+            rd_sel: Default::default(),
+            rdo: Default::default(),
             o_op: Default::default(),
             o_attr: Default::default(),
             o_decal: Default::default(),
+            o_nclass: Default::default(),
             o_rel_l: Default::default(),
             o_rel_r: Default::default(),
             o_z: Default::default(),
@@ -193,15 +246,11 @@ impl PixelProcessor {
             o_dir: Default::default(),
             o_dig: Default::default(),
             o_dib: Default::default(),
-            cap_zb: Default::default(),
-            cap_rgb: Default::default(),
-            cap_dsf: Default::default(),
-            cap_fsf: Default::default(),
-            cap_count: Default::default(),
             parity,
             tok_op: Default::default(),
             tok_attr: Default::default(),
             tok_decal: Default::default(),
+            tok_nclass: Default::default(),
             tok_rel_l: Default::default(),
             tok_rel_r: Default::default(),
             tok_z: Default::default(),
@@ -212,16 +261,31 @@ impl PixelProcessor {
             tok_dir: Default::default(),
             tok_dig: Default::default(),
             tok_dib: Default::default(),
+            b_op: Default::default(),
+            b_attr: Default::default(),
+            b_covered: Default::default(),
+            b_zlt: Default::default(),
+            b_write: Default::default(),
+            b_z: Default::default(),
+            b_rgb: Default::default(),
+            b_nclass: Default::default(),
             zb_r: Default::default(),
             rgb_r: Default::default(),
+            nclass_r: Default::default(),
             capzb_r: Default::default(),
             caprgb_r: Default::default(),
             capdsf_r: Default::default(),
             capfsf_r: Default::default(),
             capcount_r: Default::default(),
-            k_nop: Constant::new(OP_NOP.to_bits()),
+            capmask_r: Default::default(),
+            capnclass_r: Default::default(),
+            rdsel_r: Default::default(),
+            k_zero74: Constant::new(0u64.to_bits()),
+            k_bit8: Constant::new(256u64.to_bits()),
+            k_bit9: Constant::new(512u64.to_bits()),
             k_clear_line: Constant::new(OP_CLEAR_LINE.to_bits()),
             k_span: Constant::new(OP_SPAN.to_bits()),
+            k_reset: Constant::new(OP_RESET.to_bits()),
             k_attr_op: Constant::new(0u64.to_bits()),
             k_zfar: Constant::new((Z_FAR as u64).to_bits()),
             k_zero8: Constant::new(0u64.to_bits()),
@@ -238,13 +302,17 @@ impl PixelProcessor {
             right_of_xl: Default::default(),
             covered: Default::default(),
             zv: Default::default(),
+            z_hi_ok: Default::default(),
+            z_lt: Default::default(),
             z_pass: Default::default(),
+            zb_next: Default::default(),
             ch_r: Default::default(),
             ch_g: Default::default(),
             ch_b: Default::default(),
             dsf_now: Default::default(),
             fsf_now: Default::default(),
             count_now: Default::default(),
+            mask_now: Default::default(),
         }
     }
 
@@ -253,30 +321,34 @@ impl PixelProcessor {
         !self.parity.is_empty()
     }
 
-    /// Current `(ZB, RGB, DSF, FSF, COUNT)` registers (for testbenches).
-    pub fn probe(&self) -> (u32, u32, bool, bool, u8) {
-        let (dsf, fsf, count) = match self.parity.first() {
+    /// Current state registers (for testbenches).
+    pub fn probe(&self) -> ProcRegs {
+        let (dsf, fsf, count, mask) = match self.parity.first() {
             Some(p) => p.probe(),
-            None => (false, false, 0),
+            None => (false, false, 0, 0),
         };
-        (
-            self.zb_r.q.val().to_u32(),
-            self.rgb_r.q.val().to_u32(),
+        ProcRegs {
+            zb: self.zb_r.q.val().to_u32(),
+            rgb: self.rgb_r.q.val().to_u32(),
             dsf,
             fsf,
             count,
-        )
+            mask,
+            nclass: self.nclass_r.q.val().to_u8(),
+        }
     }
 
-    /// Current readout registers `(ZB, RGB, DSF, FSF, COUNT)` (for testbenches).
-    pub fn probe_capture(&self) -> (u32, u32, bool, bool, u8) {
-        (
-            self.capzb_r.q.val().to_u32(),
-            self.caprgb_r.q.val().to_u32(),
-            self.capdsf_r.q.val(),
-            self.capfsf_r.q.val(),
-            self.capcount_r.q.val().to_u8(),
-        )
+    /// Current readout registers (for testbenches).
+    pub fn probe_capture(&self) -> ProcRegs {
+        ProcRegs {
+            zb: self.capzb_r.q.val().to_u32(),
+            rgb: self.caprgb_r.q.val().to_u32(),
+            dsf: self.capdsf_r.q.val(),
+            fsf: self.capfsf_r.q.val(),
+            count: self.capcount_r.q.val().to_u8(),
+            mask: self.capmask_r.q.val().to_u8(),
+            nclass: self.capnclass_r.q.val().to_u8(),
+        }
     }
 }
 
@@ -284,14 +356,47 @@ impl Logic for PixelProcessor {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, tok_op, tok_attr, tok_decal, tok_rel_l, tok_rel_r, tok_z, tok_dz, tok_ir,
-            tok_ig, tok_ib, tok_dir, tok_dig, tok_dib, zb_r, rgb_r, capzb_r, caprgb_r, capdsf_r,
-            capfsf_r, capcount_r
+            self,
+            clock,
+            tok_op,
+            tok_attr,
+            tok_decal,
+            tok_nclass,
+            tok_rel_l,
+            tok_rel_r,
+            tok_z,
+            tok_dz,
+            tok_ir,
+            tok_ig,
+            tok_ib,
+            tok_dir,
+            tok_dig,
+            tok_dib,
+            b_op,
+            b_attr,
+            b_covered,
+            b_zlt,
+            b_write,
+            b_z,
+            b_rgb,
+            b_nclass,
+            zb_r,
+            rgb_r,
+            nclass_r,
+            capzb_r,
+            caprgb_r,
+            capdsf_r,
+            capfsf_r,
+            capcount_r,
+            capmask_r,
+            capnclass_r,
+            rdsel_r
         );
-        // Token register: loaded every clock.
+        // ---- Stage A: the token register, loaded every clock.
         self.tok_op.d.next = self.t_op.val();
         self.tok_attr.d.next = self.t_attr.val();
         self.tok_decal.d.next = self.t_decal.val();
+        self.tok_nclass.d.next = self.t_nclass.val();
         self.tok_rel_l.d.next = self.t_rel_l.val();
         self.tok_rel_r.d.next = self.t_rel_r.val();
         self.tok_z.d.next = self.t_z.val();
@@ -326,6 +431,7 @@ impl Logic for PixelProcessor {
         self.o_op.next = self.tok_op.q.val();
         self.o_attr.next = self.tok_attr.q.val();
         self.o_decal.next = self.tok_decal.q.val();
+        self.o_nclass.next = self.tok_nclass.q.val();
         self.o_rel_l.next = self.tok_rel_l.q.val() - self.k_one14.val();
         self.o_rel_r.next = self.tok_rel_r.q.val() - self.k_one14.val();
         self.o_dz.next = self.tok_dz.q.val();
@@ -342,14 +448,67 @@ impl Logic for PixelProcessor {
             self.o_ig.next = self.tok_ig.q.val() + self.dig_x.val();
             self.o_ib.next = self.tok_ib.q.val() + self.dib_x.val();
         }
-        // Depth test of an OP span: golden `((z >> 12) as u32) < ZB` (or `<=` for decals).
-        self.zv.next = self.tok_z.q.val().get_bits::<24>(12);
-        self.z_pass.next = self.zv.val() < self.zb_r.q.val();
-        if self.tok_decal.q.val() {
-            self.z_pass.next = self.zv.val() <= self.zb_r.q.val();
+        // ---- Stage B: apply the decision registered at the last edge. `zb_next` is the
+        // value ZB takes at the coming edge.
+        self.zb_next.next = self.zb_r.q.val();
+        if self.b_write.q.val() {
+            self.zb_next.next = self.b_z.q.val();
+            self.rgb_r.d.next = self.b_rgb.q.val();
+            self.nclass_r.d.next = self.b_nclass.q.val();
         }
-        self.z_pass.next =
-            self.z_pass.val() & (self.tok_z.q.val().get_bits::<8>(36) == self.k_zero8.val());
+        // Shadow logic (absent without shadows: flags, counter and mask read 0).
+        self.dsf_now.next = false;
+        self.fsf_now.next = false;
+        self.count_now.next = self.k_zero8.val();
+        self.mask_now.next = self.k_zero8.val();
+        for i in 0..self.parity.len() {
+            self.parity[i].clock.next = self.clock.val();
+            self.parity[i].rst.next = self.b_op.q.val() == self.k_reset.val();
+            self.parity[i].op.next = self.b_op.q.val();
+            self.parity[i].attr.next = self.b_attr.q.val();
+            self.parity[i].covered.next = self.b_covered.q.val();
+            self.parity[i].z_lt.next = self.b_zlt.q.val();
+            self.parity[i].light.next = self.b_rgb.q.val().get_bits::<3>(0);
+            self.dsf_now.next = self.parity[i].dsf.val();
+            self.fsf_now.next = self.parity[i].fsf.val();
+            self.count_now.next = self.parity[i].count.val();
+            self.mask_now.next = self.parity[i].mask.val();
+        }
+        // New scanline: copy the finished line into the readout registers, then clear.
+        if self.b_op.q.val() == self.k_clear_line.val() {
+            self.capzb_r.d.next = self.zb_r.q.val();
+            self.caprgb_r.d.next = self.rgb_r.q.val();
+            self.capdsf_r.d.next = self.dsf_now.val();
+            self.capfsf_r.d.next = self.fsf_now.val();
+            self.capcount_r.d.next = self.count_now.val();
+            self.capmask_r.d.next = self.mask_now.val();
+            self.capnclass_r.d.next = self.nclass_r.q.val();
+            self.zb_next.next = self.k_zfar.val();
+            self.rgb_r.d.next = self.b_rgb.q.val();
+            self.nclass_r.d.next = self.k_zero8.val();
+        }
+        if self.b_op.q.val() == self.k_reset.val() {
+            self.zb_next.next = self.k_zfar.val();
+            self.rgb_r.d.next = self.k_zero24.val();
+            self.nclass_r.d.next = self.k_zero8.val();
+            self.capzb_r.d.next = self.k_zfar.val();
+            self.caprgb_r.d.next = self.k_zero24.val();
+            self.capdsf_r.d.next = false;
+            self.capfsf_r.d.next = false;
+            self.capcount_r.d.next = self.k_zero8.val();
+            self.capmask_r.d.next = self.k_zero8.val();
+            self.capnclass_r.d.next = self.k_zero8.val();
+        }
+        self.zb_r.d.next = self.zb_next.val();
+        // ---- Stage A, decision: depth test against the next-state ZB (bypass), golden
+        // `((z >> 12) as u32) < ZB` (or `<=` for decals); intensity clamp.
+        self.zv.next = self.tok_z.q.val().get_bits::<24>(12);
+        self.z_hi_ok.next = self.tok_z.q.val().get_bits::<8>(36) == self.k_zero8.val();
+        self.z_lt.next = self.zv.val() < self.zb_next.val();
+        self.z_pass.next = self.z_lt.val();
+        if self.tok_decal.q.val() {
+            self.z_pass.next = self.zv.val() <= self.zb_next.val();
+        }
         // Intensity clamp: negative -> 0, >= 256.0 -> 255, else bits [19:12].
         self.ch_r.next = self.tok_ir.q.val().get_bits::<8>(12);
         if self.tok_ir.q.val().get_bits::<13>(20) != self.k_zero13.val() {
@@ -372,57 +531,39 @@ impl Logic for PixelProcessor {
         if self.tok_ib.q.val().get_bit(33) {
             self.ch_b.next = self.k_zero8.val();
         }
-        if (self.tok_op.q.val() == self.k_span.val())
+        self.b_op.d.next = self.tok_op.q.val();
+        self.b_attr.d.next = self.tok_attr.q.val();
+        self.b_covered.d.next = self.covered.val();
+        self.b_zlt.d.next = self.z_lt.val() & self.z_hi_ok.val();
+        self.b_write.d.next = (self.tok_op.q.val() == self.k_span.val())
             & (self.tok_attr.q.val() == self.k_attr_op.val())
             & self.covered.val()
             & self.z_pass.val()
-        {
-            self.zb_r.d.next = self.zv.val();
-            self.rgb_r.d.next = (bit_cast::<24, 8>(self.ch_r.val()) << 16)
-                | (bit_cast::<24, 8>(self.ch_g.val()) << 8)
-                | bit_cast::<24, 8>(self.ch_b.val());
+            & self.z_hi_ok.val();
+        self.b_z.d.next = self.zv.val();
+        self.b_nclass.d.next = self.tok_nclass.q.val();
+        self.b_rgb.d.next = (bit_cast::<24, 8>(self.ch_r.val()) << 16)
+            | (bit_cast::<24, 8>(self.ch_g.val()) << 8)
+            | bit_cast::<24, 8>(self.ch_b.val());
+        if self.tok_op.q.val() != self.k_span.val() {
+            // CLEAR_LINE's background, LATCH_SHADOW's bit.
+            self.b_rgb.d.next = self.tok_z.q.val().get_bits::<24>(0);
         }
-        // Shadow logic (absent without shadows: flags read 0).
-        self.dsf_now.next = false;
-        self.fsf_now.next = false;
-        self.count_now.next = self.k_zero8.val();
-        for i in 0..self.parity.len() {
-            self.parity[i].clock.next = self.clock.val();
-            self.parity[i].rst.next = self.rst.val();
-            self.parity[i].op.next = self.tok_op.q.val();
-            self.parity[i].attr.next = self.tok_attr.q.val();
-            self.parity[i].rel_l.next = self.tok_rel_l.q.val();
-            self.parity[i].rel_r.next = self.tok_rel_r.q.val();
-            self.parity[i].z.next = self.tok_z.q.val();
-            self.parity[i].zb.next = self.zb_r.q.val();
-            self.dsf_now.next = self.parity[i].dsf.val();
-            self.fsf_now.next = self.parity[i].fsf.val();
-            self.count_now.next = self.parity[i].count.val();
+        // ---- Outputs.
+        self.rdsel_r.d.next = self.rd_sel.val();
+        self.rdo.next = self.k_zero74.val();
+        if self.rdsel_r.q.val() {
+            self.rdo.next = (bit_cast::<74, 8>(self.capnclass_r.q.val()) << 66)
+                | (bit_cast::<74, 8>(self.capmask_r.q.val()) << 58)
+                | (bit_cast::<74, 24>(self.capzb_r.q.val()) << 34)
+                | (bit_cast::<74, 24>(self.caprgb_r.q.val()) << 10)
+                | (bit_cast::<74, 8>(self.capcount_r.q.val()));
+            if self.capdsf_r.q.val() {
+                self.rdo.next = self.rdo.val() | self.k_bit9.val();
+            }
+            if self.capfsf_r.q.val() {
+                self.rdo.next = self.rdo.val() | self.k_bit8.val();
+            }
         }
-        // New scanline: copy the finished line into the readout registers, then clear.
-        if self.tok_op.q.val() == self.k_clear_line.val() {
-            self.capzb_r.d.next = self.zb_r.q.val();
-            self.caprgb_r.d.next = self.rgb_r.q.val();
-            self.capdsf_r.d.next = self.dsf_now.val();
-            self.capfsf_r.d.next = self.fsf_now.val();
-            self.capcount_r.d.next = self.count_now.val();
-            self.zb_r.d.next = self.k_zfar.val();
-            self.rgb_r.d.next = self.tok_z.q.val().get_bits::<24>(0);
-        }
-        if self.rst.val() {
-            self.tok_op.d.next = self.k_nop.val();
-            self.zb_r.d.next = self.k_zfar.val();
-            self.rgb_r.d.next = self.k_zero24.val();
-            self.capzb_r.d.next = self.k_zfar.val();
-            self.caprgb_r.d.next = self.k_zero24.val();
-            self.capdsf_r.d.next = false;
-            self.capfsf_r.d.next = false;
-            self.capcount_r.d.next = self.k_zero8.val();
-        }
-        self.cap_zb.next = self.capzb_r.q.val();
-        self.cap_rgb.next = self.caprgb_r.q.val();
-        self.cap_dsf.next = self.capdsf_r.q.val();
-        self.cap_fsf.next = self.capfsf_r.q.val();
-        self.cap_count.next = self.capcount_r.q.val();
     }
 }

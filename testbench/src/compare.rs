@@ -1,19 +1,38 @@
 //! Clock-by-clock comparison of the RustHDL `PixelProcessorArray` with the golden
 //! `PixelArray::step`.
 //!
-//! Alignment (see `pixelproc_rtl::pixel_array`): the command sampled at rising edge `t`
-//! reaches processor `p`'s registers at edge `t + L + p`, `L = LATENCY_PROC0`. So after
-//! edge `T`, processor `p` must equal the golden state of processor `p` after the first
-//! `T − L − p + 1` commands (the reset state if that is `<= 0`). Every processor's
-//! `ZB`, `RGB`, `DSF`, `FSF`, `COUNT` and readout registers are checked after every edge,
-//! and the readout port (`rd_addr` sweeping the processors) is checked against the
-//! readout registers one edge earlier.
+//! Alignment (see `pixelproc_rtl::pixel_array`): the reset is sampled at edge 0 and the
+//! commands at edges 1, 2, ...; what is sampled at edge `t` reaches processor `p`'s
+//! registers at edge `t + L + p`, `L = LATENCY_PROC0`. So after edge `T ≥ L + p`,
+//! processor `p` must equal the golden state of processor `p` after the first
+//! `T − L − p` commands (before that it holds power-up values and is not compared).
+//! Every processor's `ZB`, `RGB`, `DSF`, `FSF`, `COUNT`, `MASK`, `NCLASS` and readout
+//! registers are checked after every edge, and the readout port (`rd_addr` sweeping the
+//! processors) after edge `T` against the readout registers after edge `T − 1` of the
+//! processor addressed at edge `T − 2`.
 
 use crate::stimulus::LineStream;
 use crate::TbError;
+use pixelproc_formats::SpanWord;
 use pixelproc_rtl::opcodes::*;
 use pixelproc_rtl::pixel_array::{PixelProcessorArray, LATENCY_PROC0};
+use pixelproc_rtl::pixel_processor::ProcRegs;
 use pixelproc_sim::pixel_array::{Command, PixelArray, ProcState};
+
+/// Largest column a span word (and so a CHECK range) can name.
+const MAX_X: u16 = 4095;
+
+fn to_state(r: ProcRegs) -> ProcState {
+    ProcState {
+        zb: r.zb,
+        rgb: r.rgb,
+        dsf: r.dsf,
+        fsf: r.fsf,
+        count: r.count,
+        mask: r.mask,
+        nclass: r.nclass,
+    }
+}
 use rust_hdl::prelude::*;
 use std::collections::VecDeque;
 use std::path::PathBuf;
@@ -60,41 +79,46 @@ pub fn encode(base: u32, cmd: &Command) -> Result<PortVector, TbError> {
         }
         Command::ClearFlags => v.op = OP_CLEAR_FLAGS as u8,
         Command::AccumulateShadow => v.op = OP_ACCUMULATE as u8,
-        Command::LatchShadow { .. } | Command::Check { .. } => {
-            return Err(TbError::Unsupported(format!("{cmd:?}")))
+        Command::LatchShadow { bit } => {
+            // The golden model uses `bit & 7`; the port carries the same three bits.
+            v.op = OP_LATCH_SHADOW as u8;
+            v.bg = (*bit & 7) as u32;
+        }
+        Command::Check { xl, xr } => {
+            // The range travels in the span word's XL/XR fields (12 bits each).
+            if *xl > MAX_X || *xr > MAX_X {
+                return Err(TbError::Unsupported(format!(
+                    "{cmd:?}: check range beyond column {MAX_X}"
+                )));
+            }
+            v.op = OP_CHECK as u8;
+            v.word = SpanWord {
+                xl: *xl,
+                xr: *xr,
+                ..Default::default()
+            }
+            .pack()?;
         }
     }
     Ok(v)
 }
 
-/// Reads `(ZB, RGB, DSF, FSF, COUNT)` of every processor.
+/// Reads every register (`ZB`, RGB, DSF, FSF, COUNT, MASK, NCLASS) of every processor.
 pub fn probe_all(uut: &PixelProcessorArray) -> Vec<ProcState> {
-    uut.procs
-        .iter()
-        .map(|p| {
-            let (zb, rgb, dsf, fsf, count) = p.probe();
-            ProcState {
-                zb,
-                rgb,
-                dsf,
-                fsf,
-                count,
-                ..Default::default()
-            }
-        })
-        .collect()
+    uut.procs.iter().map(|p| to_state(p.probe())).collect()
 }
 
 fn probe_cap(uut: &PixelProcessorArray, p: usize) -> ProcState {
-    let (zb, rgb, dsf, fsf, count) = uut.procs[p].probe_capture();
-    ProcState {
-        zb,
-        rgb,
-        dsf,
-        fsf,
-        count,
-        ..Default::default()
-    }
+    to_state(uut.procs[p].probe_capture())
+}
+
+/// Clears the shadow registers (what an array built without shadows reads).
+pub fn without_shadow_regs(mut s: ProcState) -> ProcState {
+    s.dsf = false;
+    s.fsf = false;
+    s.count = 0;
+    s.mask = 0;
+    s
 }
 
 /// Drives one clock cycle of the RustHDL model with the direct `simulate()` loop.
@@ -286,6 +310,8 @@ pub fn compare_commands_checked(
     let start = std::time::Instant::now();
     let mut comparisons = 0u64;
     let mut mismatch = None;
+    // The readout registers of `rd_addr` after the previous edge, if that processor had
+    // been reached by the reset token (before, it holds its power-up values).
     let mut prev_cap: Option<ProcState> = None;
     'run: for (t, v) in vecs.iter().enumerate() {
         drive(&mut uut, v)?;
@@ -296,21 +322,19 @@ pub fn compare_commands_checked(
         }
         let rtl = probe_all(&uut);
         for (p, got) in rtl.iter().enumerate() {
-            // Commands sampled at edges 1..=t−L−p have been applied.
-            let k =
-                (t as i64 - LATENCY_PROC0 as i64 - p as i64).clamp(0, cmds.len() as i64) as usize;
+            // The reset (edge 0) reaches processor p at edge L + p; commands sampled at
+            // edges 1..=t−L−p have been applied.
+            let kk = t as i64 - LATENCY_PROC0 as i64 - p as i64;
+            if kk < 0 {
+                continue;
+            }
+            let k = kk.min(cmds.len() as i64) as usize;
             let (st, cap) = gold.get(k);
             let mut exp = st[p];
-            if ignore_flags {
-                exp.dsf = false;
-                exp.fsf = false;
-                exp.count = 0;
-            }
             let mut exp_cap = cap[p];
             if ignore_flags {
-                exp_cap.dsf = false;
-                exp_cap.fsf = false;
-                exp_cap.count = 0;
+                exp = without_shadow_regs(exp);
+                exp_cap = without_shadow_regs(exp_cap);
             }
             let got_cap = probe_cap(&uut, p);
             comparisons += 2;
@@ -326,8 +350,8 @@ pub fn compare_commands_checked(
                 break 'run;
             }
         }
-        // Readout port: value of rd_addr sampled one edge earlier, from the readout
-        // registers as they were after that edge.
+        // Readout port: the readout registers after edge t − 1 of the processor whose
+        // address was sampled at edge t − 2.
         if t >= 1 {
             let got = ProcState {
                 zb: uut.rd_zb.val().to_u32(),
@@ -335,12 +359,13 @@ pub fn compare_commands_checked(
                 dsf: uut.rd_dsf.val(),
                 fsf: uut.rd_fsf.val(),
                 count: uut.rd_count.val().to_u8(),
-                ..Default::default()
+                mask: uut.rd_mask.val().to_u8(),
+                nclass: uut.rd_nclass.val().to_u8(),
             };
             if let Some(exp) = prev_cap {
                 comparisons += 1;
                 if got != exp {
-                    let p = vecs[t - 1].rd_addr as usize;
+                    let p = vecs[t - 2].rd_addr as usize;
                     mismatch = Some(make_mismatch(
                         t,
                         p,
@@ -355,7 +380,15 @@ pub fn compare_commands_checked(
                 }
             }
         }
-        prev_cap = Some(probe_cap(&uut, v.rd_addr as usize));
+        // After edge t the port shows, at edge t + 1, the readout registers (as now) of
+        // the processor whose address was sampled at edge t − 1.
+        prev_cap = None;
+        if t >= 1 {
+            let a = vecs[t - 1].rd_addr as usize;
+            if t >= LATENCY_PROC0 + a {
+                prev_cap = Some(probe_cap(&uut, a));
+            }
+        }
     }
     let seconds = start.elapsed().as_secs_f64();
     if let (Some(m), Some(dir)) = (mismatch.as_mut(), vcd_dir) {

@@ -4,18 +4,19 @@
 //! - `stim.hex`, 80 hex digits (320 bits): `cmd_word[255:0]`, `cmd_bg` at `[279:256]`,
 //!   `cmd_op` at `[282:280]`, `cmd_valid` `[283]`, `rst` `[284]`, `tile_base`
 //!   `[296:285]`, `rd_addr` `[308:297]`, zero above (the span word is `SpanWord::to_hex`);
-//! - `expect.hex`, 16 hex digits: `{6'b0, rd_zb[24], rd_rgb[24], rd_dsf, rd_fsf,
-//!   rd_count[8]}` expected after that clock's rising edge (line 0, before any readout,
-//!   is not checked).
+//! - `expect.hex`, 32 hex digits (128 bits): `{check, 53'b0, rd_nclass[8], rd_mask[8],
+//!   rd_zb[24], rd_rgb[24], rd_dsf, rd_fsf, rd_count[8]}` expected after that clock's
+//!   rising edge; `check` (bit 127) is 0 where the port shows a processor the reset token
+//!   has not reached yet (power-up values) and on lines 0 and 1.
 //!
 //! Expected values come from the golden `PixelArray` only: after edge `t` the readout
-//! port shows processor `a = rd_addr(t − 1)`'s readout registers after edge `t − 1`,
+//! port shows processor `a = rd_addr(t − 2)`'s readout registers after edge `t − 1`,
 //! i.e. the golden state before the latest `ClearLine` among the first
 //! `t − 1 − LATENCY_PROC0 − a` commands. `tb_pixelproc.v` drives the vectors, compares
 //! every output after every clock, prints the first mismatch (cycle, inputs, both
 //! outputs), dumps a VCD of the top-level ports, and prints `PASS cycles=N`.
 
-use crate::compare::port_vectors;
+use crate::compare::{port_vectors, without_shadow_regs};
 use crate::TbError;
 use pixelproc_rtl::pixel_array::LATENCY_PROC0;
 use pixelproc_sim::pixel_array::{Command, PixelArray, ProcState};
@@ -71,12 +72,15 @@ pub fn skip_or_fail(tool: &str) -> Result<(), TbError> {
     }
 }
 
-fn pack_state(s: &ProcState) -> u64 {
-    ((s.zb as u64 & 0xff_ffff) << 34)
-        | ((s.rgb as u64 & 0xff_ffff) << 10)
-        | ((s.dsf as u64) << 9)
-        | ((s.fsf as u64) << 8)
-        | s.count as u64
+fn pack_state(s: &ProcState) -> u128 {
+    (1u128 << 127)
+        | ((s.nclass as u128) << 66)
+        | ((s.mask as u128) << 58)
+        | ((s.zb as u128 & 0xff_ffff) << 34)
+        | ((s.rgb as u128 & 0xff_ffff) << 10)
+        | ((s.dsf as u128) << 9)
+        | ((s.fsf as u128) << 8)
+        | s.count as u128
 }
 
 /// Writes `stim.hex` and `expect.hex` for `cmds` on an `n`-processor array into `dir`;
@@ -115,21 +119,19 @@ pub fn write_vectors(
             hi, v.word[3], v.word[2], v.word[1], v.word[0]
         )
         .ok();
-        let e = if t == 0 {
+        let e = if t < 2 {
             0
         } else {
-            let a = vecs[t - 1].rd_addr as usize;
-            let k = (t as i64 - 1 - LATENCY_PROC0 as i64 - a as i64).clamp(0, cmds.len() as i64)
-                as usize;
-            let mut s = caps[k][a];
-            if !shadows {
-                s.dsf = false;
-                s.fsf = false;
-                s.count = 0;
+            let a = vecs[t - 2].rd_addr as usize;
+            let kk = t as i64 - 1 - LATENCY_PROC0 as i64 - a as i64;
+            if kk < 0 {
+                0
+            } else {
+                let s = caps[kk.min(cmds.len() as i64) as usize][a];
+                pack_state(&if shadows { s } else { without_shadow_regs(s) })
             }
-            pack_state(&s)
         };
-        writeln!(exp, "{e:016x}").ok();
+        writeln!(exp, "{e:032x}").ok();
     }
     std::fs::write(dir.join("stim.hex"), stim)?;
     std::fs::write(dir.join("expect.hex"), exp)?;
@@ -145,7 +147,7 @@ module tb_pixelproc;
     localparam integer NCYC = {cycles};
     reg clock = 1'b0;
     reg [319:0] stim [0:NCYC-1];
-    reg [63:0] expv [0:NCYC-1];
+    reg [127:0] expv [0:NCYC-1];
     reg rst, cmd_valid;
     reg [2:0] cmd_op;
     reg [23:0] cmd_bg;
@@ -153,12 +155,13 @@ module tb_pixelproc;
     reg [11:0] tile_base, rd_addr;
     wire [23:0] rd_zb, rd_rgb;
     wire rd_dsf, rd_fsf;
-    wire [7:0] rd_count;
-    wire [63:0] got = {{6'b0, rd_zb, rd_rgb, rd_dsf, rd_fsf, rd_count}};
+    wire [7:0] rd_count, rd_mask, rd_nclass;
+    wire [73:0] got = {{rd_nclass, rd_mask, rd_zb, rd_rgb, rd_dsf, rd_fsf, rd_count}};
     integer t;
     {dut} dut (.clock(clock), .rst(rst), .cmd_valid(cmd_valid), .cmd_op(cmd_op),
         .cmd_bg(cmd_bg), .cmd_word(cmd_word), .tile_base(tile_base), .rd_addr(rd_addr),
-        .rd_zb(rd_zb), .rd_rgb(rd_rgb), .rd_dsf(rd_dsf), .rd_fsf(rd_fsf), .rd_count(rd_count));
+        .rd_zb(rd_zb), .rd_rgb(rd_rgb), .rd_dsf(rd_dsf), .rd_fsf(rd_fsf), .rd_count(rd_count),
+        .rd_mask(rd_mask), .rd_nclass(rd_nclass));
     always #5 clock = ~clock;
     initial begin
         $readmemh("stim.hex", stim);
@@ -175,7 +178,7 @@ module tb_pixelproc;
             rd_addr = stim[t][308:297];
             @(posedge clock);
             #1;
-            if (t >= 1 && got !== expv[t]) begin
+            if (expv[t][127] && got !== expv[t][73:0]) begin
                 $display("MISMATCH cycle=%0d inputs=%h expected=%h got=%h", t, stim[t], expv[t], got);
                 $finish;
             end

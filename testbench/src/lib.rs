@@ -9,6 +9,8 @@ pub mod compare;
 pub mod external;
 pub mod stimulus;
 
+pub use stimulus::scene_stream;
+
 use thiserror::Error;
 
 /// Testbench errors.
@@ -29,8 +31,12 @@ pub enum TbError {
     /// File system error.
     #[error(transparent)]
     Io(#[from] std::io::Error),
-    /// A golden command the RTL does not implement yet.
-    #[error("the RTL array has no opcode for {0}")]
+    /// The golden pipeline could not build a scene's command stream.
+    #[error("scene: {0}")]
+    Scene(String),
+    /// A golden command the array's command port cannot carry (a CHECK range beyond
+    /// column 4095).
+    #[error("the RTL array cannot encode {0}")]
     Unsupported(String),
 }
 

@@ -2,10 +2,59 @@
 //! triangles (through the golden span setup), random command vectors and corner cases,
 //! and their flattening into one command per clock.
 
+use crate::TbError;
 use pixelproc_formats::{pack_rgb, Attr, SpanWord, SUBPIXEL_ONE, Z_GEOM_MAX, Z_GEOM_MIN};
+use pixelproc_sim::frontend::{self, Projector};
 use pixelproc_sim::pixel_array::Command;
+use pixelproc_sim::plan::Effects;
 use pixelproc_sim::render::SpanSource;
+use pixelproc_sim::scene::LoadedScene;
 use pixelproc_sim::setup::SnappedTri;
+use pixelproc_sim::shadow;
+
+/// The golden pipeline's per-scanline command stream of a scene, as the array sees it:
+/// for row `j`, the OP span words of `SpanSource::row_spans(j)` (front end
+/// `frontend::project`, span setup `SpanSource::new`), then, for each shadowing light
+/// of `effects` in order, that light's shadow commands from `shadow::shadow_commands`
+/// (per light sample `ClearFlags`, the volumes' SP/EV/IF spans or `Check`s, then
+/// `LatchShadow` or `AccumulateShadow`) — the assembly of `pipeline::render`. Returns
+/// the rows (no `ClearLine`; [`LineStream::flatten`] adds one per tile) and the
+/// background, RGB888 packed.
+pub fn scene_stream(
+    ls: &LoadedScene,
+    effects: &Effects,
+) -> Result<(Vec<Vec<Command>>, u32), TbError> {
+    let (w, h) = (ls.scene.width, ls.scene.height);
+    let bg = pack_rgb(
+        ls.scene
+            .background
+            .map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8),
+    );
+    let projected = frontend::project(ls).map_err(|e| TbError::Scene(e.to_string()))?;
+    let src = SpanSource::new(&projected.tris, w, h).map_err(|e| TbError::Scene(e.to_string()))?;
+    let mut rows: Vec<Vec<Command>> = (0..h)
+        .map(|j| {
+            src.row_spans(j)
+                .iter()
+                .copied()
+                .map(Command::Span)
+                .collect()
+        })
+        .collect();
+    if !effects.shadow_lights.is_empty() {
+        let lights = shadow::shadow_lights(ls, &effects.shadow_lights)
+            .map_err(|e| TbError::Scene(e.to_string()))?;
+        let pj = Projector::new(ls);
+        for l in &lights {
+            let sc = shadow::shadow_commands(ls, &pj, std::slice::from_ref(l), effects.shadow_form)
+                .map_err(|e| TbError::Scene(e.to_string()))?;
+            for (dst, add) in rows.iter_mut().zip(sc.rows) {
+                dst.extend(add);
+            }
+        }
+    }
+    Ok((rows, bg))
+}
 
 /// The command stream of a frame: per scanline, the commands after its `ClearLine`
 /// (span words in scene order, then any shadow commands), plus the background.
@@ -175,15 +224,24 @@ pub fn random_word(rng: &mut Rng, max_x: u16) -> SpanWord {
     w
 }
 
-/// A random command: mostly spans, with every other command mixed in.
+/// A random command: mostly spans, with every other command mixed in (LATCH_SHADOW
+/// with every bit index, CHECK over random and empty ranges).
 pub fn random_command(rng: &mut Rng, max_x: u16) -> Command {
-    match rng.range(0, 15) {
+    match rng.range(0, 17) {
         0 => Command::ClearLine {
             bg: (rng.next_u64() & 0xff_ffff) as u32,
         },
         1 => Command::ClearFlags,
         2 => Command::AccumulateShadow,
         3 => Command::Nop,
+        4 => Command::LatchShadow {
+            bit: rng.range(0, 7) as u8,
+        },
+        5 => {
+            let xl = rng.range(0, max_x as i64) as u16;
+            let xr = rng.range(xl as i64 - 2, max_x as i64).max(0) as u16;
+            Command::Check { xl, xr }
+        }
         _ => Command::Span(random_word(rng, max_x)),
     }
 }
@@ -201,6 +259,7 @@ pub fn corner_cases(n: u16) -> Vec<Command> {
             il: [il, il, il],
             di: [di, -di - 1, 0],
             decal,
+            nclass: (xl as u8) ^ 0xa5,
             ..Default::default()
         })
     };
@@ -233,6 +292,17 @@ pub fn corner_cases(n: u16) -> Vec<Command> {
         Command::AccumulateShadow,
         sh(Attr::If, 4, 3, 0, 0),
         sh(Attr::Ev, 0, last, (1 << 36) - 1, 0),
+        Command::LatchShadow { bit: 0 },
+        Command::LatchShadow { bit: 7 },
+        Command::ClearFlags,
+        sh(Attr::Sp, 2, 6, 0, 0),
+        Command::Check { xl: 3, xr: 4 },
+        Command::Check { xl: 6, xr: 5 }, // empty check range
+        Command::LatchShadow { bit: 3 },
+        sh(Attr::Sp, 0, last, 0, 0),
+        Command::Check { xl: 0, xr: 4095 },
+        Command::LatchShadow { bit: 5 },
+        op(1, 2, 1, 0, 0, 0, false), // nclass replaced where nearer
     ];
     for _ in 0..260 {
         v.push(Command::AccumulateShadow); // saturates at 255

@@ -65,3 +65,149 @@ fn quick_check_is_bit_exact() {
     assert!(s.bit_exact, "{}", s.detail);
     assert!(s.span_words > 0 && s.cycles > 0);
 }
+
+// ---- Real scenes: the golden pipeline's span-word streams.
+
+use pixelproc_sim::pixel_array::{PixelArray, ProcState};
+use pixelproc_sim::plan::{Effects, Overrides};
+use pixelproc_sim::scene::{load_builtin, load_with, parse, LoadedScene, MeshSource};
+use pixelproc_testbench::scene_stream;
+
+/// The default scene (3-D, one shadowing light) at `w × h` (same camera and aspect).
+fn default_scene(w: u32, h: u32) -> (LoadedScene, Effects) {
+    let mut ls = load_builtin("default").unwrap();
+    ls.scene.width = w;
+    ls.scene.height = h;
+    let fx = Effects::resolve(&ls, &Overrides::default()).unwrap();
+    (ls, fx)
+}
+
+/// Per-pixel golden state of a stream fed to an `n`-wide array tile by tile, every
+/// command to every tile (the testbench's feeding).
+fn golden_frame(rows: &[Vec<Command>], bg: u32, width: u32, n: usize) -> Vec<ProcState> {
+    let mut px = Vec::new();
+    let mut a = PixelArray::new(n, 0);
+    for r in rows {
+        let mut base = 0;
+        while base < width {
+            a.set_base(base);
+            a.run_line(bg, r);
+            let k = ((width - base) as usize).min(n);
+            px.extend_from_slice(&a.state()[..k]);
+            base += n as u32;
+        }
+    }
+    px
+}
+
+#[test]
+fn default_scene_stream_is_the_pipelines() {
+    // The stream must reproduce what `pipeline::render` computes (it feeds each tile only
+    // the commands touching it, with a 64-wide array): depth, normal class, light mask.
+    let (ls, fx) = default_scene(64, 36);
+    assert!(
+        !fx.shadow_lights.is_empty(),
+        "the default scene has shadows"
+    );
+    let (rows, bg) = scene_stream(&ls, &fx).unwrap();
+    let out = pixelproc_sim::pipeline::render(&ls, &fx).unwrap();
+    let frame = out.frame.unwrap();
+    let ours = golden_frame(&rows, bg, 64, 16);
+    assert_eq!(ours.len(), frame.px.len());
+    for (i, (a, b)) in ours.iter().zip(&frame.px).enumerate() {
+        assert_eq!(
+            (a.zb, a.nclass, a.mask, a.count),
+            (b.zb, b.nclass, b.mask, b.count),
+            "pixel {i}"
+        );
+    }
+    let shadowed = ours.iter().filter(|s| s.mask != 0).count();
+    let lit = ours
+        .iter()
+        .filter(|s| s.mask == 0 && s.zb != 0xff_ffff)
+        .count();
+    assert!(shadowed > 20 && lit > 200, "shadowed {shadowed}, lit {lit}");
+}
+
+#[test]
+fn default_scene_all_rows_reduced_resolution_n16() {
+    // Every scanline of the 3-D default scene with its shadow commands, at 64 × 36
+    // (four tiles per row on a 16-processor array), every register compared every clock.
+    let (ls, fx) = default_scene(64, 36);
+    let (rows, bg) = scene_stream(&ls, &fx).unwrap();
+    let cmds = rows.iter().flatten();
+    let latch = cmds
+        .clone()
+        .filter(|c| matches!(c, Command::LatchShadow { .. }))
+        .count();
+    let shadow_spans = cmds
+        .clone()
+        .filter(|c| matches!(c, Command::Span(w) if w.attr != pixelproc_formats::Attr::Op))
+        .count();
+    assert!(
+        latch == 36 && shadow_spans > 36,
+        "latch {latch}, shadow spans {shadow_spans}"
+    );
+    let s = LineStream {
+        width: 64,
+        bg,
+        lines: rows,
+    };
+    let c = compare_stream(&s, 16, true, None).unwrap();
+    assert_exact(&c);
+    assert!(c.span_words > 1000, "span words {}", c.span_words);
+}
+
+#[test]
+fn default_scene_full_resolution_rows_n64() {
+    // The three busiest scanlines of the 640 × 360 default scene, ten tiles each on a
+    // 64-processor array.
+    let (ls, fx) = default_scene(640, 360);
+    let (rows, bg) = scene_stream(&ls, &fx).unwrap();
+    // The three busiest rows.
+    let mut order: Vec<usize> = (0..rows.len()).collect();
+    order.sort_by_key(|&j| std::cmp::Reverse(rows[j].len()));
+    let pick: Vec<Vec<Command>> = order[..3].iter().map(|&j| rows[j].clone()).collect();
+    assert!(pick.iter().all(|r| r.len() > 10));
+    let s = LineStream {
+        width: 640,
+        bg,
+        lines: pick,
+    };
+    let c = compare_stream(&s, 64, true, None).unwrap();
+    assert_exact(&c);
+}
+
+#[test]
+fn screen_space_scene_with_decal_and_gouraud_n16() {
+    let json = r#"{
+      "width": 40, "height": 12, "background": [0.1, 0.2, 0.3],
+      "triangles": [
+        {"v": [[-3, -2, 0.5], [30, 1, 0.2], [6, 14, 0.9]], "color": [0.9, 0.2, 0.1]},
+        {"v": [[10, 0, 0.1], [43, 5, 0.8], [22, 13, 0.4]], "color": [0, 0, 0], "colors": [[1,0,0],[0,1,0],[0,0,1]]},
+        {"v": [[12, 3, 0], [20, 3, 0], [16, 9, 0]], "color": [1, 1, 1], "pattern_on": 1},
+        {"v": [[0, 6, 0.3], [40, 6, 0.3], [0, 12, 0.3]], "color": [0.5, 0.5, 0.5]}
+      ]
+    }"#;
+    let scene = parse(json, "screen").unwrap();
+    let ls = load_with(scene, &MeshSource::Embedded(Default::default()), "screen").unwrap();
+    assert!(!ls.is_3d());
+    let fx = Effects::resolve(&ls, &Overrides::default()).unwrap();
+    assert!(fx.shadow_lights.is_empty());
+    let (rows, bg) = scene_stream(&ls, &fx).unwrap();
+    let decals = rows
+        .iter()
+        .flatten()
+        .filter(|c| matches!(c, Command::Span(w) if w.decal))
+        .count();
+    assert!(decals > 0, "the pattern gives decal spans");
+    let s = LineStream {
+        width: 40,
+        bg,
+        lines: rows,
+    };
+    for shadows in [false, true] {
+        let c = compare_stream(&s, 16, shadows, None).unwrap();
+        assert_exact(&c);
+    }
+}
