@@ -9,6 +9,7 @@ use pixelproc_sim::pipeline::{render, AaReport, Image, RenderOutput};
 use pixelproc_sim::plan::{AaMethod, AaSpec, Aov, Effects, Overrides, AA_NAMES};
 use pixelproc_sim::scene::{self, LoadedScene};
 use pixelproc_sim::shadow::ShadowForm;
+use pixelproc_testbench::SimKind;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -43,6 +44,9 @@ enum Cmd {
     Bench(BenchArgs),
     /// Write the Verilog of the blocks a scene's effects call for (and every block).
     Verilog(VerilogArgs),
+    /// Run a scene's span-word stream through the RTL and the golden model, clock by
+    /// clock, and report whether they agree bit for bit.
+    Testbench(TestbenchArgs),
     /// Measure every anti-aliasing method and setting: error against the exact
     /// reference, time, cost; writes CSV, Markdown, a chart and heat maps.
     Tradeoff(TradeoffArgs),
@@ -61,6 +65,25 @@ struct VerilogArgs {
         default_value = "pixelproc-out/verilog"
     )]
     output: PathBuf,
+    #[command(flatten)]
+    fx: EffectArgs,
+}
+
+#[derive(Args)]
+struct TestbenchArgs {
+    /// Scene whose span-word stream (and shadow commands) drives the RTL.
+    #[arg(default_value = "@default")]
+    scene: String,
+    /// Simulator: the built-in RustHDL model (every register compared every clock), or the
+    /// exported Verilog in Icarus Verilog or Verilator (every output compared every clock).
+    #[arg(long, default_value = "rusthdl", value_parser = ["rusthdl", "icarus", "verilator"])]
+    sim: String,
+    /// Only the scanlines FIRST..LAST (inclusive), e.g. 100..120.
+    #[arg(long, value_name = "FIRST..LAST")]
+    rows: Option<String>,
+    /// Folder for vector files, simulator builds and the VCD of a mismatch.
+    #[arg(long, value_name = "DIR", default_value = "pixelproc-out/testbench")]
+    work: PathBuf,
     #[command(flatten)]
     fx: EffectArgs,
 }
@@ -424,6 +447,111 @@ fn top_config(fx: &Effects) -> TopConfig {
     }
 }
 
+fn parse_rows(spec: &str, height: u32) -> Result<std::ops::RangeInclusive<u32>> {
+    let (a, b) = spec
+        .split_once("..")
+        .context("--rows takes FIRST..LAST, e.g. 100..120")?;
+    let (a, b): (u32, u32) = (a.trim().parse()?, b.trim().parse()?);
+    if a > b || b >= height {
+        bail!("--rows {spec}: need FIRST <= LAST < {height}");
+    }
+    Ok(a..=b)
+}
+
+/// Runs the scene's stream on the RTL; prints the summary. Returns bit-exactness.
+fn run_testbench(
+    ls: &LoadedScene,
+    fx: &Effects,
+    sim: SimKind,
+    rows: Option<&str>,
+    work: &Path,
+) -> Result<bool> {
+    let (mut lines, bg) = pixelproc_testbench::scene_stream(ls, fx)?;
+    let mut first = 0;
+    if let Some(r) = rows {
+        let r = parse_rows(r, ls.scene.height)?;
+        first = *r.start();
+        lines = lines
+            .drain(*r.start() as usize..=*r.end() as usize)
+            .collect();
+    }
+    let top = top_config(fx);
+    let n_lines = lines.len();
+    let s = pixelproc_testbench::testbench(
+        lines,
+        bg,
+        ls.scene.width,
+        top.width,
+        top.shadows,
+        sim,
+        work,
+    )?;
+    if s.detail.starts_with("SKIPPED") {
+        say!("{}", s.detail);
+        return Ok(true);
+    }
+    say!(
+        "testbench {} on {:?}: rows {}..{} ({} scanlines), array of {} processors {} shadow logic",
+        ls.name,
+        sim,
+        first,
+        first as usize + n_lines.saturating_sub(1),
+        n_lines,
+        top.width,
+        if top.shadows { "with" } else { "without" }
+    );
+    say!(
+        "  bit-exact: {}  ({} span words, {} cycles compared, {:.2} s, {:.0} cycles/s)",
+        if s.bit_exact { "yes" } else { "NO" },
+        s.span_words,
+        s.cycles,
+        s.seconds,
+        s.cycles as f64 / s.seconds.max(1e-9)
+    );
+    if !s.bit_exact {
+        say!("{}", s.detail);
+    }
+    Ok(s.bit_exact)
+}
+
+fn cmd_testbench(a: &TestbenchArgs) -> Result<bool> {
+    let ls = load(&a.scene)?;
+    let fx = Effects::resolve(&ls, &overrides(&a.fx, &[])?)?;
+    let sim = match a.sim.as_str() {
+        "icarus" => SimKind::Icarus,
+        "verilator" => SimKind::Verilator,
+        _ => SimKind::RustHdl,
+    };
+    run_testbench(&ls, &fx, sim, a.rows.as_deref(), &a.work)
+}
+
+/// The no-argument run: render the embedded scene, check a few of its scanlines on the
+/// RTL in the built-in RustHDL simulator, and export its Verilog.
+fn cmd_default() -> Result<()> {
+    cmd_render(&RenderArgs {
+        scene: "@default".into(),
+        output: None,
+        aov: vec![],
+        fx: EffectArgs::none(),
+    })?;
+    let ls = load("@default")?;
+    let fx = Effects::resolve(&ls, &Overrides::default())?;
+    if !run_testbench(
+        &ls,
+        &fx,
+        SimKind::RustHdl,
+        Some("176..179"),
+        Path::new("pixelproc-out/testbench"),
+    )? {
+        bail!("the RTL and the golden model disagree on the embedded scene");
+    }
+    cmd_verilog(&VerilogArgs {
+        scene: "@default".into(),
+        output: PathBuf::from("pixelproc-out/verilog"),
+        fx: EffectArgs::none(),
+    })
+}
+
 fn cmd_verilog(a: &VerilogArgs) -> Result<()> {
     let ls = load(&a.scene)?;
     let fx = Effects::resolve(&ls, &overrides(&a.fx, &[])?)?;
@@ -478,15 +606,17 @@ fn cmd_tradeoff(a: &TradeoffArgs) -> Result<()> {
 fn main() {
     let cli = Cli::parse();
     let res = match &cli.cmd {
-        None => cmd_render(&RenderArgs {
-            scene: "@default".into(),
-            output: None,
-            aov: vec![],
-            fx: EffectArgs::none(),
-        }),
+        None => cmd_default(),
         Some(Cmd::Render(a)) => cmd_render(a),
         Some(Cmd::Bench(a)) => cmd_bench(a),
         Some(Cmd::Verilog(a)) => cmd_verilog(a),
+        Some(Cmd::Testbench(a)) => cmd_testbench(a).and_then(|ok| {
+            if ok {
+                Ok(())
+            } else {
+                bail!("the RTL and the golden model disagree")
+            }
+        }),
         Some(Cmd::Tradeoff(a)) => cmd_tradeoff(a),
     };
     if let Err(e) = res {
