@@ -1262,3 +1262,98 @@ pub fn write_mask_search_verilog(dir: &Path) -> Result<Vec<PathBuf>, MaskSearchE
     }
     Ok(out)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn clock<B: Block>(u: &mut B, rise: impl Fn(&mut B)) {
+        rise(u);
+        assert!(simulate(u, 200));
+    }
+
+    fn cycle_iter(u: &mut MaskSearchIter<16>, start: Option<(u64, u8, [i64; 3])>) {
+        u.in_valid.next = start.is_some();
+        if let Some((m, c, p)) = start {
+            u.in_mask.next = m.to_bits();
+            u.in_corner.next = (c as u64).to_bits();
+            u.in_zc.next = (p[0] as u64 & ((1 << 48) - 1)).to_bits();
+            u.in_sx.next = (p[1] as u64 & ((1 << 48) - 1)).to_bits();
+            u.in_sy.next = (p[2] as u64 & ((1 << 48) - 1)).to_bits();
+        }
+        clock(u, |u| u.clock.next = Clock { clk: true });
+        clock(u, |u| u.clock.next = Clock { clk: false });
+    }
+
+    fn z(v: Bits<Z_BITS>) -> i64 {
+        ((v.to_u64() << 11) as i64) >> 11
+    }
+
+    #[test]
+    fn seed_worked_example_through_the_iterative_unit() {
+        // Seed 000, 4×4: a mask whose anti-diagonal c + r = 2 is covered and lines 0 and 1
+        // are empty, searched from the top-left: lines 0 (bit 3) and 1 (bits 7, 2) give 0,
+        // line 2 gives 0842H, whose ends are (−0.375, +0.125) and (+0.125, −0.375), i.e.
+        // (−3, +1) and (+1, −3) in 1/8 px. Plane z = 1000 + 3·dx − 5·dy (Q.12): depths
+        // 1000 − 9 − 5 = 986 and 1000 + 3 + 15 = 1018.
+        let mut u = MaskSearchIter::<16>::new(MaskSize::S4X4, SearchFamily::DIAGONAL).unwrap();
+        u.connect_all();
+        u.rst.next = true;
+        cycle_iter(&mut u, None);
+        u.rst.next = false;
+        assert!(u.ready.val() && !u.active.val());
+        let plane = [1000 << 12, 3 << 12, -5 << 12];
+        cycle_iter(&mut u, Some((0xFF73, 0, plane)));
+        let mut seen = Vec::new();
+        for _ in 0..3 {
+            seen.push((
+                u.line.val().to_u64(),
+                u.search_mask.val().to_u64(),
+                u.and_result.val().to_u64(),
+                u.zero.val(),
+                u.done.val(),
+            ));
+            cycle_iter(&mut u, None);
+        }
+        assert_eq!(
+            seen,
+            vec![
+                (0, 0x0008, 0, true, false),
+                (1, 0x0084, 0, true, false),
+                (2, 0x0842, 0x0842, false, true)
+            ]
+        );
+        assert!(!u.active.val() && u.ready.val());
+        // The result shows BACK_LATENCY clocks after the done clock.
+        for _ in 0..BACK_LATENCY - 1 {
+            assert!(!u.out_valid.val());
+            cycle_iter(&mut u, None);
+        }
+        assert!(u.out_valid.val() && u.out_hit.val());
+        let f = |d: i32| (d as u64) & 0xF;
+        let want = f(-3) | f(1) << 4 | f(1) << 8 | f(-3) << 12 | 1 << 16;
+        assert_eq!(u.out_rom.val().to_u64(), want);
+        assert_eq!(u.out_steps.val().to_u64(), 3);
+        assert_eq!(
+            [&u.out_z1, &u.out_z2, &u.out_zmin, &u.out_zmax].map(|s| z(s.val())),
+            [986 << 12, 1018 << 12, 986 << 12, 1018 << 12]
+        );
+        cycle_iter(&mut u, None);
+        assert!(!u.out_valid.val());
+    }
+
+    #[test]
+    fn sizes_are_checked() {
+        assert!(matches!(
+            MaskSearchIter::<16>::new(MaskSize::S8X8, SearchFamily::DIAGONAL),
+            Err(MaskSearchError::Width { .. })
+        ));
+        assert!(matches!(
+            MaskSearchPipe::<64>::new(MaskSize::S8X8, SearchFamily { p: 3, q: 3 }),
+            Err(MaskSearchError::TooManyLines { .. })
+        ));
+        let p = MaskSearchPipe::<64>::new(MaskSize::S8X8, SearchFamily::DIAGONAL).unwrap();
+        assert_eq!(p.latency(), 15 + 6);
+        assert!(mask_search_verilog(Variant::Pipelined, MaskSize::new(4, 2).unwrap()).is_err());
+    }
+}

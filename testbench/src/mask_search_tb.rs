@@ -203,11 +203,21 @@ pub fn scene_jobs(name: &str, size: MaskSize) -> Result<Vec<SearchJob>, TbError>
             setups.push(s);
         }
     }
+    // Triangles per row (clamped to the screen).
+    let mut rows: Vec<Vec<usize>> = vec![Vec::new(); h as usize];
+    for (k, s) in setups.iter().enumerate() {
+        let lo = s.edges.row_min.max(0);
+        let hi = s.edges.row_max.min(h as i64 - 1);
+        for j in lo..=hi {
+            rows[j as usize].push(k);
+        }
+    }
     let mut jobs = Vec::new();
     let mut entries: Vec<(i64, usize, u64)> = Vec::new();
     for j in 0..h as i64 {
         entries.clear();
-        for (k, s) in setups.iter().enumerate() {
+        for &k in &rows[j as usize] {
+            let s = &setups[k];
             let Some(rc) = s.edges.row_coverage(j, w) else {
                 continue;
             };
@@ -673,9 +683,18 @@ fn summary(variant: Variant, size: MaskSize, sim: SimKind, jobs: usize) -> Summa
     }
 }
 
-/// The schedule of `variant` for `jobs`.
+/// The schedule of `variant` for `jobs` (seed diagonal family).
 pub fn schedule(variant: Variant, size: MaskSize, jobs: &[SearchJob]) -> Schedule {
-    let tables = SearchTables::new(size, SearchFamily::DIAGONAL);
+    schedule_with(variant, size, jobs, SearchFamily::DIAGONAL)
+}
+
+fn schedule_with(
+    variant: Variant,
+    size: MaskSize,
+    jobs: &[SearchJob],
+    family: SearchFamily,
+) -> Schedule {
+    let tables = SearchTables::new(size, family);
     match variant {
         Variant::Iterative => schedule_iter(&tables, jobs),
         Variant::Pipelined => {
@@ -802,16 +821,7 @@ fn check_chunk(
     golden_family: SearchFamily,
     work_dir: Option<&Path>,
 ) -> Result<Summary, TbError> {
-    let tables = SearchTables::new(size, golden_family);
-    let sched = match variant {
-        Variant::Iterative => schedule_iter(&tables, jobs),
-        Variant::Pipelined => schedule_pipe(
-            &tables,
-            jobs,
-            SearchFamily::DIAGONAL.lines(size) as usize + BACK_LATENCY,
-            97,
-        ),
-    };
+    let sched = schedule_with(variant, size, jobs, golden_family);
     let (run, vcd) = match size.bits() {
         16 => check_rusthdl::<16>(variant, size, jobs, &sched, work_dir, golden_family)?,
         64 => check_rusthdl::<64>(variant, size, jobs, &sched, work_dir, golden_family)?,
@@ -1053,6 +1063,19 @@ pub fn check_external(
     sim: SimKind,
     dir: &Path,
 ) -> Result<Summary, TbError> {
+    check_external_against(variant, size, jobs, sim, dir, SearchFamily::DIAGONAL)
+}
+
+/// As [`check_external`], with the expected vectors from the golden model of
+/// `golden_family` (a family other than the diagonal must be reported as a mismatch).
+pub fn check_external_against(
+    variant: Variant,
+    size: MaskSize,
+    jobs: &[SearchJob],
+    sim: SimKind,
+    dir: &Path,
+    golden_family: SearchFamily,
+) -> Result<Summary, TbError> {
     let mut s = summary(variant, size, sim, jobs.len());
     let tool = match sim {
         SimKind::Icarus => "iverilog",
@@ -1073,7 +1096,7 @@ pub fn check_external(
         mask_search_verilog(variant, size).map_err(|e| TbError::Sim(e.to_string()))?;
     let vfile = dir.join(format!("{name}.v"));
     std::fs::write(&vfile, text)?;
-    let sched = schedule(variant, size, jobs);
+    let sched = schedule_with(variant, size, jobs, golden_family);
     let b = size.bits() as usize;
     let cycles = write_vectors(&dir, variant, b, &sched)?;
     std::fs::write(
