@@ -459,6 +459,8 @@ pub struct SearchBackEnd<const B: usize> {
 impl<const B: usize> SearchBackEnd<B> {
     /// The back end for `size` (`size.bits() == B`).
     pub fn new(size: MaskSize) -> Self {
+        // The kernel reads the last registers by literal index.
+        const _: () = assert!(ROM_LATENCY == 2 && DEPTH_LATENCY == 4 && BACK_LATENCY == 6);
         SearchBackEnd {
             clock: Default::default(),
             rst: Default::default(),
@@ -544,29 +546,18 @@ impl<const B: usize> Logic for SearchBackEnd<B> {
         }
         self.rom.and_in.next = self.i_and.val();
         self.depth.word.next = self.rom.word.val();
-        // The last plane register feeds the depth calculator (loop: last write wins).
-        self.depth.zc.next = self.k_zero_p.val();
-        self.depth.sx.next = self.k_zero_p.val();
-        self.depth.sy.next = self.k_zero_p.val();
-        for i in 0..self.zc_d.len() {
-            self.depth.zc.next = self.zc_d[i].q.val();
-            self.depth.sx.next = self.sx_d[i].q.val();
-            self.depth.sy.next = self.sy_d[i].q.val();
-        }
-        self.out_valid.next = false;
-        self.out_hit.next = false;
-        self.out_steps.next = self.k_zero_l.val();
-        self.out_and.next = self.k_zero_b.val();
-        for i in 0..self.valid_d.len() {
-            self.out_valid.next = self.valid_d[i].q.val();
-            self.out_hit.next = self.hit_d[i].q.val();
-            self.out_steps.next = self.steps_d[i].q.val();
-            self.out_and.next = self.and_d[i].q.val();
-        }
-        self.out_rom.next = self.k_zero_w.val();
-        for i in 0..self.word_d.len() {
-            self.out_rom.next = self.word_d[i].q.val();
-        }
+        // Every signal crossing a module boundary is written exactly once per evaluation
+        // (no default-then-override): an intermediate value on a port that feeds back
+        // into the writer's inputs makes event-driven simulators (Icarus) loop at zero
+        // delay. Hence literal indices of the last registers (checked in `new`).
+        self.depth.zc.next = self.zc_d[1].q.val();
+        self.depth.sx.next = self.sx_d[1].q.val();
+        self.depth.sy.next = self.sy_d[1].q.val();
+        self.out_valid.next = self.valid_d[5].q.val();
+        self.out_hit.next = self.hit_d[5].q.val();
+        self.out_steps.next = self.steps_d[5].q.val();
+        self.out_and.next = self.and_d[5].q.val();
+        self.out_rom.next = self.word_d[3].q.val();
         self.out_z1.next = self.depth.z1.val();
         self.out_z2.next = self.depth.z2.val();
         self.out_zmin.next = self.depth.zmin.val();
@@ -841,10 +832,8 @@ impl<const B: usize> Logic for MaskSearchIter<B> {
         self.back.i_valid.next = self.done.val();
         self.back.i_hit.next = self.hit.val();
         self.back.i_steps.next = self.line_r.q.val() + self.k_one_l.val();
-        self.back.i_and.next = self.k_zero_b.val();
-        if self.hit.val() {
-            self.back.i_and.next = self.and_v.val();
-        }
+        // and_v is 0 unless this line hits (and the back end only keeps it with done).
+        self.back.i_and.next = self.and_v.val();
         self.back.i_zc.next = self.zc_r.q.val();
         self.back.i_sx.next = self.sx_r.q.val();
         self.back.i_sy.next = self.sy_r.q.val();
@@ -1122,6 +1111,14 @@ pub struct MaskSearchPipe<const B: usize> {
     pub back: SearchBackEnd<B>,
     k_zero_b: Constant<Bits<B>>,
     k_zero_l: Constant<Bits<LINE_BITS>>,
+    k_zero_p: Constant<Bits<PB>>,
+    l_valid: Signal<Local, Bit>,
+    l_hit: Signal<Local, Bit>,
+    l_steps: Signal<Local, Bits<LINE_BITS>>,
+    l_and: Signal<Local, Bits<B>>,
+    l_zc: Signal<Local, Bits<PB>>,
+    l_sx: Signal<Local, Bits<PB>>,
+    l_sy: Signal<Local, Bits<PB>>,
 }
 
 impl<const B: usize> MaskSearchPipe<B> {
@@ -1154,6 +1151,14 @@ impl<const B: usize> MaskSearchPipe<B> {
             back: SearchBackEnd::new(size),
             k_zero_b: Constant::new(0u64.to_bits()),
             k_zero_l: Constant::new(0u64.to_bits()),
+            k_zero_p: Constant::new(0u64.to_bits()),
+            l_valid: Default::default(),
+            l_hit: Default::default(),
+            l_steps: Default::default(),
+            l_and: Default::default(),
+            l_zc: Default::default(),
+            l_sx: Default::default(),
+            l_sy: Default::default(),
         })
     }
 
@@ -1192,16 +1197,31 @@ impl<const B: usize> Logic for MaskSearchPipe<B> {
             self.stages[i].i_sx.next = self.stages[i - 1].o_sx.val();
             self.stages[i].i_sy.next = self.stages[i - 1].o_sy.val();
         }
-        // The last stage feeds the back end (loop: last write wins).
+        // The last stage feeds the back end (loop over locals: last write wins; each
+        // back-end port is then written once, see `SearchBackEnd`).
+        self.l_valid.next = false;
+        self.l_hit.next = false;
+        self.l_steps.next = self.k_zero_l.val();
+        self.l_and.next = self.k_zero_b.val();
+        self.l_zc.next = self.k_zero_p.val();
+        self.l_sx.next = self.k_zero_p.val();
+        self.l_sy.next = self.k_zero_p.val();
         for i in 0..self.stages.len() {
-            self.back.i_valid.next = self.stages[i].o_valid.val();
-            self.back.i_hit.next = self.stages[i].o_found.val();
-            self.back.i_steps.next = self.stages[i].o_steps.val();
-            self.back.i_and.next = self.stages[i].o_and.val();
-            self.back.i_zc.next = self.stages[i].o_zc.val();
-            self.back.i_sx.next = self.stages[i].o_sx.val();
-            self.back.i_sy.next = self.stages[i].o_sy.val();
+            self.l_valid.next = self.stages[i].o_valid.val();
+            self.l_hit.next = self.stages[i].o_found.val();
+            self.l_steps.next = self.stages[i].o_steps.val();
+            self.l_and.next = self.stages[i].o_and.val();
+            self.l_zc.next = self.stages[i].o_zc.val();
+            self.l_sx.next = self.stages[i].o_sx.val();
+            self.l_sy.next = self.stages[i].o_sy.val();
         }
+        self.back.i_valid.next = self.l_valid.val();
+        self.back.i_hit.next = self.l_hit.val();
+        self.back.i_steps.next = self.l_steps.val();
+        self.back.i_and.next = self.l_and.val();
+        self.back.i_zc.next = self.l_zc.val();
+        self.back.i_sx.next = self.l_sx.val();
+        self.back.i_sy.next = self.l_sy.val();
         self.out_valid.next = self.back.out_valid.val();
         self.out_hit.next = self.back.out_hit.val();
         self.out_steps.next = self.back.out_steps.val();
