@@ -527,7 +527,7 @@ fn no_steps<const B: usize>(_: &MaskSearchPipe<B>, _: &mut OutVec) {}
 impl_dut!(MaskSearchIter, read_iter_steps);
 impl_dut!(MaskSearchPipe, no_steps);
 
-/// Compares observed with expected outputs: `None` if equal where compared.
+/// True if observed and expected outputs differ where they are compared.
 fn differs(variant: Variant, exp: &OutVec, got: &OutVec) -> bool {
     if variant == Variant::Iterative && (exp.ready != got.ready || exp.step != got.step) {
         return true;
@@ -568,8 +568,6 @@ fn run_rusthdl<D: Dut>(
     uut: &mut D,
     variant: Variant,
     sched: &Schedule,
-    jobs: &[SearchJob],
-    tables: &SearchTables,
     stage_check: &dyn Fn(&D, usize, &Schedule) -> Option<String>,
 ) -> Result<RunOut, TbError> {
     uut.connect_all();
@@ -602,7 +600,6 @@ fn run_rusthdl<D: Dut>(
             });
         }
     }
-    let _ = (jobs, tables);
     Ok(RunOut {
         cycles: sched.inputs.len() as u64,
         seconds: t0.elapsed().as_secs_f64(),
@@ -719,7 +716,7 @@ fn check_rusthdl<const B: usize>(
     let (run, vcd) = match variant {
         Variant::Iterative => {
             let mut u = MaskSearchIter::<B>::new(size, fam).map_err(err)?;
-            let r = run_rusthdl(&mut u, variant, sched, jobs, &tables, &|_, _, _| None)?;
+            let r = run_rusthdl(&mut u, variant, sched, &|_, _, _| None)?;
             let vcd = dump(&r, work_dir, sched, || {
                 MaskSearchIter::<B>::new(size, fam).map_err(err)
             })?;
@@ -728,7 +725,7 @@ fn check_rusthdl<const B: usize>(
         Variant::Pipelined => {
             let mut u = MaskSearchPipe::<B>::new(size, fam).map_err(err)?;
             let chk = pipe_stage_check::<B>(&tables, jobs);
-            let r = run_rusthdl(&mut u, variant, sched, jobs, &tables, &chk)?;
+            let r = run_rusthdl(&mut u, variant, sched, &chk)?;
             let vcd = dump(&r, work_dir, sched, || {
                 MaskSearchPipe::<B>::new(size, fam).map_err(err)
             })?;
@@ -853,7 +850,7 @@ struct Packer {
 impl Packer {
     fn push(&mut self, v: u64, w: usize) {
         for i in 0..w {
-            if self.n % 64 == 0 {
+            if self.n.is_multiple_of(64) {
                 self.limbs.push(0);
             }
             if (v >> i) & 1 == 1 {
