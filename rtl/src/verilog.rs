@@ -5,6 +5,7 @@
 //! the block's own name, so each file is self-contained (its block and all sub-modules)
 //! and files from different blocks can be loaded together without clashes.
 
+pub use crate::mask_search::{mask_search_verilog, write_mask_search_verilog};
 use crate::pixel_array::PixelProcessorArray;
 use crate::pixel_processor::PixelProcessor;
 use crate::span_parity::SpanParity;

@@ -7,6 +7,7 @@
 
 pub mod compare;
 pub mod external;
+pub mod mask_search_tb;
 pub mod stimulus;
 
 pub use stimulus::scene_stream;

@@ -1,0 +1,215 @@
+//! The offset ROM of the A-buffer mask search unit (seed 000, JP2569952B2, Fig. 6 blocks 7
+//! "offset reader" and 8 "offset table ROM"; Tables 1 and 2).
+//!
+//! The seed addresses the table with the raw AND result (`2^(n·m)` words). The golden model
+//! (`pixelproc_formats::abuffer`, "Offset ROM (compacted)") compacts it: a first-hit AND
+//! result is a non-empty subset of one search line, whose two *end* subpixels are those of
+//! its most and least significant set bits. The hardware therefore is
+//!
+//! 1. two priority selectors that isolate the most and the least significant set bit as
+//!    one-hot vectors (`msb = x & !(bits above)`, `lsb = x & !(bits below)`, the "above" and
+//!    "below" vectors built by a logarithmic shift-OR smear, no carry chain);
+//! 2. the `n·m`-entry table of 8-bit [`SubOffset`] words, read at both one-hot addresses as
+//!    an AND-OR per output bit (bit `b` of the word is set iff the selected entry has bit
+//!    `b`: one constant column mask per bit);
+//! 3. `pair = (msb ≠ lsb)`.
+//!
+//! The output is the golden [`RomWord`] packing, 17 bits: `[7:0]` end 1 (most significant
+//! set bit), `[15:8]` end 2 (least significant), `[16]` pair. An all-zero input reads 0
+//! (both ends (0, 0), no pair); the search unit only uses the ROM after a hit.
+//!
+//! Timing: two register stages. `and_in` is sampled at rising edge `E` into the one-hot
+//! registers; the word register is loaded at `E + 1` and shows on `word` after it
+//! ([`ROM_LATENCY`] = 2). `rst` (synchronous) clears both stages.
+//!
+//! [`SubOffset`]: pixelproc_formats::abuffer::SubOffset
+//! [`RomWord`]: pixelproc_formats::abuffer::RomWord
+
+use pixelproc_formats::abuffer::{offset_rom_table, MaskSize, ROM_WORD_BITS};
+use rust_hdl::prelude::*;
+
+/// Clocks from `and_in` to `word`.
+pub const ROM_LATENCY: usize = 2;
+
+/// Width of the ROM word (the golden `RomWord`).
+pub const WORD_BITS: usize = ROM_WORD_BITS as usize;
+
+/// The compacted offset ROM for masks of `B = n·m` bits.
+#[derive(LogicBlock)]
+pub struct OffsetRom<const B: usize> {
+    /// Clock.
+    pub clock: Signal<In, Clock>,
+    /// Synchronous reset.
+    pub rst: Signal<In, Bit>,
+    /// The AND result (first hit) addressing the ROM.
+    pub and_in: Signal<In, Bits<B>>,
+    /// The ROM word, [`ROM_LATENCY`] clocks after `and_in`.
+    pub word: Signal<Out, Bits<WORD_BITS>>,
+    hi_r: DFF<Bits<B>>,
+    lo_r: DFF<Bits<B>>,
+    word_r: DFF<Bits<WORD_BITS>>,
+    /// Column masks: entry `b` holds the bit indices whose ROM word has bit `b` set.
+    k_col: Vec<Constant<Bits<B>>>,
+    /// Shift distances of the smear: 1, 2, 4, ... below `B`.
+    k_sh: Vec<Constant<Bits<8>>>,
+    /// One-hot word bits `1 << i`, `i = 0..8`.
+    k_bit1: Vec<Constant<Bits<WORD_BITS>>>,
+    /// One-hot word bits `1 << (i + 8)`, `i = 0..8`.
+    k_bit2: Vec<Constant<Bits<WORD_BITS>>>,
+    k_pair: Constant<Bits<WORD_BITS>>,
+    k_one: Constant<Bits<8>>,
+    k_zero_b: Constant<Bits<B>>,
+    k_zero_w: Constant<Bits<WORD_BITS>>,
+    above: Signal<Local, Bits<B>>,
+    below: Signal<Local, Bits<B>>,
+    t1: Signal<Local, Bits<B>>,
+    t2: Signal<Local, Bits<B>>,
+    w: Signal<Local, Bits<WORD_BITS>>,
+}
+
+impl<const B: usize> OffsetRom<B> {
+    /// The ROM generated for `size` (`size.bits()` must equal `B`; checked by the callers'
+    /// constructors).
+    pub fn new(size: MaskSize) -> Self {
+        assert_eq!(
+            size.bits() as usize,
+            B,
+            "mask size does not match the block width"
+        );
+        let rom = offset_rom_table(size);
+        let k_col = (0..8)
+            .map(|b| {
+                let m = rom
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, &w)| (w >> b) & 1 == 1)
+                    .fold(0u64, |a, (i, _)| a | (1u64 << i));
+                Constant::new(m.to_bits())
+            })
+            .collect();
+        let mut k_sh = Vec::new();
+        let mut s = 1u64;
+        while (s as usize) < B {
+            k_sh.push(Constant::new(s.to_bits()));
+            s *= 2;
+        }
+        OffsetRom {
+            clock: Default::default(),
+            rst: Default::default(),
+            and_in: Default::default(),
+            word: Default::default(),
+            hi_r: Default::default(),
+            lo_r: Default::default(),
+            word_r: Default::default(),
+            k_col,
+            k_sh,
+            k_bit1: (0..8)
+                .map(|i| Constant::new((1u64 << i).to_bits()))
+                .collect(),
+            k_bit2: (0..8)
+                .map(|i| Constant::new((1u64 << (i + 8)).to_bits()))
+                .collect(),
+            k_pair: Constant::new((1u64 << 16).to_bits()),
+            k_one: Constant::new(1u64.to_bits()),
+            k_zero_b: Constant::new(0u64.to_bits()),
+            k_zero_w: Constant::new(0u64.to_bits()),
+            above: Default::default(),
+            below: Default::default(),
+            t1: Default::default(),
+            t2: Default::default(),
+            w: Default::default(),
+        }
+    }
+}
+
+impl<const B: usize> Logic for OffsetRom<B> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, hi_r, lo_r, word_r);
+        // Stage 1: isolate the most and least significant set bits (one-hot).
+        // above[i] = OR of and_in[j], j > i; below[i] = OR of and_in[j], j < i.
+        self.above.next = self.and_in.val() >> self.k_one.val();
+        self.below.next = self.and_in.val() << self.k_one.val();
+        for i in 0..self.k_sh.len() {
+            self.above.next = self.above.val() | (self.above.val() >> self.k_sh[i].val());
+            self.below.next = self.below.val() | (self.below.val() << self.k_sh[i].val());
+        }
+        self.hi_r.d.next = self.and_in.val() & (!self.above.val());
+        self.lo_r.d.next = self.and_in.val() & (!self.below.val());
+        // Stage 2: read the table at both one-hot addresses (AND-OR per word bit).
+        self.w.next = self.k_zero_w.val();
+        for b in 0..self.k_col.len() {
+            self.t1.next = self.hi_r.q.val() & self.k_col[b].val();
+            self.t2.next = self.lo_r.q.val() & self.k_col[b].val();
+            if self.t1.val() != self.k_zero_b.val() {
+                self.w.next = self.w.val() | self.k_bit1[b].val();
+            }
+            if self.t2.val() != self.k_zero_b.val() {
+                self.w.next = self.w.val() | self.k_bit2[b].val();
+            }
+        }
+        if self.hi_r.q.val() != self.lo_r.q.val() {
+            self.w.next = self.w.val() | self.k_pair.val();
+        }
+        self.word_r.d.next = self.w.val();
+        if self.rst.val() {
+            self.hi_r.d.next = self.k_zero_b.val();
+            self.lo_r.d.next = self.k_zero_b.val();
+            self.word_r.d.next = self.k_zero_w.val();
+        }
+        self.word.next = self.word_r.q.val();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Drives one value through the two stages and returns the word.
+    fn read<const B: usize>(rom: &mut OffsetRom<B>, x: u64) -> u32 {
+        for _ in 0..ROM_LATENCY {
+            rom.and_in.next = x.to_bits();
+            rom.clock.next = Clock { clk: true };
+            assert!(simulate(rom, 100));
+            rom.clock.next = Clock { clk: false };
+            assert!(simulate(rom, 100));
+        }
+        rom.word.val().to_u64() as u32
+    }
+
+    #[test]
+    fn seed_tables_1_and_2() {
+        // Seed 000, Tables 1 and 2 (4×4): 0100H → (+0.375, +0.125) alone; 0842H → ends
+        // (−0.375, +0.125) and (+0.125, −0.375). In units of 1/8 px: (+3, +1); (−3, +1),
+        // (+1, −3). Word: [3:0] dx1, [7:4] dy1, [11:8] dx2, [15:12] dy2, [16] pair.
+        let mut rom = OffsetRom::<16>::new(MaskSize::S4X4);
+        rom.connect_all();
+        let f = |d: i32| (d as u32) & 0xF;
+        let w0100 = f(3) | f(1) << 4 | f(3) << 8 | f(1) << 12;
+        assert_eq!(read(&mut rom, 0x0100), w0100);
+        let w0842 = f(-3) | f(1) << 4 | f(1) << 8 | f(-3) << 12 | 1 << 16;
+        assert_eq!(read(&mut rom, 0x0842), w0842);
+        assert_eq!(read(&mut rom, 0), 0);
+    }
+
+    #[test]
+    fn ends_are_extreme_bits_for_every_pair_8x8() {
+        // Independent statement: end 1 is the subpixel of the highest set bit, end 2 of the
+        // lowest; subpixel of bit b: column n−1−b%n, row b/n; offset 2c+1−n, 2r+1−m.
+        let mut rom = OffsetRom::<64>::new(MaskSize::S8X8);
+        rom.connect_all();
+        let off = |b: u32| {
+            let (c, r) = (7 - b % 8, b / 8);
+            let (dx, dy) = (2 * c as i32 - 7, 2 * r as i32 - 7);
+            ((dx as u32) & 0xF) | ((dy as u32) & 0xF) << 4
+        };
+        for hi in (0..64u32).step_by(3) {
+            for lo in (0..=hi).step_by(5) {
+                let x =
+                    (1u64 << hi) | (1u64 << lo) | if hi > lo + 1 { 1u64 << (lo + 1) } else { 0 };
+                let want = off(hi) | off(lo) << 8 | ((hi != lo) as u32) << 16;
+                assert_eq!(read(&mut rom, x), want, "hi {hi} lo {lo}");
+            }
+        }
+    }
+}
