@@ -522,7 +522,35 @@ fn cmd_testbench(a: &TestbenchArgs) -> Result<bool> {
         "verilator" => SimKind::Verilator,
         _ => SimKind::RustHdl,
     };
-    run_testbench(&ls, &fx, sim, a.rows.as_deref(), &a.work)
+    let mut ok = run_testbench(&ls, &fx, sim, a.rows.as_deref(), &a.work)?;
+    // The search unit only when the scene asks for the A-buffer.
+    if let AaMethod::Abuffer(p) = &fx.aa {
+        use pixelproc_testbench::mask_search_tb::{loaded_scene_jobs, search_unit_check_jobs};
+        let jobs = loaded_scene_jobs(&ls, p.size)?;
+        for v in pixelproc_rtl::mask_search::Variant::ALL {
+            let s = search_unit_check_jobs(v, p.size, &jobs, sim, &a.work.join("mask_search"))?;
+            if s.skipped() {
+                say!("{}", s.detail);
+                continue;
+            }
+            say!(
+                "testbench {} mask search unit {:?} {} on {:?}: bit-exact: {}  ({} fragment searches, {} cycles, {:.2} s)",
+                ls.name,
+                v,
+                p.size,
+                sim,
+                if s.bit_exact { "yes" } else { "NO" },
+                s.jobs,
+                s.cycles,
+                s.seconds
+            );
+            if !s.bit_exact {
+                say!("{}", s.detail);
+            }
+            ok &= s.bit_exact;
+        }
+    }
+    Ok(ok)
 }
 
 /// The no-argument run: render the embedded scene, check a few of its scanlines on the
@@ -566,6 +594,14 @@ fn cmd_verilog(a: &VerilogArgs) -> Result<()> {
     );
     for f in files {
         say!("wrote {}", f.display());
+    }
+    if matches!(fx.aa, AaMethod::Abuffer(_)) {
+        say!("{}: the scene asks for the A-buffer: mask search unit (iterative and pipelined, 4x4 and 8x8)", ls.name);
+        let files = pixelproc_rtl::verilog::write_mask_search_verilog(&a.output)
+            .with_context(|| format!("cannot write Verilog into {}", a.output.display()))?;
+        for f in files {
+            say!("wrote {}", f.display());
+        }
     }
     Ok(())
 }

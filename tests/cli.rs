@@ -55,7 +55,10 @@ fn no_arguments_renders_the_default_scene() {
     let img = image::open(&png).unwrap();
     assert_eq!((img.width(), img.height()), (640, 360));
     assert!(out.contains("bit-exact: yes"), "{out}");
-    assert!(d.path().join("pixelproc-out/verilog/pixelproc_top.v").exists());
+    assert!(d
+        .path()
+        .join("pixelproc-out/verilog/pixelproc_top.v")
+        .exists());
 }
 
 #[test]
@@ -66,11 +69,30 @@ fn testbench_reports_bit_exactness_for_a_scene() {
         "tb.json",
         r#"{"width":40,"height":6,"background":[0.1,0.2,0.3],"triangles":[{"v":[[0,0,0.2],[40,2,0.9],[3,6,0.5]],"color":[1,0.5,0]},{"v":[[10,-1,0.1],[30,7,0.8],[5,5,0.3]],"color":[0,0.5,1],"colors":[[0,0,1],[1,0,0],[0,1,0]]}]}"#,
     );
-    let o = pixelproc(d.path(), &["testbench", "tb.json", "--array-width", "16", "--rows", "1..4", "--work", "w"]);
+    let o = pixelproc(
+        d.path(),
+        &[
+            "testbench",
+            "tb.json",
+            "--array-width",
+            "16",
+            "--rows",
+            "1..4",
+            "--work",
+            "w",
+        ],
+    );
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8_lossy(&o.stdout);
-    assert!(out.contains("bit-exact: yes") && out.contains("4 scanlines"), "{out}");
-    expect_error(d.path(), &["testbench", "tb.json", "--rows", "5..9"], "--rows 5..9");
+    assert!(
+        out.contains("bit-exact: yes") && out.contains("4 scanlines"),
+        "{out}"
+    );
+    expect_error(
+        d.path(),
+        &["testbench", "tb.json", "--rows", "5..9"],
+        "--rows 5..9",
+    );
 }
 
 #[test]

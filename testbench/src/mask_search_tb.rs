@@ -192,10 +192,18 @@ pub fn random_jobs(size: MaskSize, count: usize, seed: u64) -> Vec<SearchJob> {
 /// golden fraction masks and planes, as the A-buffer renderer builds them): each gives a
 /// min search from `Corner::of_min(sx, sy)` and a max search from the opposite corner.
 pub fn scene_jobs(name: &str, size: MaskSize) -> Result<Vec<SearchJob>, TbError> {
-    use pixelproc_sim::{frontend, scene};
+    let ls = pixelproc_sim::scene::load_builtin(name).map_err(|e| TbError::Sim(e.to_string()))?;
+    loaded_scene_jobs(&ls, size)
+}
+
+/// As [`scene_jobs`], for a scene already loaded (a file or a built-in).
+pub fn loaded_scene_jobs(
+    ls: &pixelproc_sim::scene::LoadedScene,
+    size: MaskSize,
+) -> Result<Vec<SearchJob>, TbError> {
+    use pixelproc_sim::frontend;
     let err = |e: String| TbError::Sim(e);
-    let ls = scene::load_builtin(name).map_err(|e| err(e.to_string()))?;
-    let proj = frontend::project(&ls).map_err(|e| err(e.to_string()))?;
+    let proj = frontend::project(ls).map_err(|e| err(e.to_string()))?;
     let (w, h) = (ls.scene.width, ls.scene.height);
     let mut setups = Vec::new();
     for (k, t) in proj.tris.iter().enumerate() {
@@ -1176,6 +1184,18 @@ pub fn search_unit_check(
     work_dir: &Path,
 ) -> Result<Summary, TbError> {
     let jobs = jobs_for(stim, size)?;
+    search_unit_check_jobs(variant, size, &jobs, sim, work_dir)
+}
+
+/// As [`search_unit_check`], for a prepared list of searches (e.g. [`loaded_scene_jobs`]).
+pub fn search_unit_check_jobs(
+    variant: Variant,
+    size: MaskSize,
+    jobs: &[SearchJob],
+    sim: SimKind,
+    work_dir: &Path,
+) -> Result<Summary, TbError> {
+    let jobs = jobs.to_vec();
     match sim {
         SimKind::RustHdl => {
             check_rusthdl_against(variant, size, &jobs, SearchFamily::DIAGONAL, Some(work_dir))
