@@ -121,6 +121,9 @@ fn help_exists_for_every_subcommand() {
         vec!["--help"],
         vec!["render", "--help"],
         vec!["bench", "--help"],
+        vec!["verilog", "--help"],
+        vec!["testbench", "--help"],
+        vec!["tradeoff", "--help"],
     ] {
         let o = pixelproc(d.path(), &args);
         assert!(o.status.success());
