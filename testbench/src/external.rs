@@ -221,6 +221,65 @@ fn run(cmd: &mut Proc, what: &str) -> Result<String, TbError> {
     Ok(text)
 }
 
+/// Compiles the vector testbench `TB.v` (top module `TB`) with the design file `dut` in
+/// `dir` and runs it in `sim`. Returns the simulator's output, the build seconds and the
+/// run seconds. Shared by every block's external simulation.
+pub(crate) fn build_and_run(
+    sim: ExternalSim,
+    dir: &Path,
+    tb: &str,
+    dut: &Path,
+) -> Result<(String, f64, f64), TbError> {
+    let tb_file = format!("{tb}.v");
+    let t0 = std::time::Instant::now();
+    match sim {
+        ExternalSim::Icarus => {
+            run(
+                Proc::new("iverilog")
+                    .current_dir(dir)
+                    .args(["-g2012", "-o", "tb.vvp", "-s", tb, &tb_file])
+                    .arg(dut),
+                "iverilog",
+            )?;
+            let b = t0.elapsed().as_secs_f64();
+            let t1 = std::time::Instant::now();
+            let out = run(
+                Proc::new("vvp").current_dir(dir).args(["-n", "tb.vvp"]),
+                "vvp",
+            )?;
+            Ok((out, b, t1.elapsed().as_secs_f64()))
+        }
+        ExternalSim::Verilator => {
+            run(
+                Proc::new("verilator")
+                    .current_dir(dir)
+                    .args([
+                        "--binary",
+                        "--timing",
+                        "-O3",
+                        "-Wno-fatal",
+                        "-Wno-lint",
+                        "-Wno-style",
+                        "--top-module",
+                        tb,
+                        "-Mdir",
+                        "obj_dir",
+                        &tb_file,
+                    ])
+                    .arg(dut),
+                "verilator",
+            )?;
+            let b = t0.elapsed().as_secs_f64();
+            let t1 = std::time::Instant::now();
+            let out = run(
+                Proc::new(dir.join("obj_dir").join(format!("V{tb}"))).current_dir(dir),
+                "verilated model",
+            )?;
+            Ok((out, b, t1.elapsed().as_secs_f64()))
+        }
+    }
+}
+
 /// Exports the `n`-processor array, writes vectors for `cmds` and runs them in `sim`
 /// inside `dir`. Returns `Ok(None)` (after printing `SKIPPED: ...`) if the tool is
 /// missing and `CI` is not `true`.
@@ -242,58 +301,7 @@ pub fn run_external(
     std::fs::write(&vfile, text)?;
     let cycles = write_vectors(&dir, cmds, n, shadows)?;
     std::fs::write(dir.join("tb_pixelproc.v"), testbench_verilog(&name, cycles))?;
-    let t0 = std::time::Instant::now();
-    let log = match sim {
-        ExternalSim::Icarus => {
-            run(
-                Proc::new("iverilog")
-                    .current_dir(&dir)
-                    .args([
-                        "-g2012",
-                        "-o",
-                        "tb.vvp",
-                        "-s",
-                        "tb_pixelproc",
-                        "tb_pixelproc.v",
-                    ])
-                    .arg(&vfile),
-                "iverilog",
-            )?;
-            let b = t0.elapsed().as_secs_f64();
-            let t1 = std::time::Instant::now();
-            let out = run(Proc::new("vvp").current_dir(&dir).arg("tb.vvp"), "vvp")?;
-            (out, b, t1.elapsed().as_secs_f64())
-        }
-        ExternalSim::Verilator => {
-            run(
-                Proc::new("verilator")
-                    .current_dir(&dir)
-                    .args([
-                        "--binary",
-                        "--timing",
-                        "-O3",
-                        "-Wno-fatal",
-                        "-Wno-lint",
-                        "-Wno-style",
-                        "--top-module",
-                        "tb_pixelproc",
-                        "-Mdir",
-                        "obj_dir",
-                        "tb_pixelproc.v",
-                    ])
-                    .arg(&vfile),
-                "verilator",
-            )?;
-            let b = t0.elapsed().as_secs_f64();
-            let t1 = std::time::Instant::now();
-            let out = run(
-                Proc::new(dir.join("obj_dir").join("Vtb_pixelproc")).current_dir(&dir),
-                "verilated model",
-            )?;
-            (out, b, t1.elapsed().as_secs_f64())
-        }
-    };
-    let (log, build_seconds, run_seconds) = log;
+    let (log, build_seconds, run_seconds) = build_and_run(sim, &dir, "tb_pixelproc", &vfile)?;
     let pass = log.contains(&format!("PASS cycles={cycles}")) && !log.contains("MISMATCH");
     Ok(Some(ExternalRun {
         cycles,

@@ -43,7 +43,6 @@ use rust_hdl::prelude::*;
 use std::collections::VecDeque;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::process::Command as Proc;
 
 /// One search: what the unit is given.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -1046,19 +1045,6 @@ endmodule
     )
 }
 
-fn run_cmd(cmd: &mut Proc, what: &str) -> Result<String, TbError> {
-    let o = cmd.output()?;
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    );
-    if !o.status.success() {
-        return Err(TbError::Sim(format!("{what} failed:\n{text}")));
-    }
-    Ok(text)
-}
-
 /// Exports `variant`, writes the golden vectors for `jobs` and runs them in Icarus Verilog
 /// or Verilator inside `dir`. A missing tool: `SKIPPED` summary (error under `CI=true`).
 pub fn check_external(
@@ -1108,62 +1094,14 @@ pub fn check_external_against(
         dir.join("tb_mask_search.v"),
         testbench_verilog(&name, variant, b, cycles),
     )?;
-    let t0 = std::time::Instant::now();
-    let out = match sim {
-        SimKind::Icarus => {
-            run_cmd(
-                Proc::new("iverilog")
-                    .current_dir(&dir)
-                    .args([
-                        "-g2012",
-                        "-o",
-                        "tb.vvp",
-                        "-s",
-                        "tb_mask_search",
-                        "tb_mask_search.v",
-                    ])
-                    .arg(&vfile),
-                "iverilog",
-            )?;
-            s.build_seconds = t0.elapsed().as_secs_f64();
-            let t1 = std::time::Instant::now();
-            let o = run_cmd(
-                Proc::new("vvp").current_dir(&dir).args(["-n", "tb.vvp"]),
-                "vvp",
-            )?;
-            s.seconds = t1.elapsed().as_secs_f64();
-            o
-        }
-        _ => {
-            run_cmd(
-                Proc::new("verilator")
-                    .current_dir(&dir)
-                    .args([
-                        "--binary",
-                        "--timing",
-                        "-O3",
-                        "-Wno-fatal",
-                        "-Wno-lint",
-                        "-Wno-style",
-                        "--top-module",
-                        "tb_mask_search",
-                        "-Mdir",
-                        "obj_dir",
-                        "tb_mask_search.v",
-                    ])
-                    .arg(&vfile),
-                "verilator",
-            )?;
-            s.build_seconds = t0.elapsed().as_secs_f64();
-            let t1 = std::time::Instant::now();
-            let o = run_cmd(
-                Proc::new(dir.join("obj_dir").join("Vtb_mask_search")).current_dir(&dir),
-                "verilated model",
-            )?;
-            s.seconds = t1.elapsed().as_secs_f64();
-            o
-        }
+    let ext = match sim {
+        SimKind::Icarus => crate::external::ExternalSim::Icarus,
+        _ => crate::external::ExternalSim::Verilator,
     };
+    let (out, build_seconds, run_seconds) =
+        crate::external::build_and_run(ext, &dir, "tb_mask_search", &vfile)?;
+    s.build_seconds = build_seconds;
+    s.seconds = run_seconds;
     s.cycles = cycles as u64;
     s.bit_exact = out.contains(&format!("PASS cycles={cycles}")) && !out.contains("MISMATCH");
     if !s.bit_exact {
