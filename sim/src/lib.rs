@@ -18,6 +18,7 @@ pub mod pixel_array;
 pub mod plan;
 pub mod reference;
 pub mod render;
+pub mod rng;
 pub mod scene;
 pub mod setup;
 pub mod shadow;
