@@ -37,7 +37,9 @@ pub use judge::{judge, pareto_frontier, Judgement};
 pub use report::{csv, markdown, scenes_csv, write_outputs, Written, CSV_HEADER};
 pub use scenes::{builtin_scenes, load_scene_dir, TestScene};
 pub use settings::{sweep_settings, Setting};
-pub use sweep::{run_sweep, HeatData, Row, SceneResult, Sweep, SweepOptions, VariantRow};
+pub use sweep::{
+    run_sweep, HeatData, Row, SceneInfo, SceneResult, Sweep, SweepOptions, VariantRow,
+};
 
 /// Errors of the trade-off sweep.
 #[derive(Debug, Error)]

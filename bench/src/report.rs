@@ -127,8 +127,12 @@ fn md_intro(s: &mut String, sw: &Sweep, command: &str) {
         s,
         "## Scenes\n\n| scene | size | triangles | what |\n|---|---|---|---|"
     );
-    for (n, a, w, h, t) in &sw.scenes {
-        let _ = writeln!(s, "| {n} | {w}×{h} | {t} | {a} |");
+    for sc in &sw.scenes {
+        let _ = writeln!(
+            s,
+            "| {} | {}×{} | {} | {} |",
+            sc.name, sc.width, sc.height, sc.triangles, sc.about
+        );
     }
 }
 
@@ -188,8 +192,8 @@ fn md_per_scene(s: &mut String, sw: &Sweep) {
     let _ = writeln!(s, "\n## RMSE per scene\n");
     let mut head = String::from("| method | setting |");
     let mut rule = String::from("|---|---|");
-    for (n, ..) in &sw.scenes {
-        let _ = write!(head, " {n} |");
+    for sc in &sw.scenes {
+        let _ = write!(head, " {} |", sc.name);
         rule.push_str("---:|");
     }
     let _ = writeln!(s, "{head}\n{rule}");

@@ -132,11 +132,39 @@ pub struct SweepOptions {
     pub progress: bool,
 }
 
+/// What the report says about one scene of the set.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneInfo {
+    /// Scene name.
+    pub name: String,
+    /// What the scene exercises.
+    pub about: String,
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Triangles.
+    pub triangles: usize,
+}
+
+impl SceneInfo {
+    /// The summary of `s`.
+    fn of(s: &TestScene) -> SceneInfo {
+        SceneInfo {
+            name: s.name.clone(),
+            about: s.about.clone(),
+            width: s.width,
+            height: s.height,
+            triangles: s.tris.len(),
+        }
+    }
+}
+
 /// The whole result.
 #[derive(Clone, Debug)]
 pub struct Sweep {
-    /// Scenes (names, sizes, descriptions).
-    pub scenes: Vec<(String, String, u32, u32, usize)>,
+    /// The scenes, in sweep order.
+    pub scenes: Vec<SceneInfo>,
     /// One row per setting, in sweep order.
     pub rows: Vec<Row>,
     /// A-buffer variant comparison.
@@ -355,18 +383,7 @@ pub fn run_sweep(
     }
     bar.finish_and_clear();
     Ok(Sweep {
-        scenes: scenes
-            .iter()
-            .map(|s| {
-                (
-                    s.name.clone(),
-                    s.about.clone(),
-                    s.width,
-                    s.height,
-                    s.tris.len(),
-                )
-            })
-            .collect(),
+        scenes: scenes.iter().map(SceneInfo::of).collect(),
         rows,
         variants,
         runs: opts.runs,
