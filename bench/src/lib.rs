@@ -3,7 +3,7 @@
 //! Every anti-aliasing method of [`pixelproc_sim::aa`] with every setting of the sweep
 //! ([`sweep_settings`]) renders every scene of a set ([`builtin_scenes`], or a folder of
 //! scene files, [`load_scene_dir`]). Each image is judged against the exact box-filtered
-//! reference of [`pixelproc_sim::reference`] ([`judge`]): RMSE and maximum error on the
+//! reference of [`pixelproc_sim::reference`] ([`judge()`]): RMSE and maximum error on the
 //! 0..255 scale, and the pixels whose visible surface (the triangle with the largest
 //! visible area) differs from the reference's. Cost is the median time of `runs` renders on
 //! **one thread** ([`timing`]), the depth evaluations and sample-memory reads per pixel the
@@ -12,7 +12,7 @@
 //!
 //! Outputs ([`write_outputs`]): a CSV per setting, a CSV per setting and scene, a
 //! Markdown report ([`report`]), a PNG chart of error against time with the Pareto frontier
-//! marked, and a montage of difference heat maps for one scene ([`chart`]).
+//! marked, and a montage of difference heat maps for one scene ([`mod@chart`]).
 //!
 //! This crate measures the golden model; the model itself (`pixelproc-sim`) does not
 //! depend on it.
