@@ -607,7 +607,7 @@ fn cmd_verilog(a: &VerilogArgs) -> Result<()> {
 }
 
 fn cmd_tradeoff(a: &TradeoffArgs) -> Result<()> {
-    use pixelproc_sim::tradeoff::{run_tradeoff, TradeoffOptions};
+    use pixelproc_bench::{run_tradeoff, TradeoffOptions};
     let mut command = String::from("pixelproc tradeoff");
     if let Some(d) = &a.scenes {
         command += &format!(" --scenes {}", d.display());

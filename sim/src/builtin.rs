@@ -3,6 +3,8 @@
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
+use crate::rng::Lcg64;
+
 /// Boxes per mesh in the `boxes` scene.
 const BOXES_PER_MESH: usize = 104;
 /// Meshes in the `boxes` scene (one colour each).
@@ -16,14 +18,10 @@ pub fn boxes_scene() -> (String, BTreeMap<String, String>) {
         "ground.obj".to_string(),
         "v -40 0 -40\nv 40 0 -40\nv 40 0 40\nv -40 0 40\nf 1 4 3 2\n".to_string(),
     );
-    // A small linear congruential generator: deterministic placement.
-    let mut seed: u64 = 0x2545_F491_4F6C_DD1D;
-    let mut rnd = move || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((seed >> 33) as f64) / ((1u64 << 31) as f64)
-    };
+    // The shared 64-bit LCG: deterministic placement. This scene takes the top 31 bits
+    // of each state (not `Lcg64::unit`'s 53), which keeps the generated scene unchanged.
+    let mut lcg = Lcg64(0x2545_F491_4F6C_DD1D);
+    let mut rnd = move || ((lcg.step() >> 33) as f64) / ((1u64 << 31) as f64);
     let mut meshes = vec![
         r#"{"obj": "ground.obj", "color": [0.55, 0.6, 0.5], "casts_shadows": false}"#.to_string(),
     ];

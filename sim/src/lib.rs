@@ -22,4 +22,3 @@ pub mod rng;
 pub mod scene;
 pub mod setup;
 pub mod shadow;
-pub mod tradeoff;

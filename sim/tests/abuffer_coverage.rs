@@ -7,6 +7,7 @@ use pixelproc_formats::abuffer::MaskSize;
 use pixelproc_sim::abuffer::{render_abuffer, AbufferParams};
 use pixelproc_sim::mask::MaskEdges;
 use pixelproc_sim::mask_search::DepthSelect;
+use pixelproc_sim::rng::XorShift64Star as Rng;
 use pixelproc_sim::setup::SnappedTri;
 
 /// Float point-in-triangle with the top-left rule. `v` in pixels.
@@ -59,31 +60,22 @@ fn float_mask(t: &SnappedTri, n: u32, m: u32, i: i64, j: i64) -> u64 {
     mask
 }
 
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    /// A Q.8 coordinate in 0..span px; every third one is snapped to a multiple of
-    /// `grid` (so that edges run through subpixel centres often).
-    fn coord(&mut self, span: i32, grid: i32) -> i32 {
-        let v = (self.next() % (span as u64 * 256)) as i32;
-        if self.next().is_multiple_of(3) {
-            v / grid * grid
-        } else {
-            v
-        }
+/// A Q.8 coordinate in 0..span px; every third one is snapped to a multiple of
+/// `grid` (so that edges run through subpixel centres often).
+fn coord(rng: &mut Rng, span: i32, grid: i32) -> i32 {
+    let v = (rng.next_u64() % (span as u64 * 256)) as i32;
+    if rng.next_u64().is_multiple_of(3) {
+        v / grid * grid
+    } else {
+        v
     }
 }
 
 fn random_tri(rng: &mut Rng, span: i32, grid: i32, k: u64) -> SnappedTri {
     SnappedTri {
-        v: [0; 3].map(|_| [rng.coord(span, grid), rng.coord(span, grid)]),
-        z: [0; 3].map(|_| 16 + (rng.next() % 1_000_000) as u32),
-        c: [0; 3].map(|_| [0; 3].map(|_| (rng.next() % (255 << 12)) as u32)),
+        v: [0; 3].map(|_| [coord(rng, span, grid), coord(rng, span, grid)]),
+        z: [0; 3].map(|_| 16 + (rng.next_u64() % 1_000_000) as u32),
+        c: [0; 3].map(|_| [0; 3].map(|_| (rng.next_u64() % (255 << 12)) as u32)),
         tag: k as u16,
         host: None,
         nclass: 0,
@@ -145,12 +137,13 @@ fn fan_covers_every_centre_exactly_once() {
         for _ in 0..40 {
             let (x0, x1, y0, y1) = (2 * 256, 14 * 256, 3 * 256, 13 * 256);
             let centre = [
-                x0 + 1 + (rng.next() % (x1 - x0 - 2) as u64) as i32,
-                y0 + 1 + (rng.next() % (y1 - y0 - 2) as u64) as i32,
+                x0 + 1 + (rng.next_u64() % (x1 - x0 - 2) as u64) as i32,
+                y0 + 1 + (rng.next_u64() % (y1 - y0 - 2) as u64) as i32,
             ];
             let mut ring = vec![[x0, y0]];
-            let r =
-                |rng: &mut Rng, a: i32, b: i32| a + 1 + (rng.next() % (b - a - 1) as u64) as i32;
+            let r = |rng: &mut Rng, a: i32, b: i32| {
+                a + 1 + (rng.next_u64() % (b - a - 1) as u64) as i32
+            };
             ring.push([r(&mut rng, x0, x1), y0]);
             ring.push([x1, y0]);
             ring.push([x1, r(&mut rng, y0, y1)]);

@@ -12,6 +12,7 @@
 
 use pixelproc_formats::abuffer::{Corner, MaskSize, SearchFamily, SubOffset};
 use pixelproc_sim::mask_search::{SearchTables, SearchUnit};
+use pixelproc_sim::rng::XorShift64Star;
 
 /// (AND result, end 1, end 2), ends as offsets in half-subpixel units.
 type Hit = (u64, (i32, i32), (i32, i32));
@@ -131,32 +132,21 @@ fn seed_vectors_through_the_statement() {
     assert_eq!(b.hit.map(|h| (h.0, h.1)), Some((0x0100, (3, 1))));
 }
 
-/// xorshift64*, deterministic.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-}
-
 #[test]
 fn random_8x8_masks_every_family() {
-    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    let mut rng = XorShift64Star(0x9E37_79B9_7F4A_7C15);
     let fams = [(1, 1), (1, 0), (0, 1), (2, 1), (1, 2)];
     for (p, q) in fams {
         let t = SearchTables::new(MaskSize::S8X8, SearchFamily { p, q });
         let mut unit = SearchUnit::new(&t);
         for k in 0..20_000 {
             // Vary density: AND of 0..3 random words keeps sparse masks common.
-            let mut mask = rng.next();
+            let mut mask = rng.next_u64();
             for _ in 0..k % 4 {
-                mask &= rng.next();
+                mask &= rng.next_u64();
             }
             if k % 7 == 0 {
-                mask &= rng.next() & rng.next() & rng.next();
+                mask &= rng.next_u64() & rng.next_u64() & rng.next_u64();
             }
             check(&t, &mut unit, mask, Corner::from_code(k as u8));
         }
@@ -165,14 +155,14 @@ fn random_8x8_masks_every_family() {
 
 #[test]
 fn other_sizes_and_families() {
-    let mut rng = Rng(12345);
+    let mut rng = XorShift64Star(12345);
     for (n, m) in [(4, 2), (2, 4), (3, 5), (8, 4), (1, 1), (5, 3)] {
         let size = MaskSize::new(n, m).unwrap();
         for (p, q) in [(1, 1), (1, 0), (0, 1), (2, 1), (1, 2)] {
             let t = SearchTables::new(size, SearchFamily { p, q });
             let mut unit = SearchUnit::new(&t);
             for k in 0..2_000 {
-                let mask = rng.next() & rng.next() & size.full();
+                let mask = rng.next_u64() & rng.next_u64() & size.full();
                 check(&t, &mut unit, mask, Corner::from_code(k as u8));
             }
         }

@@ -6,21 +6,8 @@ use pixelproc_sim::aa::postfx::{
 };
 use pixelproc_sim::aa::{render_aa, AaMethod, PostFxParams};
 use pixelproc_sim::render::{render_frame, SpanSource};
+use pixelproc_sim::rng::Lcg64 as Lcg;
 use pixelproc_sim::setup::SnappedTri;
-
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.next()
-    }
-}
 
 /// Random triangles, many overlapping (overdraw), drawn in this order.
 fn scene(seed: u64, n: usize, w: f64, h: f64) -> Vec<SnappedTri> {

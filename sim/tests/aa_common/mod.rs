@@ -1,20 +1,8 @@
 #![allow(dead_code)]
 use pixelproc_sim::setup::{HostPlane, SnappedTri};
 
-/// A small deterministic generator (64-bit LCG, top bits).
-pub struct Lcg(pub u64);
-impl Lcg {
-    pub fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    pub fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.next()
-    }
-}
+/// The shared deterministic generator (64-bit LCG, top 53 bits).
+pub use pixelproc_sim::rng::Lcg64 as Lcg;
 
 pub fn q8(x: f64) -> i32 {
     (x * 256.0).round() as i32

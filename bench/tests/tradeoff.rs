@@ -5,13 +5,13 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
+use pixelproc_bench::{
+    load_scene_dir, pareto_frontier, run_tradeoff, TradeoffError, TradeoffOptions, CSV_HEADER,
+};
 use pixelproc_sim::aa::{render_aa, AaMethod};
 use pixelproc_sim::abuffer::AbufferParams;
 use pixelproc_sim::reference::reference_image;
 use pixelproc_sim::setup::SnappedTri;
-use pixelproc_sim::tradeoff::{
-    load_scene_dir, pareto_frontier, run_tradeoff, TradeoffError, TradeoffOptions, CSV_HEADER,
-};
 
 fn scratch(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("pixelproc-{name}-{}", std::process::id()));

@@ -1,28 +1,15 @@
 //! Prints RMSE against the exact reference, visible-surface errors, cost counters and
 //! time for every anti-aliasing setting on a few generated scenes.
 //!
-//! `cargo run --release -p pixelproc-sim --example aa_measure [size] [triangles]`
+//! `cargo run --release -p pixelproc-bench --example aa_measure [size] [triangles]`
 
 use pixelproc_sim::aa::{
     edge_shade_levels, render_aa, AaMethod, CornerParams, Filter, MultiscanParams, Pattern,
     PostFxParams,
 };
 use pixelproc_sim::reference::reference_image;
+use pixelproc_sim::rng::Lcg64 as Lcg;
 use pixelproc_sim::setup::SnappedTri;
-
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.next()
-    }
-}
 
 fn scene(seed: u64, n: usize, w: f64, h: f64) -> Vec<SnappedTri> {
     let mut r = Lcg(seed.wrapping_mul(0x9E3779B97F4A7C15) ^ 0x5555);
@@ -50,13 +37,8 @@ fn scene(seed: u64, n: usize, w: f64, h: f64) -> Vec<SnappedTri> {
         .collect()
 }
 
-fn main() {
-    let args: Vec<usize> = std::env::args()
-        .skip(1)
-        .filter_map(|a| a.parse().ok())
-        .collect();
-    let size = *args.first().unwrap_or(&256) as u32;
-    let ntri = *args.get(1).unwrap_or(&100);
+/// Every method and setting the example measures.
+fn methods() -> Vec<AaMethod> {
     let mut methods = vec![AaMethod::None];
     for f in [Filter::Box, Filter::Gauss] {
         for n in [1, 2, 3, 4, 6, 8, 12] {
@@ -76,6 +58,17 @@ fn main() {
     for k in [2, 4, 8, 16] {
         methods.push(AaMethod::Ssaa { k });
     }
+    methods
+}
+
+fn main() {
+    let args: Vec<usize> = std::env::args()
+        .skip(1)
+        .filter_map(|a| a.parse().ok())
+        .collect();
+    let size = *args.first().unwrap_or(&256) as u32;
+    let ntri = *args.get(1).unwrap_or(&100);
+    let methods = methods();
     for seed in 1..=2u64 {
         let tris = scene(seed, ntri, size as f64, size as f64);
         let bg = [20, 30, 40];

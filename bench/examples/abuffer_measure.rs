@@ -1,24 +1,12 @@
 //! Measures the A-buffer depth-selection variants on generated scenes (the figures of
-//! `docs/abuffer.md`). Run: `cargo run --release -p pixelproc-sim --example abuffer_measure`.
+//! `docs/abuffer.md`). Run: `cargo run --release -p pixelproc-bench --example abuffer_measure`.
 
 use pixelproc_formats::abuffer::MaskSize;
 use pixelproc_sim::abuffer::{render_abuffer, AbufferParams};
 use pixelproc_sim::mask_search::DepthSelect;
+use pixelproc_sim::rng::XorShift64Star as Rng;
 use pixelproc_sim::setup::SnappedTri;
 use std::time::Instant;
-
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 fn q8(x: f64) -> i32 {
     (x * 256.0).round() as i32

@@ -1,0 +1,125 @@
+//! The accuracy/time trade-off sweep behind `pixelproc tradeoff` (see `docs/accuracy.md`).
+//!
+//! Every anti-aliasing method of [`pixelproc_sim::aa`] with every setting of the sweep
+//! ([`sweep_settings`]) renders every scene of a set ([`builtin_scenes`], or a folder of
+//! scene files, [`load_scene_dir`]). Each image is judged against the exact box-filtered
+//! reference of [`pixelproc_sim::reference`] ([`judge()`]): RMSE and maximum error on the
+//! 0..255 scale, and the pixels whose visible surface (the triangle with the largest
+//! visible area) differs from the reference's. Cost is the median time of `runs` renders on
+//! **one thread** ([`timing`]), the depth evaluations and sample-memory reads per pixel the
+//! methods count themselves, and the shade levels a long near-horizontal / near-vertical
+//! edge gets ([`pixelproc_sim::aa::edge_shade_levels`]).
+//!
+//! Outputs ([`write_outputs`]): a CSV per setting, a CSV per setting and scene, a
+//! Markdown report ([`report`]), a PNG chart of error against time with the Pareto frontier
+//! marked, and a montage of difference heat maps for one scene ([`mod@chart`]).
+//!
+//! This crate measures the golden model; the model itself (`pixelproc-sim`) does not
+//! depend on it.
+
+#![warn(missing_docs)]
+
+pub mod chart;
+pub mod judge;
+pub mod report;
+pub mod scenes;
+pub mod settings;
+pub mod sweep;
+pub mod timing;
+
+use std::path::{Path, PathBuf};
+
+use pixelproc_sim::aa::AaError;
+use thiserror::Error;
+
+pub use chart::{chart, heat_montage};
+pub use judge::{judge, pareto_frontier, Judgement};
+pub use report::{csv, markdown, scenes_csv, write_outputs, Written, CSV_HEADER};
+pub use scenes::{builtin_scenes, load_scene_dir, TestScene};
+pub use settings::{sweep_settings, Setting};
+pub use sweep::{
+    run_sweep, HeatData, Row, SceneInfo, SceneResult, Sweep, SweepOptions, VariantRow,
+};
+
+/// Errors of the trade-off sweep.
+#[derive(Debug, Error)]
+pub enum TradeoffError {
+    /// Reading or writing a file.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file or directory.
+        path: String,
+        /// Cause.
+        source: std::io::Error,
+    },
+    /// A scene file could not be loaded.
+    #[error(transparent)]
+    Scene(#[from] pixelproc_sim::scene::SceneError),
+    /// A scene could not be projected.
+    #[error("{0}: {1}")]
+    Front(String, pixelproc_sim::frontend::FrontError),
+    /// A method failed on a scene.
+    #[error("{method} on {scene}: {source}")]
+    Render {
+        /// Setting label.
+        method: String,
+        /// Scene name.
+        scene: String,
+        /// Cause.
+        source: AaError,
+    },
+    /// The scene folder holds no scene.
+    #[error("no scene files (*.json) in {0}")]
+    NoScenes(String),
+    /// A bad option.
+    #[error("{0}")]
+    Option(String),
+    /// Drawing the chart or the heat maps failed.
+    #[error("drawing {0}")]
+    Plot(String),
+}
+
+/// Maps an I/O error on `path` to [`TradeoffError::Io`].
+pub(crate) fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> TradeoffError + '_ {
+    move |source| TradeoffError::Io {
+        path: path.display().to_string(),
+        source,
+    }
+}
+
+/// Options of [`run_tradeoff`] (the `pixelproc tradeoff` command).
+#[derive(Clone, Debug)]
+pub struct TradeoffOptions {
+    /// A folder of scene files instead of the built-in set.
+    pub scenes_dir: Option<PathBuf>,
+    /// Output folder.
+    pub out_dir: PathBuf,
+    /// Timed runs per setting and scene.
+    pub runs: usize,
+    /// The small subset (tests, CI).
+    pub quick: bool,
+    /// Progress bar on stderr.
+    pub progress: bool,
+    /// The command line, recorded in the report.
+    pub command: String,
+}
+
+/// Runs the sweep and writes every output. Returns the result and the files written.
+pub fn run_tradeoff(o: &TradeoffOptions) -> Result<(Sweep, Written), TradeoffError> {
+    let scenes = match &o.scenes_dir {
+        Some(d) => load_scene_dir(d)?,
+        None => builtin_scenes(o.quick),
+    };
+    let settings = sweep_settings(o.quick);
+    let sw = run_sweep(
+        &scenes,
+        &settings,
+        &SweepOptions {
+            runs: o.runs,
+            progress: o.progress,
+        },
+        None,
+    )?;
+    let w = write_outputs(&sw, &o.out_dir, &o.command)?;
+    Ok((sw, w))
+}

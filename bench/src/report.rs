@@ -1,0 +1,268 @@
+//! The sweep's text outputs: the per-setting CSV, the per-setting-and-scene CSV and the
+//! Markdown report (the tables of `docs/accuracy.md`), and [`write_outputs`], which writes
+//! them with the chart and the heat maps.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use pixelproc_sim::mask_search::DepthSelect;
+
+use crate::chart::{chart, heat_montage, save_rgb};
+use crate::judge::pareto_frontier;
+use crate::sweep::Sweep;
+use crate::{io_err, TradeoffError};
+
+/// Files written by [`write_outputs`].
+#[derive(Clone, Debug)]
+pub struct Written {
+    /// Per-setting CSV.
+    pub csv: PathBuf,
+    /// Per-setting-and-scene CSV.
+    pub scenes_csv: PathBuf,
+    /// Markdown report.
+    pub markdown: PathBuf,
+    /// Error-against-time chart.
+    pub chart: PathBuf,
+    /// Heat-map montage (if a heat-map scene was kept).
+    pub heatmap: Option<PathBuf>,
+}
+
+/// The CSV header of the per-setting file.
+pub const CSV_HEADER: &str = "method,setting,ms_per_frame,wall_ms_per_frame,depth_evals_per_px,reads_per_px,rmse,max_err,wrong_visible,wrong_visible_clear,shade_levels_h,shade_levels_v,pareto";
+
+/// Each row's (ms per frame, RMSE), the plane of the frontier and the chart.
+pub(crate) fn points(sw: &Sweep) -> Vec<(f64, f64)> {
+    sw.rows
+        .iter()
+        .map(|r| (r.ms_per_frame(), r.rmse()))
+        .collect()
+}
+
+/// The per-setting CSV text.
+pub fn csv(sw: &Sweep) -> String {
+    let front = pareto_frontier(&points(sw));
+    let mut s = String::from(CSV_HEADER);
+    s.push('\n');
+    for (k, r) in sw.rows.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.2},{},{},{},{},{}",
+            r.setting.method,
+            r.setting.setting,
+            r.ms_per_frame(),
+            r.wall_ms_per_frame(),
+            r.evals_per_pixel(),
+            r.reads_per_pixel(),
+            r.rmse(),
+            r.max_err(),
+            r.wrong_visible(),
+            r.wrong_visible_clear(),
+            r.shade_levels.0,
+            r.shade_levels.1,
+            front.contains(&k) as u8
+        );
+    }
+    s
+}
+
+/// The per-setting-and-scene CSV text.
+pub fn scenes_csv(sw: &Sweep) -> String {
+    let mut s = String::from(
+        "method,setting,scene,ms_per_frame,wall_ms_per_frame,depth_evals_per_px,reads_per_px,rmse,max_err,wrong_visible,wrong_visible_clear\n",
+    );
+    for r in &sw.rows {
+        for sc in &r.scenes {
+            let px = sc.pixels.max(1) as f64;
+            let _ = writeln!(
+                s,
+                "{},{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.2},{},{}",
+                r.setting.method,
+                r.setting.setting,
+                sc.scene,
+                sc.seconds * 1e3,
+                sc.wall_seconds * 1e3,
+                sc.depth_evals as f64 / px,
+                sc.sample_reads as f64 / px,
+                sc.rmse(),
+                sc.max_err,
+                sc.wrong_visible,
+                sc.wrong_visible_clear
+            );
+        }
+    }
+    s
+}
+
+/// The Markdown report. `command` is the command line that produced it.
+pub fn markdown(sw: &Sweep, command: &str) -> String {
+    let front = pareto_frontier(&points(sw));
+    let mut s = String::new();
+    md_intro(&mut s, sw, command);
+    md_settings(&mut s, sw, &front);
+    md_frontier(&mut s, sw, &front);
+    md_per_scene(&mut s, sw);
+    if !sw.variants.is_empty() {
+        md_variants(&mut s, sw);
+    }
+    s
+}
+
+/// Title, how the figures were measured, and the scene table.
+fn md_intro(s: &mut String, sw: &Sweep, command: &str) {
+    let px: u64 = sw.rows.first().map_or(0, |r| r.sum(|s| s.pixels));
+    let _ = writeln!(s, "# Anti-aliasing trade-off\n");
+    let _ = writeln!(
+        s,
+        "Command: `{command}`. Machine: {} logical cores; every timed render ran alone on \
+         one thread (a one-thread rayon pool); `ms/frame` is that thread's CPU time, the \
+         median of {} runs per scene averaged over the {} scenes (`wall` is wall-clock \
+         time of the same runs, which other load on the machine inflates). Errors are on the 0..255 scale against the exact \
+         box-filtered reference, pooled over all {px} pixels of the set; they are \
+         deterministic, times are not.\n",
+        sw.cores,
+        sw.runs,
+        sw.scenes.len()
+    );
+    let _ = writeln!(
+        s,
+        "## Scenes\n\n| scene | size | triangles | what |\n|---|---|---|---|"
+    );
+    for sc in &sw.scenes {
+        let _ = writeln!(
+            s,
+            "| {} | {}×{} | {} | {} |",
+            sc.name, sc.width, sc.height, sc.triangles, sc.about
+        );
+    }
+}
+
+/// The table of every setting, its totals over the set and its place on the frontier.
+fn md_settings(s: &mut String, sw: &Sweep, front: &[usize]) {
+    let _ = writeln!(
+        s,
+        "\n## All settings\n\n`wrong vis.`: pixels whose visible surface (largest area) \
+         differs from the reference's; `clear`: of those, pixels where the reference's \
+         surface covers ≥ 3/4 of the pixel. `levels h/v`: distinct shades along a long \
+         near-horizontal / near-vertical edge. `frontier`: on the Pareto frontier of \
+         RMSE against time.\n"
+    );
+    let _ = writeln!(
+        s,
+        "| method | setting | ms/frame | wall | depth evals/px | reads/px | RMSE | max err | wrong vis. | clear | levels h/v | frontier |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---|"
+    );
+    for (k, r) in sw.rows.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.3} | {:.1} | {} | {} | {}/{} | {} |",
+            r.setting.method,
+            r.setting.setting,
+            r.ms_per_frame(),
+            r.wall_ms_per_frame(),
+            r.evals_per_pixel(),
+            r.reads_per_pixel(),
+            r.rmse(),
+            r.max_err(),
+            r.wrong_visible(),
+            r.wrong_visible_clear(),
+            r.shade_levels.0,
+            r.shade_levels.1,
+            if front.contains(&k) { "●" } else { "" }
+        );
+    }
+}
+
+/// The frontier's settings, fastest first.
+fn md_frontier(s: &mut String, sw: &Sweep, front: &[usize]) {
+    let _ = writeln!(s, "\n## Pareto frontier (fastest first)\n");
+    for &k in front {
+        let r = &sw.rows[k];
+        let _ = writeln!(
+            s,
+            "- {} {}: {:.2} ms/frame, RMSE {:.3}",
+            r.setting.method,
+            r.setting.setting,
+            r.ms_per_frame(),
+            r.rmse()
+        );
+    }
+}
+
+/// RMSE and wrong-visible-surface counts per setting and scene.
+fn md_per_scene(s: &mut String, sw: &Sweep) {
+    let _ = writeln!(s, "\n## RMSE per scene\n");
+    let mut head = String::from("| method | setting |");
+    let mut rule = String::from("|---|---|");
+    for sc in &sw.scenes {
+        let _ = write!(head, " {} |", sc.name);
+        rule.push_str("---:|");
+    }
+    let _ = writeln!(s, "{head}\n{rule}");
+    for r in &sw.rows {
+        let _ = write!(s, "| {} | {} |", r.setting.method, r.setting.setting);
+        for sc in &r.scenes {
+            let _ = write!(s, " {:.3} |", sc.rmse());
+        }
+        s.push('\n');
+    }
+    let _ = writeln!(
+        s,
+        "\n## Wrong visible surface per scene (all / clear majority)\n"
+    );
+    let _ = writeln!(s, "{head}\n{rule}");
+    for r in &sw.rows {
+        let _ = write!(s, "| {} | {} |", r.setting.method, r.setting.setting);
+        for sc in &r.scenes {
+            let _ = write!(s, " {}/{} |", sc.wrong_visible, sc.wrong_visible_clear);
+        }
+        s.push('\n');
+    }
+}
+
+/// How often each A-buffer depth variant departs from the exhaustive search.
+fn md_variants(s: &mut String, sw: &Sweep) {
+    let _ = writeln!(
+        s,
+        "\n## A-buffer depth variants against the exhaustive search\n\n\
+         Pixels with two or more fragments are where a fragment's depth is chosen. \
+         `order≠`: pixels whose packing order differs from exhaustive; `visible≠`: whose \
+         visible subpixels differ; `colour≠`: whose resolved colour differs.\n\n\
+         | mask | multi-fragment pixels | variant | evals/sorted fragment | order≠ | visible≠ | colour≠ |\n|---|---:|---|---:|---:|---:|---:|"
+    );
+    for v in &sw.variants {
+        for (k, d) in DepthSelect::ALL.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {:.2} | {} | {} | {} |",
+                v.size,
+                v.multi_pixels,
+                d.name(),
+                v.evals[k] as f64 / v.sorted_fragments.max(1) as f64,
+                v.order_diff[k],
+                v.visible_diff[k],
+                v.rgb_diff[k]
+            );
+        }
+    }
+}
+
+/// Writes `tradeoff.csv`, `tradeoff_scenes.csv`, `tradeoff.md`, `tradeoff.png` and
+/// `heatmap.png` into `dir` (created if needed).
+pub fn write_outputs(sw: &Sweep, dir: &Path, command: &str) -> Result<Written, TradeoffError> {
+    std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+    let w = Written {
+        csv: dir.join("tradeoff.csv"),
+        scenes_csv: dir.join("tradeoff_scenes.csv"),
+        markdown: dir.join("tradeoff.md"),
+        chart: dir.join("tradeoff.png"),
+        heatmap: sw.heat.as_ref().map(|_| dir.join("heatmap.png")),
+    };
+    std::fs::write(&w.csv, csv(sw)).map_err(io_err(&w.csv))?;
+    std::fs::write(&w.scenes_csv, scenes_csv(sw)).map_err(io_err(&w.scenes_csv))?;
+    std::fs::write(&w.markdown, markdown(sw, command)).map_err(io_err(&w.markdown))?;
+    let (cw, chh) = (1100, 760);
+    save_rgb(&w.chart, &chart(sw, cw, chh)?, cw, chh)?;
+    if let (Some(p), Some((buf, mw, mh))) = (&w.heatmap, heat_montage(sw)?) {
+        save_rgb(p, &buf, mw, mh)?;
+    }
+    Ok(w)
+}
