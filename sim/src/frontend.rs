@@ -301,10 +301,26 @@ fn emit(
 
 fn project_3d(ls: &LoadedScene) -> Result<Projected, FrontError> {
     let pj = Projector::new(ls);
-    let s = &ls.scene;
     let mut out = Projected::default();
-    let mut first_piece: Vec<Vec<Option<HostPlane>>> = Vec::new();
-    for (mi, (m, mr)) in ls.meshes.iter().zip(&s.meshes).enumerate() {
+    let first_piece = project_meshes(ls, &pj, &mut out)?;
+    for k in 0..ls.scene.patterns.len() {
+        project_pattern(ls, &pj, k, &first_piece, &mut out)?;
+    }
+    Ok(out)
+}
+
+/// The first snapped piece of each face of each mesh (a pattern on the face takes its
+/// depth plane), `None` where the face was clipped away.
+type FacePlanes = Vec<Vec<Option<HostPlane>>>;
+
+/// Lights, clips and snaps every mesh face into `out`.
+fn project_meshes(
+    ls: &LoadedScene,
+    pj: &Projector,
+    out: &mut Projected,
+) -> Result<FacePlanes, FrontError> {
+    let mut first_piece = Vec::new();
+    for (mi, (m, mr)) in ls.meshes.iter().zip(&ls.scene.meshes).enumerate() {
         let tag = mr.tag.unwrap_or((mi + 1) as u16);
         let mut pieces = Vec::with_capacity(m.triangles.len());
         for (fi, t) in m.triangles.iter().enumerate() {
@@ -316,7 +332,7 @@ fn project_3d(ls: &LoadedScene) -> Result<Projected, FrontError> {
             };
             let a = [0, 1, 2].map(|k| lambert(ls, p[k], n(k), mr.color));
             let tris =
-                emit(&pj, &WorldTri { p, a }, tag, None, normal_class(fnorm)).map_err(|e| {
+                emit(pj, &WorldTri { p, a }, tag, None, normal_class(fnorm)).map_err(|e| {
                     FrontError::Setup {
                         index: out.tris.len(),
                         source: e,
@@ -333,68 +349,83 @@ fn project_3d(ls: &LoadedScene) -> Result<Projected, FrontError> {
         }
         first_piece.push(pieces);
     }
-    for (k, pat) in s.patterns.iter().enumerate() {
-        let m = &ls.meshes[pat.on_mesh];
-        let poly: Vec<DVec3> = pat.polygon.iter().map(|p| DVec3::from(*p)).collect();
-        // The pattern is cut along the mesh's coplanar faces; each piece takes the depth
-        // plane of the face it lies on, so it ties exactly with that face's spans.
-        let mut placed = false;
-        for (fi, t) in m.triangles.iter().enumerate() {
-            let p = t.map(|i| DVec3::from(m.positions[i as usize]));
-            let n = (p[1] - p[0]).cross(p[2] - p[0]);
-            let len = n.length();
-            if len == 0.0 {
-                continue;
+    Ok(first_piece)
+}
+
+/// Pattern `k`, cut along its mesh's coplanar faces; each piece takes the depth plane of
+/// the face it lies on, so it ties exactly with that face's spans.
+fn project_pattern(
+    ls: &LoadedScene,
+    pj: &Projector,
+    k: usize,
+    first_piece: &FacePlanes,
+    out: &mut Projected,
+) -> Result<(), FrontError> {
+    let pat = &ls.scene.patterns[k];
+    let m = &ls.meshes[pat.on_mesh];
+    let poly: Vec<DVec3> = pat.polygon.iter().map(|p| DVec3::from(*p)).collect();
+    let mut placed = false;
+    for (fi, t) in m.triangles.iter().enumerate() {
+        let p = t.map(|i| DVec3::from(m.positions[i as usize]));
+        let Some((piece, n)) = pattern_on_face(&poly, &p) else {
+            continue;
+        };
+        placed = true;
+        let Some(hp) = first_piece[pat.on_mesh][fi] else {
+            continue;
+        };
+        for i in 1..piece.len() - 1 {
+            let tri = [piece[0], piece[i], piece[i + 1]];
+            let a = tri.map(|q| lambert(ls, q, n, pat.color));
+            let tris = emit(
+                pj,
+                &WorldTri { p: tri, a },
+                0x8000 | k as u16,
+                Some(hp),
+                normal_class(n),
+            )
+            .map_err(|e| FrontError::Setup {
+                index: out.tris.len(),
+                source: e,
+            })?;
+            for st in tris {
+                out.tris.push(st);
+                out.origin.push(Origin::Pattern(k));
             }
-            let n = n / len;
-            let scale = (p[1] - p[0]).length().max((p[2] - p[0]).length()).max(1.0);
-            if !poly
-                .iter()
-                .all(|q| (*q - p[0]).dot(n).abs() <= 1e-6 * scale)
-            {
-                continue;
-            }
-            let mut piece = poly.clone();
-            for i in 0..3 {
-                let (a, b) = (p[i], p[(i + 1) % 3]);
-                let inward = n.cross(b - a);
-                piece = clip_halfspace(&piece, |q| (q - a).dot(inward));
-            }
-            if piece.len() < 3 {
-                continue;
-            }
-            placed = true;
-            let Some(hp) = first_piece[pat.on_mesh][fi] else {
-                continue;
-            };
-            for i in 1..piece.len() - 1 {
-                let tri = [piece[0], piece[i], piece[i + 1]];
-                let a = tri.map(|q| lambert(ls, q, n, pat.color));
-                let tris = emit(
-                    &pj,
-                    &WorldTri { p: tri, a },
-                    0x8000 | k as u16,
-                    Some(hp),
-                    normal_class(n),
-                )
-                .map_err(|e| FrontError::Setup {
-                    index: out.tris.len(),
-                    source: e,
-                })?;
-                for st in tris {
-                    out.tris.push(st);
-                    out.origin.push(Origin::Pattern(k));
-                }
-            }
-        }
-        if !placed {
-            return Err(FrontError::Scene(SceneError::Invalid(format!(
-                "pattern {k}: it lies on no face of mesh {} (it must be coplanar with a face)",
-                pat.on_mesh
-            ))));
         }
     }
-    Ok(out)
+    if !placed {
+        return Err(FrontError::Scene(SceneError::Invalid(format!(
+            "pattern {k}: it lies on no face of mesh {} (it must be coplanar with a face)",
+            pat.on_mesh
+        ))));
+    }
+    Ok(())
+}
+
+/// The part of a coplanar polygon inside face `p`, with the face's unit normal; `None`
+/// when the polygon is not in the face's plane or misses it.
+fn pattern_on_face(poly: &[DVec3], p: &[DVec3; 3]) -> Option<(Vec<DVec3>, DVec3)> {
+    let n = (p[1] - p[0]).cross(p[2] - p[0]);
+    let len = n.length();
+    if len == 0.0 {
+        return None;
+    }
+    let n = n / len;
+    let scale = (p[1] - p[0]).length().max((p[2] - p[0]).length()).max(1.0);
+    if !poly
+        .iter()
+        .all(|q| (*q - p[0]).dot(n).abs() <= 1e-6 * scale)
+    {
+        return None;
+    }
+    let mut piece = poly.to_vec();
+    for i in 0..3 {
+        let (a, b) = (p[i], p[(i + 1) % 3]);
+        let inward = n.cross(b - a);
+        piece = clip_halfspace(&piece, |q| (q - a).dot(inward));
+    }
+    (piece.len() >= 3).then_some((piece, n))
 }
 
 /// Clips a planar polygon to the half-space `d(q) ≥ 0`.

@@ -267,16 +267,6 @@ impl RefImage {
     }
 }
 
-/// One row of the reference: colour, coverage, dominant, mixed, visible area per triangle.
-type RowOut = (
-    Vec<[f64; 3]>,
-    Vec<f64>,
-    Vec<i32>,
-    Vec<f64>,
-    Vec<bool>,
-    Vec<f64>,
-);
-
 /// Whether `q` is drawn in front of `p` where their planes coincide.
 fn coplanar_wins(q: usize, qt: &RefTri, p: usize, pt: &RefTri) -> bool {
     match (qt.decal, pt.decal) {
@@ -287,13 +277,8 @@ fn coplanar_wins(q: usize, qt: &RefTri, p: usize, pt: &RefTri) -> bool {
     }
 }
 
-/// Renders the exact box-filtered reference of `tris` on a `width × height` screen with
-/// background `bg`. Degenerate triangles (zero area, or a degenerate host plane) are
-/// skipped, as in the renderer.
-#[allow(clippy::needless_range_loop)]
-pub fn reference_image(tris: &[SnappedTri], width: u32, height: u32, bg: [u8; 3]) -> RefImage {
-    let rt: Vec<Option<RefTri>> = tris.iter().map(to_ref).collect();
-    // Bin by row.
+/// Triangles whose bounding box touches each row.
+fn bin_rows(rt: &[Option<RefTri>], height: u32) -> Vec<Vec<usize>> {
     let mut rows: Vec<Vec<usize>> = vec![Vec::new(); height as usize];
     for (k, t) in rt.iter().enumerate() {
         let Some(t) = t else { continue };
@@ -303,103 +288,147 @@ pub fn reference_image(tris: &[SnappedTri], width: u32, height: u32, bg: [u8; 3]
             rows[j as usize].push(k);
         }
     }
+    rows
+}
+
+/// Each triangle of `row` clipped to the pixel square at `(x0, y0)`, where it has area.
+fn candidates(rt: &[Option<RefTri>], row: &[usize], x0: f64, y0: f64) -> Vec<(usize, Poly)> {
+    let square: Poly = vec![
+        [x0, y0],
+        [x0 + 1.0, y0],
+        [x0 + 1.0, y0 + 1.0],
+        [x0, y0 + 1.0],
+    ];
+    let mut cands: Vec<(usize, Poly)> = Vec::new();
+    for &k in row {
+        let Some(t) = rt[k].as_ref() else { continue };
+        if t.bbox[0] >= x0 + 1.0 || t.bbox[2] <= x0 {
+            continue;
+        }
+        let mut poly = square.clone();
+        for e in edge_functions(&t.p) {
+            poly = clip(&poly, &|q| e.at(q), true);
+            if poly.is_empty() {
+                break;
+            }
+        }
+        if !poly.is_empty() && area_centroid(&poly).0 > 0.0 {
+            cands.push((k, poly));
+        }
+    }
+    cands
+}
+
+/// The pieces of candidate `pi` that no other candidate hides (exact depth planes;
+/// coplanar pairs by [`coplanar_wins`]).
+fn visible_pieces(rt: &[Option<RefTri>], cands: &[(usize, Poly)], pi: usize) -> Vec<Poly> {
+    let (p, ppoly) = &cands[pi];
+    let Some(pt) = rt[*p].as_ref() else {
+        return Vec::new();
+    };
+    let mut pieces = vec![ppoly.clone()];
+    for (qi, (q, qpoly)) in cands.iter().enumerate() {
+        if qi == pi || pieces.is_empty() {
+            continue;
+        }
+        let Some(qt) = rt[*q].as_ref() else { continue };
+        let d = Affine {
+            a: qt.z.a - pt.z.a,
+            b: qt.z.b - pt.z.b,
+            c: qt.z.c - pt.z.c,
+        };
+        let coplanar = qpoly.iter().all(|&v| d.at(v).abs() < COPLANAR_EPS);
+        let occ = if coplanar {
+            if coplanar_wins(*q, qt, *p, pt) {
+                qpoly.clone()
+            } else {
+                continue;
+            }
+        } else {
+            clip(qpoly, &|v| d.at(v), false)
+        };
+        if occ.is_empty() {
+            continue;
+        }
+        pieces = subtract(pieces, &occ);
+    }
+    pieces
+}
+
+/// One reference pixel.
+struct RefPixel {
+    rgb: [f64; 3],
+    covered: f64,
+    dominant: i32,
+    dominant_area: f64,
+    mixed: bool,
+}
+
+/// Integrates one pixel: visible area × colour at the piece's centroid (colours are affine),
+/// plus the background over the uncovered rest. Adds each triangle's visible area to `vis`.
+fn pixel(
+    rt: &[Option<RefTri>],
+    cands: &[(usize, Poly)],
+    bgf: [f64; 3],
+    vis: &mut [f64],
+) -> RefPixel {
+    let mut acc = [0.0; 3];
+    let mut covered = 0.0;
+    let mut best = (-1i32, 0.0f64);
+    let mut surfaces = 0;
+    for (pi, (p, _)) in cands.iter().enumerate() {
+        let Some(pt) = rt[*p].as_ref() else { continue };
+        let mut area = 0.0;
+        for piece in &visible_pieces(rt, cands, pi) {
+            let (a, c) = area_centroid(piece);
+            area += a;
+            for (ch, v) in acc.iter_mut().enumerate() {
+                *v += a * pt.col[ch].at(c);
+            }
+        }
+        covered += area;
+        vis[*p] += area;
+        if area > 1e-9 {
+            surfaces += 1;
+        }
+        if area > best.1 {
+            best = (*p as i32, area);
+        }
+    }
+    let covered = covered.clamp(0.0, 1.0);
+    for (v, b) in acc.iter_mut().zip(bgf) {
+        *v += (1.0 - covered) * b;
+    }
+    if 1.0 - covered >= best.1 {
+        best = (-1, 1.0 - covered);
+    }
+    RefPixel {
+        rgb: acc,
+        covered,
+        dominant: best.0,
+        dominant_area: best.1,
+        mixed: surfaces > 1,
+    }
+}
+
+/// Renders the exact box-filtered reference of `tris` on a `width × height` screen with
+/// background `bg`. Degenerate triangles (zero area, or a degenerate host plane) are
+/// skipped, as in the renderer.
+pub fn reference_image(tris: &[SnappedTri], width: u32, height: u32, bg: [u8; 3]) -> RefImage {
+    let rt: Vec<Option<RefTri>> = tris.iter().map(to_ref).collect();
+    let rows = bin_rows(&rt, height);
     let bgf = bg.map(|v| v as f64);
-    let per_row: Vec<RowOut> = (0..height)
+    let per_row: Vec<(Vec<RefPixel>, Vec<f64>)> = (0..height)
         .into_par_iter()
         .map(|j| {
-            let mut rgb = Vec::with_capacity(width as usize);
-            let mut cov = Vec::with_capacity(width as usize);
-            let mut dom = Vec::with_capacity(width as usize);
-            let mut dom_area = Vec::with_capacity(width as usize);
-            let mut part = Vec::with_capacity(width as usize);
             let mut vis = vec![0.0; tris.len()];
-            for i in 0..width {
-                let (x0, y0) = (i as f64, j as f64);
-                let square: Poly = vec![
-                    [x0, y0],
-                    [x0 + 1.0, y0],
-                    [x0 + 1.0, y0 + 1.0],
-                    [x0, y0 + 1.0],
-                ];
-                let mut cands: Vec<(usize, Poly)> = Vec::new();
-                for &k in &rows[j as usize] {
-                    let t = rt[k].as_ref().unwrap();
-                    if t.bbox[0] >= x0 + 1.0 || t.bbox[2] <= x0 {
-                        continue;
-                    }
-                    let mut poly = square.clone();
-                    for e in edge_functions(&t.p) {
-                        poly = clip(&poly, &|q| e.at(q), true);
-                        if poly.is_empty() {
-                            break;
-                        }
-                    }
-                    if !poly.is_empty() && area_centroid(&poly).0 > 0.0 {
-                        cands.push((k, poly));
-                    }
-                }
-                let mut acc = [0.0; 3];
-                let mut covered = 0.0;
-                let mut best = (-1i32, 0.0f64);
-                let mut areas = Vec::with_capacity(cands.len());
-                for (pi, (p, ppoly)) in cands.iter().enumerate() {
-                    let pt = rt[*p].as_ref().unwrap();
-                    let mut pieces = vec![ppoly.clone()];
-                    for (qi, (q, qpoly)) in cands.iter().enumerate() {
-                        if qi == pi || pieces.is_empty() {
-                            continue;
-                        }
-                        let qt = rt[*q].as_ref().unwrap();
-                        let d = Affine {
-                            a: qt.z.a - pt.z.a,
-                            b: qt.z.b - pt.z.b,
-                            c: qt.z.c - pt.z.c,
-                        };
-                        let coplanar = qpoly.iter().all(|&v| d.at(v).abs() < COPLANAR_EPS);
-                        let occ = if coplanar {
-                            if coplanar_wins(*q, qt, *p, pt) {
-                                qpoly.clone()
-                            } else {
-                                continue;
-                            }
-                        } else {
-                            clip(qpoly, &|v| d.at(v), false)
-                        };
-                        if occ.is_empty() {
-                            continue;
-                        }
-                        pieces = subtract(pieces, &occ);
-                    }
-                    let mut area = 0.0;
-                    for piece in &pieces {
-                        let (a, c) = area_centroid(piece);
-                        area += a;
-                        for ch in 0..3 {
-                            acc[ch] += a * pt.col[ch].at(c);
-                        }
-                    }
-                    covered += area;
-                    vis[*p] += area;
-                    areas.push(area);
-                    if area > best.1 {
-                        best = (*p as i32, area);
-                    }
-                }
-                let covered = covered.clamp(0.0, 1.0);
-                for ch in 0..3 {
-                    acc[ch] += (1.0 - covered) * bgf[ch];
-                }
-                if 1.0 - covered >= best.1 {
-                    best = (-1, 1.0 - covered);
-                }
-                let visible_surfaces = areas.iter().filter(|&&a| a > 1e-9).count();
-                rgb.push(acc);
-                cov.push(covered);
-                dom.push(best.0);
-                dom_area.push(best.1);
-                part.push(visible_surfaces > 1);
-            }
-            (rgb, cov, dom, dom_area, part, vis)
+            let px = (0..width)
+                .map(|i| {
+                    let cands = candidates(&rt, &rows[j as usize], i as f64, j as f64);
+                    pixel(&rt, &cands, bgf, &mut vis)
+                })
+                .collect();
+            (px, vis)
         })
         .collect();
     let mut img = RefImage {
@@ -412,12 +441,14 @@ pub fn reference_image(tris: &[SnappedTri], width: u32, height: u32, bg: [u8; 3]
         visible_area: vec![0.0; tris.len()],
         mixed: Vec::new(),
     };
-    for (rgb, cov, dom, dom_area, part, vis) in per_row {
-        img.rgb.extend(rgb);
-        img.covered.extend(cov);
-        img.dominant.extend(dom);
-        img.dominant_area.extend(dom_area);
-        img.mixed.extend(part);
+    for (px, vis) in per_row {
+        for p in px {
+            img.rgb.push(p.rgb);
+            img.covered.push(p.covered);
+            img.dominant.push(p.dominant);
+            img.dominant_area.push(p.dominant_area);
+            img.mixed.push(p.mixed);
+        }
         for (a, b) in img.visible_area.iter_mut().zip(vis) {
             *a += b;
         }

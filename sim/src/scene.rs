@@ -14,6 +14,10 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 
+use crate::input::{self, InputError, ReadPolicy};
+use crate::obj::{self, MAX_WORLD_COORD};
+use crate::strict_json::{self, fields_of, FieldLister, StrictError};
+
 /// Largest accepted `width` or `height` (the span word's 12-bit XL/XR).
 pub const MAX_RESOLUTION: u32 = pixelproc_formats::MAX_SCREEN;
 
@@ -174,21 +178,24 @@ pub struct EffectsSpec {
 /// Errors while reading a scene.
 #[derive(Debug, Error)]
 pub enum SceneError {
-    /// The scene file could not be read.
-    #[error("cannot read scene {}", path.display())]
-    Read {
-        /// Path.
-        path: PathBuf,
-        /// Cause.
-        source: std::io::Error,
-    },
-    /// JSON syntax or schema error (serde reports line and column).
+    /// A file could not be read under the input rules.
+    #[error(transparent)]
+    Input(#[from] InputError),
+    /// JSON syntax, shape or type error, or (when strict) an unknown key.
     #[error("scene {path}")]
     Json {
         /// Path.
         path: String,
         /// Cause.
-        source: serde_json::Error,
+        source: StrictError,
+    },
+    /// Unknown keys in a scene read strictly.
+    #[error("scene {path}: {}", keys.join("; "))]
+    UnknownKeys {
+        /// Path.
+        path: String,
+        /// One line per key.
+        keys: Vec<String>,
     },
     /// A mesh file could not be read or parsed.
     #[error("mesh {path}: {msg}")]
@@ -203,35 +210,28 @@ pub enum SceneError {
     Invalid(String),
 }
 
-/// Triangles of one loaded mesh, world space after its transform.
-#[derive(Clone, Debug)]
-pub struct LoadedMesh {
-    /// Vertex positions.
-    pub positions: Vec<[f64; 3]>,
-    /// Vertex normals (same length as positions) when the OBJ has them.
-    pub normals: Option<Vec<[f64; 3]>>,
-    /// Triangle vertex indices.
-    pub triangles: Vec<[u32; 3]>,
-}
+pub use crate::obj::LoadedMesh;
 
 /// Where OBJ files come from: the file system (relative to the scene) or embedded text.
 pub enum MeshSource {
-    /// Paths are relative to this directory.
+    /// Paths are relative to this directory; files are read under the default
+    /// [`ReadPolicy`] (regular files, size limit, no sandbox).
     Dir(PathBuf),
+    /// Paths are relative to this directory, read under the given policy.
+    DirWith(PathBuf, ReadPolicy),
     /// Embedded files by name.
     Embedded(BTreeMap<String, String>),
 }
 
 impl MeshSource {
     fn load(&self, rel: &str) -> Result<String, SceneError> {
+        let from_dir = |d: &Path, pol: &ReadPolicy| {
+            let p = input::resolve_in_sandbox(d, rel, pol)?;
+            Ok(input::read_text(&p, pol)?)
+        };
         match self {
-            MeshSource::Dir(d) => {
-                let p = d.join(rel);
-                std::fs::read_to_string(&p).map_err(|e| SceneError::Mesh {
-                    path: p.display().to_string(),
-                    msg: e.to_string(),
-                })
-            }
+            MeshSource::Dir(d) => from_dir(d, &ReadPolicy::default()),
+            MeshSource::DirWith(d, pol) => from_dir(d, pol),
             MeshSource::Embedded(m) => m.get(rel).cloned().ok_or_else(|| SceneError::Mesh {
                 path: rel.to_string(),
                 msg: "no such embedded file".into(),
@@ -249,6 +249,9 @@ pub struct LoadedScene {
     pub meshes: Vec<LoadedMesh>,
     /// Display name (file name or built-in name).
     pub name: String,
+    /// Things that did not stop loading but may be mistakes (unknown keys, skipped OBJ
+    /// statements), one line each. The CLI prints them; `--strict` makes them errors.
+    pub warnings: Vec<String>,
 }
 
 impl LoadedScene {
@@ -258,11 +261,28 @@ impl LoadedScene {
     }
 }
 
+fn invalid(msg: String) -> SceneError {
+    SceneError::Invalid(msg)
+}
+
+/// A world-space point: finite and within [`MAX_WORLD_COORD`].
+fn world3(what: &str, v: &[f64; 3]) -> Result<(), SceneError> {
+    if v.iter()
+        .all(|x| x.is_finite() && x.abs() <= MAX_WORLD_COORD)
+    {
+        Ok(())
+    } else {
+        Err(invalid(format!(
+            "{what} {v:?} must be finite and within ±{MAX_WORLD_COORD:e}"
+        )))
+    }
+}
+
 fn finite3(what: &str, v: &[f64; 3]) -> Result<(), SceneError> {
     if v.iter().all(|x| x.is_finite()) {
         Ok(())
     } else {
-        Err(SceneError::Invalid(format!(
+        Err(invalid(format!(
             "{what} has a NaN or infinite coordinate: {v:?}"
         )))
     }
@@ -272,217 +292,276 @@ fn colour(what: &str, c: &[f64; 3]) -> Result<(), SceneError> {
     if c.iter().all(|x| x.is_finite() && (0.0..=1.0).contains(x)) {
         Ok(())
     } else {
-        Err(SceneError::Invalid(format!(
-            "{what} colour {c:?} is not within 0..1"
-        )))
+        Err(invalid(format!("{what} colour {c:?} is not within 0..1")))
     }
 }
 
-/// Parses scene JSON text. `name` is used in messages.
-pub fn parse(text: &str, name: &str) -> Result<Scene, SceneError> {
-    serde_json::from_str(text).map_err(|e| SceneError::Json {
-        path: name.to_string(),
-        source: e,
-    })
+/// Which object each path of the scene format holds, for "did you mean" suggestions.
+const SCHEMA: &[(&str, FieldLister)] = &[
+    ("", fields_of::<Scene>),
+    ("triangles[]", fields_of::<ScreenTriangle>),
+    ("camera", fields_of::<Camera>),
+    ("lights[]", fields_of::<Light>),
+    ("meshes[]", fields_of::<MeshRef>),
+    ("patterns[]", fields_of::<Pattern>),
+    ("effects", fields_of::<EffectsSpec>),
+];
+
+/// Parses scene JSON text leniently: unknown keys are returned as warnings (one line each,
+/// with the closest known key). `name` is used in messages.
+pub fn parse_with_warnings(text: &str, name: &str) -> Result<(Scene, Vec<String>), SceneError> {
+    let (scene, unknown) =
+        strict_json::parse::<Scene>(text, SCHEMA).map_err(|e| SceneError::Json {
+            path: name.to_string(),
+            source: e,
+        })?;
+    Ok((scene, unknown.iter().map(|k| k.to_string()).collect()))
 }
 
-/// Validates a scene and loads its meshes.
-pub fn load_with(scene: Scene, src: &MeshSource, name: &str) -> Result<LoadedScene, SceneError> {
-    let s = &scene;
+/// Parses scene JSON text strictly: an unknown key is an error. `name` is used in messages.
+pub fn parse(text: &str, name: &str) -> Result<Scene, SceneError> {
+    let (scene, keys) = parse_with_warnings(text, name)?;
+    if keys.is_empty() {
+        Ok(scene)
+    } else {
+        Err(SceneError::UnknownKeys {
+            path: name.to_string(),
+            keys,
+        })
+    }
+}
+
+fn check_resolution(s: &Scene) -> Result<(), SceneError> {
     if s.width == 0 || s.height == 0 || s.width > MAX_RESOLUTION || s.height > MAX_RESOLUTION {
-        return Err(SceneError::Invalid(format!(
+        return Err(invalid(format!(
             "resolution {}x{} is outside 1x1..{MAX_RESOLUTION}x{MAX_RESOLUTION}",
             s.width, s.height
         )));
     }
-    colour("background", &s.background)?;
-    if s.camera.is_some() && !s.triangles.is_empty() {
-        return Err(SceneError::Invalid(
-            "a scene has either screen-space \"triangles\" or a \"camera\" with meshes, not both"
-                .into(),
-        ));
-    }
-    if s.camera.is_none() && !s.meshes.is_empty() {
-        return Err(SceneError::Invalid("meshes need a \"camera\"".into()));
-    }
+    Ok(())
+}
+
+fn check_triangles(s: &Scene) -> Result<(), SceneError> {
     for (k, t) in s.triangles.iter().enumerate() {
         for p in &t.v {
-            finite3(&format!("triangle {k}"), p)?;
+            finite3(&format!("triangles[{k}].v"), p)?;
         }
-        colour(&format!("triangle {k}"), &t.color)?;
+        colour(&format!("triangles[{k}]"), &t.color)?;
         if let Some(cs) = &t.colors {
             for c in cs {
-                colour(&format!("triangle {k}"), c)?;
+                colour(&format!("triangles[{k}].colors"), c)?;
             }
         }
         if let Some(h) = t.pattern_on {
             if h >= s.triangles.len() || h == k {
-                return Err(SceneError::Invalid(format!(
-                    "triangle {k}: pattern_on {h} is not another triangle of the scene"
+                return Err(invalid(format!(
+                    "triangles[{k}].pattern_on {h} is not another triangle of the scene"
                 )));
             }
         }
     }
     if let Some([a, b]) = s.depth_range {
         if !(a.is_finite() && b.is_finite() && a < b) {
-            return Err(SceneError::Invalid(format!(
-                "depth_range [{a}, {b}] must be finite and increasing"
+            return Err(invalid(format!(
+                "depth_range [{a:?}, {b:?}] must be finite and increasing"
             )));
         }
     }
-    if let Some(c) = &s.camera {
-        finite3("camera eye", &c.eye)?;
-        finite3("camera target", &c.target)?;
-        finite3("camera up", &c.up)?;
-        if !(c.fov_y_deg.is_finite() && c.fov_y_deg > 0.0 && c.fov_y_deg < 179.0) {
-            return Err(SceneError::Invalid(format!(
-                "camera fov_y_deg {} is outside (0, 179)",
-                c.fov_y_deg
+    Ok(())
+}
+
+/// The camera must define a view: eye ≠ target, and `up` not zero nor parallel to the
+/// view direction (either leaves the view basis undefined and renders nothing).
+fn check_camera(c: &Camera) -> Result<(), SceneError> {
+    world3("camera.eye", &c.eye)?;
+    world3("camera.target", &c.target)?;
+    finite3("camera.up", &c.up)?;
+    let d = [0, 1, 2].map(|i| c.target[i] - c.eye[i]);
+    let len = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    let dl = len(d);
+    if dl == 0.0 || !dl.is_finite() {
+        return Err(invalid(
+            "camera.target equals camera.eye: the view direction is undefined".into(),
+        ));
+    }
+    let ul = len(c.up);
+    if ul == 0.0 || !ul.is_finite() {
+        return Err(invalid(format!(
+            "camera.up {:?} must be a non-zero direction",
+            c.up
+        )));
+    }
+    let u = c.up;
+    let cross = [
+        d[1] * u[2] - d[2] * u[1],
+        d[2] * u[0] - d[0] * u[2],
+        d[0] * u[1] - d[1] * u[0],
+    ];
+    // sin of the angle between up and the view direction; below ~0.06° there is no
+    // usable right vector.
+    if len(cross) / (dl * ul) < 1e-3 {
+        return Err(invalid(format!(
+            "camera.up {:?} is parallel to the view direction (target − eye)",
+            c.up
+        )));
+    }
+    if !(c.fov_y_deg.is_finite() && c.fov_y_deg > 0.0 && c.fov_y_deg < 179.0) {
+        return Err(invalid(format!(
+            "camera.fov_y_deg {:?} is outside (0, 179)",
+            c.fov_y_deg
+        )));
+    }
+    let near = c.near.unwrap_or(0.1);
+    if !(near.is_finite() && near > 0.0) {
+        return Err(invalid(format!("camera.near {near:?} must be positive")));
+    }
+    if let Some(f) = c.far {
+        if !(f.is_finite() && f > near) {
+            return Err(invalid(format!(
+                "camera.far {f:?} must exceed camera.near {near:?}"
             )));
-        }
-        let near = c.near.unwrap_or(0.1);
-        if !(near.is_finite() && near > 0.0) {
-            return Err(SceneError::Invalid(format!(
-                "camera near {near} must be positive"
-            )));
-        }
-        if let Some(f) = c.far {
-            if !(f.is_finite() && f > near) {
-                return Err(SceneError::Invalid(format!(
-                    "camera far {f} must exceed near {near}"
-                )));
-            }
         }
     }
+    Ok(())
+}
+
+fn check_lights(s: &Scene) -> Result<(), SceneError> {
     if !(s.ambient.is_finite() && (0.0..=1.0).contains(&s.ambient)) {
-        return Err(SceneError::Invalid(format!(
-            "ambient {} is not within 0..1",
+        return Err(invalid(format!(
+            "ambient {:?} is not within 0..1",
             s.ambient
         )));
     }
     for (k, l) in s.lights.iter().enumerate() {
-        finite3(&format!("light {k}"), &l.position)?;
+        world3(&format!("lights[{k}].position"), &l.position)?;
         let ok = |x: f64| x.is_finite() && x >= 0.0;
-        if !ok(l.intensity) || !ok(l.radius) {
-            return Err(SceneError::Invalid(format!(
-                "light {k}: intensity and radius must be finite and non-negative"
+        if !ok(l.intensity) || !ok(l.radius) || l.radius > MAX_WORLD_COORD {
+            return Err(invalid(format!(
+                "lights[{k}]: intensity and radius must be finite and non-negative"
             )));
         }
         if let Some(n) = l.samples {
             if !(1..=64).contains(&n) {
-                return Err(SceneError::Invalid(format!(
-                    "light {k}: samples {n} is outside 1..=64"
+                return Err(invalid(format!(
+                    "lights[{k}].samples {n} is outside 1..=64"
                 )));
             }
         }
     }
-    let mut meshes = Vec::new();
-    for (k, m) in s.meshes.iter().enumerate() {
-        colour(&format!("mesh {k}"), &m.color)?;
-        finite3(&format!("mesh {k} translate"), &m.translate)?;
-        let text = src.load(&m.obj)?;
-        meshes.push(parse_obj(&text, &m.obj, m)?);
+    Ok(())
+}
+
+fn check_mesh_ref(k: usize, m: &MeshRef) -> Result<(), SceneError> {
+    colour(&format!("meshes[{k}]"), &m.color)?;
+    world3(&format!("meshes[{k}].translate"), &m.translate)?;
+    if let Some(sc) = &m.scale {
+        if !sc
+            .iter()
+            .all(|x| x.is_finite() && *x != 0.0 && x.abs() <= MAX_WORLD_COORD)
+        {
+            return Err(invalid(format!(
+                "meshes[{k}].scale {sc:?} must be non-zero, finite and within ±{MAX_WORLD_COORD:e}"
+            )));
+        }
     }
+    if !m.rotate_y_deg.is_finite() {
+        return Err(invalid(format!("meshes[{k}].rotate_y_deg must be finite")));
+    }
+    Ok(())
+}
+
+fn check_patterns(s: &Scene) -> Result<(), SceneError> {
     for (k, p) in s.patterns.iter().enumerate() {
-        colour(&format!("pattern {k}"), &p.color)?;
+        colour(&format!("patterns[{k}]"), &p.color)?;
         if p.on_mesh >= s.meshes.len() {
-            return Err(SceneError::Invalid(format!(
-                "pattern {k}: on_mesh {} does not exist",
+            return Err(invalid(format!(
+                "patterns[{k}].on_mesh {} does not exist",
                 p.on_mesh
             )));
         }
         if p.polygon.len() < 3 {
-            return Err(SceneError::Invalid(format!(
-                "pattern {k}: a polygon needs at least 3 vertices"
+            return Err(invalid(format!(
+                "patterns[{k}]: a polygon needs at least 3 vertices"
             )));
         }
         for v in &p.polygon {
-            finite3(&format!("pattern {k}"), v)?;
+            world3(&format!("patterns[{k}].polygon"), v)?;
         }
     }
+    Ok(())
+}
+
+/// Validates a scene and loads its meshes.
+pub fn load_with(scene: Scene, src: &MeshSource, name: &str) -> Result<LoadedScene, SceneError> {
+    let s = &scene;
+    check_resolution(s)?;
+    colour("background", &s.background)?;
+    if s.camera.is_some() && !s.triangles.is_empty() {
+        return Err(invalid(
+            "a scene has either screen-space \"triangles\" or a \"camera\" with meshes, not both"
+                .into(),
+        ));
+    }
+    if s.camera.is_none() && !s.meshes.is_empty() {
+        return Err(invalid("meshes need a \"camera\"".into()));
+    }
+    check_triangles(s)?;
+    if let Some(c) = &s.camera {
+        check_camera(c)?;
+    }
+    check_lights(s)?;
+    let mut meshes = Vec::new();
+    let mut warnings = Vec::new();
+    for (k, m) in s.meshes.iter().enumerate() {
+        check_mesh_ref(k, m)?;
+        let text = src.load(&m.obj)?;
+        let label = format!("meshes[{k}] ({})", m.obj);
+        let (mesh, notes) = obj::parse_obj(&text, &label, m)?;
+        if let Some((line, first)) = notes.first_skipped {
+            warnings.push(format!(
+                "mesh {label}: {} statement(s) not understood and skipped (first: line {line} `{first}`)",
+                notes.skipped_lines
+            ));
+        }
+        meshes.push(mesh);
+    }
+    check_patterns(s)?;
     Ok(LoadedScene {
         scene,
         meshes,
         name: name.to_string(),
+        warnings,
     })
 }
 
-fn parse_obj(text: &str, path: &str, m: &MeshRef) -> Result<LoadedMesh, SceneError> {
-    let opts = tobj::LoadOptions {
-        triangulate: true,
-        single_index: true,
-        ..Default::default()
-    };
-    let mut rd = std::io::BufReader::new(text.as_bytes());
-    let (models, _) = tobj::load_obj_buf(&mut rd, &opts, |_| Err(tobj::LoadError::OpenFileFailed))
-        .map_err(|e| SceneError::Mesh {
-            path: path.to_string(),
-            msg: e.to_string(),
-        })?;
-    let scale = m.scale.unwrap_or([1.0; 3]);
-    let (sin, cos) = m.rotate_y_deg.to_radians().sin_cos();
-    let xf = |p: [f64; 3]| {
-        let q = [p[0] * scale[0], p[1] * scale[1], p[2] * scale[2]];
-        [
-            cos * q[0] + sin * q[2] + m.translate[0],
-            q[1] + m.translate[1],
-            -sin * q[0] + cos * q[2] + m.translate[2],
-        ]
-    };
-    let xn = |n: [f64; 3]| {
-        let q = [n[0] / scale[0], n[1] / scale[1], n[2] / scale[2]];
-        [cos * q[0] + sin * q[2], q[1], -sin * q[0] + cos * q[2]]
-    };
-    let mut out = LoadedMesh {
-        positions: vec![],
-        normals: Some(vec![]),
-        triangles: vec![],
-    };
-    for md in models {
-        let mesh = md.mesh;
-        let base = out.positions.len() as u32;
-        for p in mesh.positions.chunks_exact(3) {
-            let v = [p[0] as f64, p[1] as f64, p[2] as f64];
-            if !v.iter().all(|x| x.is_finite()) {
-                return Err(SceneError::Mesh {
-                    path: path.into(),
-                    msg: format!("vertex {v:?} is not finite"),
-                });
-            }
-            out.positions.push(xf(v));
-        }
-        let has_n = mesh.normals.len() == mesh.positions.len();
-        match (&mut out.normals, has_n) {
-            (Some(ns), true) => {
-                for n in mesh.normals.chunks_exact(3) {
-                    ns.push(xn([n[0] as f64, n[1] as f64, n[2] as f64]));
-                }
-            }
-            (ns, _) => *ns = None,
-        }
-        for t in mesh.indices.chunks_exact(3) {
-            out.triangles.push([base + t[0], base + t[1], base + t[2]]);
-        }
-    }
-    if out.triangles.is_empty() {
-        return Err(SceneError::Mesh {
-            path: path.into(),
-            msg: "no faces".into(),
-        });
-    }
-    Ok(out)
+/// Loads a scene file under the default [`ReadPolicy`]; OBJ paths resolve relative to the
+/// file's directory.
+pub fn load_file(path: &Path) -> Result<LoadedScene, SceneError> {
+    load_file_with(path, &ReadPolicy::default())
 }
 
-/// Loads a scene file; OBJ paths resolve relative to the file's directory.
-pub fn load_file(path: &Path) -> Result<LoadedScene, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError::Read {
-        path: path.to_path_buf(),
-        source: e,
-    })?;
+/// Loads a scene file under `policy`. A `policy.sandbox` of `Some(empty path)` means "the
+/// scene file's own folder". Unknown keys become warnings on the returned scene.
+pub fn load_file_with(path: &Path, policy: &ReadPolicy) -> Result<LoadedScene, SceneError> {
+    let text = input::read_text(path, policy)?;
     let name = path.display().to_string();
-    let scene = parse(&text, &name)?;
-    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    load_with(scene, &MeshSource::Dir(dir), &name)
+    let (scene, unknown) = parse_with_warnings(&text, &name)?;
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let mut pol = policy.clone();
+    if matches!(&pol.sandbox, Some(p) if p.as_os_str().is_empty()) {
+        pol.sandbox = Some(dir.clone());
+    }
+    let mut ls = load_with(scene, &MeshSource::DirWith(dir, pol), &name)?;
+    let mut warnings: Vec<String> = unknown
+        .into_iter()
+        .map(|k| format!("scene {name}: {k}"))
+        .collect();
+    warnings.append(&mut ls.warnings);
+    ls.warnings = warnings;
+    Ok(ls)
 }
 
 /// The embedded default scene: boxes and an L-shaped block over a ground plane, one light,

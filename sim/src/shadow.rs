@@ -168,100 +168,125 @@ pub fn occluders(ls: &LoadedScene) -> Vec<Occluder> {
         if !mr.casts_shadows {
             continue;
         }
-        // Weld positions bit-exactly.
-        let mut ids: HashMap<[u64; 3], usize> = HashMap::new();
-        let mut pos = Vec::new();
-        let mut weld = |p: [f64; 3]| {
-            *ids.entry(p.map(f64::to_bits)).or_insert_with(|| {
-                pos.push(DVec3::from(p));
-                pos.len() - 1
-            })
-        };
-        let faces: Vec<[usize; 3]> = m
-            .triangles
-            .iter()
-            .map(|t| t.map(|i| weld(m.positions[i as usize])))
-            .filter(|f| f[0] != f[1] && f[1] != f[2] && f[0] != f[2])
-            .collect();
-        let mut edge_faces: HashMap<(usize, usize), Vec<usize>> = HashMap::new();
-        for (fi, f) in faces.iter().enumerate() {
-            for k in 0..3 {
-                let (a, b) = (f[k], f[(k + 1) % 3]);
-                edge_faces.entry((a.min(b), a.max(b))).or_default().push(fi);
-            }
-        }
-        // Union-find over faces sharing an edge.
-        let mut parent: Vec<usize> = (0..faces.len()).collect();
-        fn find(p: &mut [usize], x: usize) -> usize {
-            let mut r = x;
-            while p[r] != r {
-                r = p[r];
-            }
-            let mut y = x;
-            while p[y] != r {
-                let n = p[y];
-                p[y] = r;
-                y = n;
-            }
-            r
-        }
-        for fs in edge_faces.values() {
-            for w in fs.windows(2) {
-                let (a, b) = (find(&mut parent, w[0]), find(&mut parent, w[1]));
-                parent[a] = b;
-            }
-        }
-        let mut comps: HashMap<usize, Vec<usize>> = HashMap::new();
-        for fi in 0..faces.len() {
-            let r = find(&mut parent, fi);
-            comps.entry(r).or_default().push(fi);
-        }
-        let mut roots: Vec<usize> = comps.keys().copied().collect();
-        roots.sort_unstable();
-        for r in roots {
-            let fl = &comps[&r];
-            let local: HashMap<usize, usize> =
-                fl.iter().enumerate().map(|(k, &f)| (f, k)).collect();
-            let tri = |f: usize| faces[f].map(|i| pos[i]);
-            let mut edges = Vec::new();
-            let mut closed = true;
-            let mut keys: Vec<&(usize, usize)> = edge_faces
-                .keys()
-                .filter(|e| local.contains_key(&edge_faces[e][0]))
-                .collect();
-            keys.sort_unstable();
-            for e in keys {
-                let fs: Vec<usize> = edge_faces[e].iter().map(|f| local[f]).collect();
-                closed &= fs.len() == 2;
-                edges.push(([pos[e.0], pos[e.1]], fs));
-            }
-            let ftris: Vec<[DVec3; 3]> = fl.iter().map(|&f| tri(f)).collect();
-            let verts: Vec<DVec3> = ftris.iter().flatten().copied().collect();
-            let scale = verts
-                .iter()
-                .fold(0.0f64, |s, v| s.max(v.abs().max_element()))
-                .max(1.0);
-            let convex = closed
-                && ftris.iter().all(|t| {
-                    let n = (t[1] - t[0]).cross(t[2] - t[0]);
-                    let len = n.length();
-                    len > 0.0 && {
-                        let n = n / len;
-                        let side = |v: &DVec3| (*v - t[0]).dot(n);
-                        let eps = 1e-9 * scale;
-                        verts.iter().all(|v| side(v) <= eps)
-                            || verts.iter().all(|v| side(v) >= -eps)
-                    }
-                });
-            out.push(Occluder {
-                faces: ftris,
-                convex_closed: convex,
-                closed,
-                edges,
-            });
+        let (pos, faces) = weld(m);
+        let edge_faces = edge_faces(&faces);
+        for fl in components(faces.len(), &edge_faces) {
+            out.push(occluder(&pos, &faces, &edge_faces, &fl));
         }
     }
     out
+}
+
+/// Welds a mesh's positions bit-exactly; drops faces that become degenerate.
+fn weld(m: &crate::scene::LoadedMesh) -> (Vec<DVec3>, Vec<[usize; 3]>) {
+    let mut ids: HashMap<[u64; 3], usize> = HashMap::new();
+    let mut pos = Vec::new();
+    let mut weld = |p: [f64; 3]| {
+        *ids.entry(p.map(f64::to_bits)).or_insert_with(|| {
+            pos.push(DVec3::from(p));
+            pos.len() - 1
+        })
+    };
+    let faces: Vec<[usize; 3]> = m
+        .triangles
+        .iter()
+        .map(|t| t.map(|i| weld(m.positions[i as usize])))
+        .filter(|f| f[0] != f[1] && f[1] != f[2] && f[0] != f[2])
+        .collect();
+    (pos, faces)
+}
+
+/// Faces adjacent to each undirected edge (vertex pair, smaller index first).
+type EdgeFaces = HashMap<(usize, usize), Vec<usize>>;
+
+fn edge_faces(faces: &[[usize; 3]]) -> EdgeFaces {
+    let mut edge_faces: EdgeFaces = HashMap::new();
+    for (fi, f) in faces.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (f[k], f[(k + 1) % 3]);
+            edge_faces.entry((a.min(b), a.max(b))).or_default().push(fi);
+        }
+    }
+    edge_faces
+}
+
+/// Connected components of faces sharing an edge (union-find), ordered by their root.
+fn components(n: usize, edge_faces: &EdgeFaces) -> Vec<Vec<usize>> {
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn find(p: &mut [usize], x: usize) -> usize {
+        let mut r = x;
+        while p[r] != r {
+            r = p[r];
+        }
+        let mut y = x;
+        while p[y] != r {
+            let n = p[y];
+            p[y] = r;
+            y = n;
+        }
+        r
+    }
+    for fs in edge_faces.values() {
+        for w in fs.windows(2) {
+            let (a, b) = (find(&mut parent, w[0]), find(&mut parent, w[1]));
+            parent[a] = b;
+        }
+    }
+    let mut comps: HashMap<usize, Vec<usize>> = HashMap::new();
+    for fi in 0..n {
+        let r = find(&mut parent, fi);
+        comps.entry(r).or_default().push(fi);
+    }
+    let mut roots: Vec<usize> = comps.keys().copied().collect();
+    roots.sort_unstable();
+    roots
+        .into_iter()
+        .map(|r| comps.remove(&r).unwrap_or_default())
+        .collect()
+}
+
+/// One component as an occluder: its faces, welded edges, closed and convex tests.
+fn occluder(pos: &[DVec3], faces: &[[usize; 3]], edge_faces: &EdgeFaces, fl: &[usize]) -> Occluder {
+    let local: HashMap<usize, usize> = fl.iter().enumerate().map(|(k, &f)| (f, k)).collect();
+    let mut edges = Vec::new();
+    let mut closed = true;
+    let mut keys: Vec<&(usize, usize)> = edge_faces
+        .keys()
+        .filter(|e| local.contains_key(&edge_faces[e][0]))
+        .collect();
+    keys.sort_unstable();
+    for e in keys {
+        let fs: Vec<usize> = edge_faces[e].iter().map(|f| local[f]).collect();
+        closed &= fs.len() == 2;
+        edges.push(([pos[e.0], pos[e.1]], fs));
+    }
+    let ftris: Vec<[DVec3; 3]> = fl.iter().map(|&f| faces[f].map(|i| pos[i])).collect();
+    let convex = closed && is_convex(&ftris);
+    Occluder {
+        faces: ftris,
+        convex_closed: convex,
+        closed,
+        edges,
+    }
+}
+
+/// Every vertex lies on one side of every face's plane (within a relative 1e-9).
+fn is_convex(ftris: &[[DVec3; 3]]) -> bool {
+    let verts: Vec<DVec3> = ftris.iter().flatten().copied().collect();
+    let scale = verts
+        .iter()
+        .fold(0.0f64, |s, v| s.max(v.abs().max_element()))
+        .max(1.0);
+    ftris.iter().all(|t| {
+        let n = (t[1] - t[0]).cross(t[2] - t[0]);
+        let len = n.length();
+        len > 0.0 && {
+            let n = n / len;
+            let side = |v: &DVec3| (*v - t[0]).dot(n);
+            let eps = 1e-9 * scale;
+            verts.iter().all(|v| side(v) <= eps) || verts.iter().all(|v| side(v) >= -eps)
+        }
+    })
 }
 
 fn facing(t: &[DVec3; 3], light: DVec3) -> f64 {
