@@ -189,3 +189,45 @@ impl<const B: usize> Logic for SearchBackEnd<B> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mask_search::{cycle, depth_of, plane_bits, SEED_DEPTHS, SEED_PLANE, SEED_WORD};
+
+    #[test]
+    fn a_result_shows_back_latency_clocks_later() {
+        let mut u = SearchBackEnd::<16>::new(MaskSize::S4X4);
+        u.connect_all();
+        u.i_valid.next = true;
+        u.i_hit.next = true;
+        u.i_steps.next = 3u64.to_bits();
+        u.i_and.next = 0x0842u64.to_bits();
+        u.i_zc.next = plane_bits(SEED_PLANE[0]);
+        u.i_sx.next = plane_bits(SEED_PLANE[1]);
+        u.i_sy.next = plane_bits(SEED_PLANE[2]);
+        cycle!(u);
+        u.i_valid.next = false;
+        u.i_and.next = 0u64.to_bits();
+        for _ in 1..BACK_LATENCY {
+            assert!(!u.out_valid.val());
+            cycle!(u);
+        }
+        assert!(u.out_valid.val() && u.out_hit.val());
+        assert_eq!(u.out_steps.val().to_u64(), 3);
+        assert_eq!(u.out_and.val().to_u64(), 0x0842);
+        assert_eq!(u.out_rom.val().to_u64(), SEED_WORD);
+        assert_eq!(depth_of(u.out_zmin.val()), SEED_DEPTHS[0]);
+        assert_eq!(depth_of(u.out_zmax.val()), SEED_DEPTHS[1]);
+        cycle!(u);
+        assert!(!u.out_valid.val());
+    }
+
+    #[test]
+    fn verilog_passes_yosys() {
+        crate::mask_search::yosys_check(
+            "pixelproc_rtl_back_end",
+            SearchBackEnd::<16>::new(MaskSize::S4X4),
+        );
+    }
+}

@@ -1,22 +1,9 @@
 //! The iterative mask search unit (seed 000, JP2569952B2, claim 2 and Fig. 6 blocks 3 to 6):
 //! one search line per clock, the seed's flowchart.
 
-use super::{check, MaskSearchError, SearchBackEnd, LINE_BITS, PB, WORD_BITS, Z_BITS};
-use pixelproc_formats::abuffer::{search_mask_table, Corner, MaskSize, SearchFamily};
+use super::{check, MaskGen, MaskSearchError, SearchBackEnd, LINE_BITS, PB, WORD_BITS, Z_BITS};
+use pixelproc_formats::abuffer::{MaskSize, SearchFamily};
 use rust_hdl::prelude::*;
-
-/// Search masks of every line for the four corners, as constants.
-fn mask_constants<const B: usize>(
-    size: MaskSize,
-    family: SearchFamily,
-) -> [Vec<Constant<Bits<B>>>; 4] {
-    Corner::ALL.map(|c| {
-        search_mask_table(size, family, c)
-            .into_iter()
-            .map(|m| Constant::new(m.to_bits()))
-            .collect()
-    })
-}
 
 /// The iterative search unit: one search line per clock (the seed's flowchart).
 ///
@@ -96,18 +83,14 @@ pub struct MaskSearchIter<const B: usize> {
     zc_r: DFF<Bits<PB>>,
     sx_r: DFF<Bits<PB>>,
     sy_r: DFF<Bits<PB>>,
-    k_sm0: Vec<Constant<Bits<B>>>,
-    k_sm1: Vec<Constant<Bits<B>>>,
-    k_sm2: Vec<Constant<Bits<B>>>,
-    k_sm3: Vec<Constant<Bits<B>>>,
-    k_line: Vec<Constant<Bits<LINE_BITS>>>,
+    /// The search mask generator (Fig. 6 block 3).
+    sm_gen: MaskGen<B>,
     k_last: Constant<Bits<LINE_BITS>>,
     k_one_l: Constant<Bits<LINE_BITS>>,
     k_zero_l: Constant<Bits<LINE_BITS>>,
     k_zero_b: Constant<Bits<B>>,
     k_zero_p: Constant<Bits<PB>>,
     k_zero_c: Constant<Bits<2>>,
-    sm: Signal<Local, Bits<B>>,
     and_v: Signal<Local, Bits<B>>,
     nz: Signal<Local, Bit>,
     last: Signal<Local, Bit>,
@@ -118,7 +101,6 @@ impl<const B: usize> MaskSearchIter<B> {
     /// [`SearchFamily::DIAGONAL`]).
     pub fn new(size: MaskSize, family: SearchFamily) -> Result<Self, MaskSearchError> {
         let lines = check(size, family, B)? as usize;
-        let [k_sm0, k_sm1, k_sm2, k_sm3] = mask_constants::<B>(size, family);
         Ok(MaskSearchIter {
             clock: Default::default(),
             rst: Default::default(),
@@ -154,20 +136,13 @@ impl<const B: usize> MaskSearchIter<B> {
             zc_r: Default::default(),
             sx_r: Default::default(),
             sy_r: Default::default(),
-            k_sm0,
-            k_sm1,
-            k_sm2,
-            k_sm3,
-            k_line: (0..lines as u64)
-                .map(|k| Constant::new(k.to_bits()))
-                .collect(),
+            sm_gen: MaskGen::new(size, family),
             k_last: Constant::new((lines as u64 - 1).to_bits()),
             k_one_l: Constant::new(1u64.to_bits()),
             k_zero_l: Constant::new(0u64.to_bits()),
             k_zero_b: Constant::new(0u64.to_bits()),
             k_zero_p: Constant::new(0u64.to_bits()),
             k_zero_c: Constant::new(0u64.to_bits()),
-            sm: Default::default(),
             and_v: Default::default(),
             nz: Default::default(),
             last: Default::default(),
@@ -176,7 +151,7 @@ impl<const B: usize> MaskSearchIter<B> {
 
     /// Number of search lines (the longest search, in clocks).
     pub fn lines(&self) -> usize {
-        self.k_line.len()
+        self.sm_gen.lines()
     }
 }
 
@@ -187,24 +162,10 @@ impl<const B: usize> Logic for MaskSearchIter<B> {
         self.back.clock.next = self.clock.val();
         self.back.rst.next = self.rst.val();
         // Search mask generator: table[corner][line].
-        self.sm.next = self.k_zero_b.val();
-        for k in 0..self.k_line.len() {
-            if self.line_r.q.val() == self.k_line[k].val() {
-                if self.corner_r.q.val().get_bit(1) {
-                    if self.corner_r.q.val().get_bit(0) {
-                        self.sm.next = self.k_sm3[k].val();
-                    } else {
-                        self.sm.next = self.k_sm2[k].val();
-                    }
-                } else if self.corner_r.q.val().get_bit(0) {
-                    self.sm.next = self.k_sm1[k].val();
-                } else {
-                    self.sm.next = self.k_sm0[k].val();
-                }
-            }
-        }
+        self.sm_gen.line.next = self.line_r.q.val();
+        self.sm_gen.corner.next = self.corner_r.q.val();
         // AND unit, zero detector, last line.
-        self.and_v.next = self.mask_r.q.val() & self.sm.val();
+        self.and_v.next = self.mask_r.q.val() & self.sm_gen.mask.val();
         self.nz.next = self.and_v.val() != self.k_zero_b.val();
         self.last.next = self.line_r.q.val() == self.k_last.val();
         self.active.next = self.running_r.q.val();
@@ -213,7 +174,7 @@ impl<const B: usize> Logic for MaskSearchIter<B> {
         self.and_result.next = self.k_zero_b.val();
         if self.running_r.q.val() {
             self.line.next = self.line_r.q.val();
-            self.search_mask.next = self.sm.val();
+            self.search_mask.next = self.sm_gen.mask.val();
             self.and_result.next = self.and_v.val();
         }
         self.zero.next = self.running_r.q.val() & (!self.nz.val());
@@ -346,5 +307,11 @@ mod tests {
         );
         cycle_iter(&mut u, None);
         assert!(!u.out_valid.val());
+    }
+
+    #[test]
+    fn verilog_passes_yosys() {
+        let u = MaskSearchIter::<16>::new(MaskSize::S4X4, SearchFamily::DIAGONAL).unwrap();
+        crate::mask_search::yosys_check("pixelproc_rtl_iter", u);
     }
 }

@@ -22,8 +22,10 @@
 //! 53-bit two's complement. Every register has a synchronous reset (`rst`, to zero).
 //! `docs/rtl_mask_search.md` gives ports, handshakes, latencies and synthesis figures.
 //!
-//! One block per file: [`iter`], [`stage`], [`pipe`], [`back_end`], [`depth_calc`] and
-//! [`offset_rom`]; this module holds the widths, latencies and errors they share.
+//! One block per file: [`iter`] with its [`mask_gen`], [`stage`], [`pipe`], [`back_end`], [`depth_calc`] with
+//! its [`shift_add`], and [`offset_rom`]; each file carries a short smoke simulation and
+//! a Yosys check of its block (the exhaustive comparisons are in the testbench crate);
+//! this module holds the widths, latencies and errors they share.
 //!
 //! **Literals.** Every sized literal in the kernels is a `Constant` field (`k_zero_*`,
 //! `k_one`, ...), never a bare `0`/`1` or a const generic: rust-hdl emits bare literals as
@@ -33,15 +35,19 @@
 pub mod back_end;
 pub mod depth_calc;
 pub mod iter;
+pub mod mask_gen;
 pub mod offset_rom;
 pub mod pipe;
+pub mod shift_add;
 pub mod stage;
 
 pub use back_end::SearchBackEnd;
 pub use depth_calc::DepthCalc;
 pub use iter::MaskSearchIter;
+pub use mask_gen::MaskGen;
 pub use offset_rom::{OffsetRom, ROM_LATENCY, WORD_BITS};
 pub use pipe::MaskSearchPipe;
+pub use shift_add::ShiftAdd;
 pub use stage::{SearchStage, StageProbe};
 
 use pixelproc_formats::abuffer::{MaskSize, SearchFamily, PLANE_BITS};
@@ -194,6 +200,64 @@ pub fn write_mask_search_verilog(dir: &Path) -> Result<Vec<PathBuf>, MaskSearchE
         }
     }
     Ok(out)
+}
+
+/// The Yosys check beside each block: `block`'s Verilog through rust-hdl's
+/// `yosys_validate` (`hierarchy -check; proc`: no latch, nothing undriven or implicit).
+/// Without `yosys` the check is skipped, except under `CI=true` where it fails.
+#[cfg(test)]
+pub(crate) fn yosys_check<B: Block>(prefix: &str, mut block: B) {
+    let have = std::process::Command::new("yosys")
+        .arg("-V")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !have {
+        let ci = std::env::var("CI").is_ok_and(|v| v == "true");
+        assert!(!ci, "yosys not installed (required under CI=true)");
+        println!("SKIPPED: yosys not installed");
+        return;
+    }
+    block.connect_all();
+    let v = generate_verilog(&block);
+    if let Err(e) = yosys_validate(prefix, &v) {
+        panic!("{prefix}: yosys_validate failed: {e:?}");
+    }
+}
+
+/// One clock of a block in the direct `simulate` loop: rising edge, then falling edge.
+#[cfg(test)]
+macro_rules! cycle {
+    ($u:expr) => {{
+        $u.clock.next = Clock { clk: true };
+        assert!(simulate(&mut $u, 200));
+        $u.clock.next = Clock { clk: false };
+        assert!(simulate(&mut $u, 200));
+    }};
+}
+#[cfg(test)]
+pub(crate) use cycle;
+
+/// The seed's worked example (seed 000, 4×4, Tables 1 and 2): AND result 0842H has ends
+/// (−3, +1) and (+1, −3) in 1/8 px; this is its ROM word.
+#[cfg(test)]
+pub(crate) const SEED_WORD: u64 = 0xD | 1 << 4 | 1 << 8 | 0xD << 12 | 1 << 16;
+/// The example's plane `z = 1000 + 3·dx − 5·dy` (Q.12) ...
+#[cfg(test)]
+pub(crate) const SEED_PLANE: [i64; 3] = [1000 << 12, 3 << 12, -5 << 12];
+/// ... and its depths at the two ends: 1000 − 9 − 5 and 1000 + 3 + 15.
+#[cfg(test)]
+pub(crate) const SEED_DEPTHS: [i64; 2] = [986 << 12, 1018 << 12];
+
+/// Plane field `v` as the 48-bit port value.
+#[cfg(test)]
+pub(crate) fn plane_bits(v: i64) -> Bits<PB> {
+    (v as u64 & ((1 << PB) - 1)).to_bits()
+}
+
+/// Depth port value `v` as a signed number.
+#[cfg(test)]
+pub(crate) fn depth_of(v: Bits<Z_BITS>) -> i64 {
+    ((v.to_u64() << (64 - Z_BITS)) as i64) >> (64 - Z_BITS)
 }
 
 #[cfg(test)]

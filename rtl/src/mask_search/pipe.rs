@@ -179,3 +179,43 @@ impl<const B: usize> Logic for MaskSearchPipe<B> {
         self.out_zmax.next = self.back.out_zmax.val();
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mask_search::{cycle, depth_of, plane_bits, SEED_DEPTHS, SEED_PLANE, SEED_WORD};
+
+    #[test]
+    fn seed_worked_example_through_the_pipeline() {
+        let mut u = MaskSearchPipe::<16>::new(MaskSize::S4X4, SearchFamily::DIAGONAL).unwrap();
+        u.connect_all();
+        u.rst.next = true;
+        cycle!(u);
+        u.rst.next = false;
+        u.in_valid.next = true;
+        u.in_mask.next = 0xFF73u64.to_bits();
+        u.in_zc.next = plane_bits(SEED_PLANE[0]);
+        u.in_sx.next = plane_bits(SEED_PLANE[1]);
+        u.in_sy.next = plane_bits(SEED_PLANE[2]);
+        cycle!(u);
+        u.in_valid.next = false;
+        for _ in 1..u.latency() {
+            assert!(!u.out_valid.val());
+            cycle!(u);
+        }
+        assert!(u.out_valid.val() && u.out_hit.val());
+        assert_eq!(u.out_steps.val().to_u64(), 3);
+        assert_eq!(u.out_and.val().to_u64(), 0x0842);
+        assert_eq!(u.out_rom.val().to_u64(), SEED_WORD);
+        assert_eq!(
+            [&u.out_zmin, &u.out_zmax].map(|s| depth_of(s.val())),
+            SEED_DEPTHS
+        );
+    }
+
+    #[test]
+    fn verilog_passes_yosys() {
+        let u = MaskSearchPipe::<16>::new(MaskSize::S4X4, SearchFamily::DIAGONAL).unwrap();
+        crate::mask_search::yosys_check("pixelproc_rtl_pipe", u);
+    }
+}

@@ -215,3 +215,42 @@ impl<const B: usize> Logic for SearchStage<B> {
         self.o_sy.next = self.sy_r.q.val();
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mask_search::cycle;
+
+    #[test]
+    fn a_stage_tests_its_line_unless_an_earlier_one_hit() {
+        // Line 2 of the 4×4 diagonal family from the top-left corner is 0842H.
+        let mut u = SearchStage::<16>::new([0x0842, 0x1111, 0x2222, 0x4444], 2);
+        u.connect_all();
+        u.i_valid.next = true;
+        u.i_mask.next = 0xFF73u64.to_bits();
+        u.i_steps.next = 2u64.to_bits();
+        cycle!(u);
+        assert!(u.o_valid.val() && u.o_found.val());
+        assert_eq!(
+            (u.o_and.val().to_u64(), u.o_steps.val().to_u64()),
+            (0x0842, 3)
+        );
+        assert_eq!(u.probe().mask, 0xFF73);
+        u.i_found.next = true;
+        u.i_and.next = 0x0001u64.to_bits();
+        u.i_steps.next = 1u64.to_bits();
+        cycle!(u);
+        assert_eq!(
+            (u.o_and.val().to_u64(), u.o_steps.val().to_u64()),
+            (0x0001, 1)
+        );
+    }
+
+    #[test]
+    fn verilog_passes_yosys() {
+        crate::mask_search::yosys_check(
+            "pixelproc_rtl_stage",
+            SearchStage::<16>::new([0x0842, 0x1111, 0x2222, 0x4444], 2),
+        );
+    }
+}
