@@ -12,7 +12,6 @@
 #![warn(missing_docs)]
 
 pub mod mask_search;
-pub mod offset_rom;
 pub mod opcodes;
 pub mod pixel_array;
 pub mod pixel_processor;

@@ -35,7 +35,9 @@ pub fn rename_top(verilog: &str, name: &str) -> String {
     out
 }
 
-fn export<B: Block>(mut block: B, name: &str) -> String {
+/// The one export path of every block: Verilog of `block` with its top module renamed to
+/// `name` ([`rename_top`]) and zero extensions made explicit ([`explicit_zero_extension`]).
+pub(crate) fn export<B: Block>(mut block: B, name: &str) -> String {
     block.connect_all();
     let v = generate_verilog(&block);
     format!(

@@ -19,7 +19,6 @@ fn budget(file: &str) -> BTreeMap<&'static str, usize> {
     }
     if file.starts_with("mask_search_") {
         b.insert("UNUSEDSIGNAL", if file.contains("pipe") { 4 } else { 2 });
-        b.insert("WIDTH", 3);
     }
     b
 }

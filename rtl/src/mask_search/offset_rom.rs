@@ -212,4 +212,12 @@ mod tests {
             }
         }
     }
+
+    #[test]
+    fn verilog_passes_yosys() {
+        crate::mask_search::yosys_check(
+            "pixelproc_rtl_offset_rom",
+            OffsetRom::<16>::new(MaskSize::S4X4),
+        );
+    }
 }
