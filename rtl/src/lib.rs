@@ -11,6 +11,7 @@
 
 #![warn(missing_docs)]
 
+pub mod layout;
 pub mod mask_search;
 pub mod offset_rom;
 pub mod opcodes;
