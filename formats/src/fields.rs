@@ -1,5 +1,6 @@
-//! Bit-field tables: a packed word is described once, as a list of [`Field`]s (name,
-//! least significant bit, width), and everything that packs, unpacks or slices the word
+//! Bit-field tables for the packed words of seed 001 (Matsumoto): the span word of
+//! section 3 and the processor readout word. A packed word is described once, as a list
+//! of [`Field`]s (name, least significant bit, width), and everything that packs, unpacks or slices the word
 //! (the golden model's `pack`/`unpack`, the RTL's decode, the external testbench) reads
 //! the same table. `docs/formats.md` prints the tables; a test checks the document
 //! against them.
