@@ -12,15 +12,21 @@
 #![deny(missing_docs)]
 
 pub mod abuffer;
+pub mod fields;
+pub mod opcodes;
+pub mod regs;
 
+pub use fields::Field;
 use thiserror::Error;
 
 /// Fractional bits of a snapped vertex coordinate (1/256 pixel, D3D11-class).
 pub const SUBPIXEL_BITS: u32 = 8;
 /// One pixel in snapped units.
 pub const SUBPIXEL_ONE: i32 = 1 << SUBPIXEL_BITS;
-/// Largest screen width or height the formats support (`XL`, `XR` are 12 bits).
-pub const MAX_SCREEN: u32 = 4096;
+/// Largest screen width or height the formats support (`XL`, `XR` are [`X_BITS`] wide).
+pub const MAX_SCREEN: u32 = 1 << X_BITS;
+/// Largest column a span word (and so a CHECK range) can name.
+pub const MAX_X: u16 = (MAX_SCREEN - 1) as u16;
 /// Largest magnitude of a snapped vertex coordinate, in pixels (guard band).
 /// Vertices beyond it are rejected at setup.
 pub const MAX_COORD_PX: i32 = 16384;
@@ -34,11 +40,28 @@ pub const Z_GEOM_MIN: u32 = 16;
 /// Largest depth a snapped vertex may have; the margin to [`Z_FAR`] absorbs the
 /// sub-unit interpolation error of the span format so no pixel ever reaches `Z_FAR`.
 pub const Z_GEOM_MAX: u32 = Z_FAR - 16;
-/// Fractional bits of `ZL` and `dZ` in a span word.
-pub const Z_FRAC: u32 = 12;
-/// Fractional bits of `IL` and `dI` in a span word.
-pub const I_FRAC: u32 = 12;
+/// Fractional bits of a depth value in a span word (`ZL`, `dZ`): depth units are
+/// `2^-DEPTH_FRAC_BITS`.
+pub const DEPTH_FRAC_BITS: u32 = 12;
+/// One depth unit in span-word fixed point (`1 << DEPTH_FRAC_BITS`).
+pub const DEPTH_ONE: i64 = 1 << DEPTH_FRAC_BITS;
+/// Fractional bits of an intensity value in a span word (`IL`, `dI`): one step of the
+/// 0..255 scale is `2^INTENSITY_FRAC_BITS`.
+pub const INTENSITY_FRAC_BITS: u32 = 12;
+/// One step of the 0..255 intensity scale in span-word fixed point.
+pub const INTENSITY_ONE: u32 = 1 << INTENSITY_FRAC_BITS;
+/// The rounding offset folded into every intensity (half a step), so that the array's
+/// truncating `v >> INTENSITY_FRAC_BITS` rounds.
+pub const INTENSITY_ROUND: u32 = INTENSITY_ONE / 2;
+/// Fractional bits of `ZL` and `dZ` in a span word (the span-field spelling of
+/// [`DEPTH_FRAC_BITS`]).
+pub const Z_FRAC: u32 = DEPTH_FRAC_BITS;
+/// Fractional bits of `IL` and `dI` in a span word (the span-field spelling of
+/// [`INTENSITY_FRAC_BITS`]).
+pub const I_FRAC: u32 = INTENSITY_FRAC_BITS;
 
+/// Width of the span attribute code ([`Attr`]).
+pub const ATTR_BITS: u32 = 2;
 /// Width of `XL`/`XR` fields.
 pub const X_BITS: u32 = 12;
 /// Width of the `ZL` field: unsigned Q24.12.
@@ -55,6 +78,58 @@ pub const TAG_BITS: u32 = 16;
 pub const NCLASS_BITS: u32 = 8;
 /// Width of a packed span word (the remaining top bits are zero, reserved).
 pub const SPAN_WORD_BITS: u32 = 256;
+
+/// Span word field `attr` ([`Attr`] code), bits 1:0.
+pub const SPAN_ATTR: Field = Field::first("attr", ATTR_BITS as usize);
+/// Span word field `XL`.
+pub const SPAN_XL: Field = SPAN_ATTR.then("XL", X_BITS as usize);
+/// Span word field `XR`.
+pub const SPAN_XR: Field = SPAN_XL.then("XR", X_BITS as usize);
+/// Span word field `ZL`.
+pub const SPAN_ZL: Field = SPAN_XR.then("ZL", ZL_BITS as usize);
+/// Span word field `dZ`.
+pub const SPAN_DZ: Field = SPAN_ZL.then("dZ", DZ_BITS as usize);
+/// Span word field `IL_r`.
+pub const SPAN_IL_R: Field = SPAN_DZ.then("IL_r", IL_BITS as usize);
+/// Span word field `IL_g`.
+pub const SPAN_IL_G: Field = SPAN_IL_R.then("IL_g", IL_BITS as usize);
+/// Span word field `IL_b`.
+pub const SPAN_IL_B: Field = SPAN_IL_G.then("IL_b", IL_BITS as usize);
+/// Span word field `dI_r`.
+pub const SPAN_DI_R: Field = SPAN_IL_B.then("dI_r", DI_BITS as usize);
+/// Span word field `dI_g`.
+pub const SPAN_DI_G: Field = SPAN_DI_R.then("dI_g", DI_BITS as usize);
+/// Span word field `dI_b`.
+pub const SPAN_DI_B: Field = SPAN_DI_G.then("dI_b", DI_BITS as usize);
+/// Span word field `tag`.
+pub const SPAN_TAG: Field = SPAN_DI_B.then("tag", TAG_BITS as usize);
+/// Span word field `nclass`.
+pub const SPAN_NCLASS: Field = SPAN_TAG.then("nclass", NCLASS_BITS as usize);
+/// Span word field `decal`.
+pub const SPAN_DECAL: Field = SPAN_NCLASS.then("decal", 1);
+/// The `IL` fields, R, G, B.
+pub const SPAN_IL: [Field; 3] = [SPAN_IL_R, SPAN_IL_G, SPAN_IL_B];
+/// The `dI` fields, R, G, B.
+pub const SPAN_DI: [Field; 3] = [SPAN_DI_R, SPAN_DI_G, SPAN_DI_B];
+/// The span word, LSB first: the one table `SpanWord::pack`/`unpack`, the RTL decode
+/// and `docs/formats.md` follow. Bits above the last field are reserved (zero).
+pub const SPAN_FIELDS: &[Field] = &[
+    SPAN_ATTR,
+    SPAN_XL,
+    SPAN_XR,
+    SPAN_ZL,
+    SPAN_DZ,
+    SPAN_IL_R,
+    SPAN_IL_G,
+    SPAN_IL_B,
+    SPAN_DI_R,
+    SPAN_DI_G,
+    SPAN_DI_B,
+    SPAN_TAG,
+    SPAN_NCLASS,
+    SPAN_DECAL,
+];
+const _: () = assert!(fields::table_end(SPAN_FIELDS) <= SPAN_WORD_BITS as usize);
 
 /// Span attribute, seed 001 section 3.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
@@ -187,60 +262,40 @@ impl SpanWord {
         p >= self.xl as i64 && p <= self.xr as i64
     }
 
-    /// Packs the word into 256 bits, little-endian 64-bit limbs (limb 0 holds bit 0).
-    /// Layout (LSB first): attr[1:0], XL[13:2], XR[25:14], ZL[61:26], dZ[99:62],
-    /// IL_r[119:100], IL_g[139:120], IL_b[159:140], dI_r[180:160], dI_g[201:181],
-    /// dI_b[222:202], tag[238:223], nclass[246:239], decal[247], reserved[255:248] = 0.
+    /// Packs the word into 256 bits, little-endian 64-bit limbs (limb 0 holds bit 0), in
+    /// the layout of [`SPAN_FIELDS`]; the reserved top bits are 0.
     pub fn pack(&self) -> Result<[u64; 4], FieldRangeError> {
         self.check()?;
-        let mut w = BitWriter::default();
-        w.put(self.attr.code() as u64, 2);
-        w.put(self.xl as u64, X_BITS);
-        w.put(self.xr as u64, X_BITS);
-        w.put(self.zl, ZL_BITS);
-        w.put(self.dz as u64, DZ_BITS);
+        let mut l = [0u64; 4];
+        SPAN_ATTR.put(&mut l, self.attr.code() as u64);
+        SPAN_XL.put(&mut l, self.xl as u64);
+        SPAN_XR.put(&mut l, self.xr as u64);
+        SPAN_ZL.put(&mut l, self.zl);
+        SPAN_DZ.put(&mut l, self.dz as u64);
         for c in 0..3 {
-            w.put(self.il[c] as u64, IL_BITS);
+            SPAN_IL[c].put(&mut l, self.il[c] as u64);
+            SPAN_DI[c].put(&mut l, self.di[c] as i64 as u64);
         }
-        for c in 0..3 {
-            w.put(self.di[c] as i64 as u64, DI_BITS);
-        }
-        w.put(self.tag as u64, TAG_BITS);
-        w.put(self.nclass as u64, NCLASS_BITS);
-        w.put(self.decal as u64, 1);
-        Ok(w.limbs)
+        SPAN_TAG.put(&mut l, self.tag as u64);
+        SPAN_NCLASS.put(&mut l, self.nclass as u64);
+        SPAN_DECAL.put(&mut l, self.decal as u64);
+        Ok(l)
     }
 
     /// Unpacks a word written by [`SpanWord::pack`].
     pub fn unpack(limbs: &[u64; 4]) -> SpanWord {
-        let mut r = BitReader { limbs, pos: 0 };
-        let attr = Attr::from_code(r.get(2) as u8);
-        let xl = r.get(X_BITS) as u16;
-        let xr = r.get(X_BITS) as u16;
-        let zl = r.get(ZL_BITS);
-        let dz = sign_extend(r.get(DZ_BITS), DZ_BITS);
-        let mut il = [0u32; 3];
-        for v in il.iter_mut() {
-            *v = r.get(IL_BITS) as u32;
-        }
-        let mut di = [0i32; 3];
-        for v in di.iter_mut() {
-            *v = sign_extend(r.get(DI_BITS), DI_BITS) as i32;
-        }
-        let tag = r.get(TAG_BITS) as u16;
-        let nclass = r.get(NCLASS_BITS) as u8;
-        let decal = r.get(1) == 1;
+        let signed = |f: Field| sign_extend(f.get(limbs), f.width as u32);
         SpanWord {
-            attr,
-            xl,
-            xr,
-            zl,
-            dz,
-            il,
-            di,
-            tag,
-            nclass,
-            decal,
+            attr: Attr::from_code(SPAN_ATTR.get(limbs) as u8),
+            xl: SPAN_XL.get(limbs) as u16,
+            xr: SPAN_XR.get(limbs) as u16,
+            zl: SPAN_ZL.get(limbs),
+            dz: signed(SPAN_DZ),
+            il: SPAN_IL.map(|f| f.get(limbs) as u32),
+            di: SPAN_DI.map(|f| signed(f) as i32),
+            tag: SPAN_TAG.get(limbs) as u16,
+            nclass: SPAN_NCLASS.get(limbs) as u8,
+            decal: SPAN_DECAL.get(limbs) == 1,
         }
     }
 
@@ -260,45 +315,6 @@ pub fn sign_extend(v: u64, bits: u32) -> i64 {
     ((v << shift) as i64) >> shift
 }
 
-#[derive(Default)]
-struct BitWriter {
-    limbs: [u64; 4],
-    pos: u32,
-}
-impl BitWriter {
-    fn put(&mut self, v: u64, bits: u32) {
-        let v = if bits == 64 {
-            v
-        } else {
-            v & ((1u64 << bits) - 1)
-        };
-        for b in 0..bits {
-            if (v >> b) & 1 == 1 {
-                let at = self.pos + b;
-                self.limbs[(at / 64) as usize] |= 1u64 << (at % 64);
-            }
-        }
-        self.pos += bits;
-    }
-}
-struct BitReader<'a> {
-    limbs: &'a [u64; 4],
-    pos: u32,
-}
-impl BitReader<'_> {
-    fn get(&mut self, bits: u32) -> u64 {
-        let mut v = 0u64;
-        for b in 0..bits {
-            let at = self.pos + b;
-            if (self.limbs[(at / 64) as usize] >> (at % 64)) & 1 == 1 {
-                v |= 1u64 << b;
-            }
-        }
-        self.pos += bits;
-        v
-    }
-}
-
 /// Packs an RGB triple into the 24-bit intensity register layout `{R[23:16], G[15:8], B[7:0]}`.
 pub fn pack_rgb(c: [u8; 3]) -> u32 {
     ((c[0] as u32) << 16) | ((c[1] as u32) << 8) | c[2] as u32
@@ -316,7 +332,7 @@ mod tests {
         SpanWord {
             attr: Attr::Ev,
             xl: 17,
-            xr: 4095,
+            xr: MAX_X,
             zl: (1 << 36) - 1,
             dz: -(1 << 37),
             il: [0, (1 << 20) - 1, 12345],
@@ -387,9 +403,18 @@ mod tests {
     }
 
     #[test]
+    fn span_table_matches_docs() {
+        let doc = include_str!("../../docs/formats.md");
+        assert_eq!(
+            fields::parse_doc_table(doc, "## The span word"),
+            fields::table_rows(SPAN_FIELDS)
+        );
+    }
+
+    #[test]
     fn out_of_range_fields_are_rejected() {
         let w = SpanWord {
-            xl: 4096,
+            xl: MAX_X + 1,
             ..Default::default()
         };
         assert_eq!(w.check().unwrap_err().field, "XL");
@@ -412,7 +437,7 @@ mod tests {
         let w = SpanWord {
             xl: 3,
             xr: 4000,
-            zl: 5 << 12,
+            zl: 5 << Z_FRAC,
             dz: 4097,
             ..Default::default()
         };

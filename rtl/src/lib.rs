@@ -11,6 +11,7 @@
 
 #![warn(missing_docs)]
 
+pub mod layout;
 pub mod mask_search;
 pub mod opcodes;
 pub mod pixel_array;
@@ -23,10 +24,21 @@ use thiserror::Error;
 /// Errors of RTL construction and export.
 #[derive(Debug, Error)]
 pub enum RtlError {
-    /// The array width is outside `1 ..= 4096`.
-    #[error("array width {0} is outside 1..=4096")]
+    /// The array width is outside `1 ..= MAX_SCREEN` (4096).
+    #[error("array width {0} is outside 1..={max}", max = pixelproc_formats::MAX_SCREEN)]
     BadWidth(usize),
     /// Writing a Verilog file failed.
     #[error(transparent)]
     Io(#[from] std::io::Error),
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn bad_width_message_names_the_limit() {
+        assert_eq!(
+            crate::RtlError::BadWidth(5000).to_string(),
+            "array width 5000 is outside 1..=4096"
+        );
+    }
 }

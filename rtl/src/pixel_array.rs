@@ -54,9 +54,42 @@
 //! depend on `N`; the cost is one token register per processor and `N + 6` clocks of
 //! latency.
 
+use crate::layout::{ReadoutFields, SpanFields, READOUT_W, SPAN_W};
 use crate::opcodes::*;
-use crate::pixel_processor::PixelProcessor;
+use crate::pixel_processor::{PixelProcessor, IACC_W, REL_W, ZACC_W};
+use pixelproc_formats::regs::{COUNT_BITS, MASK_BITS, RGB_BITS};
+use pixelproc_formats::{
+    MAX_SCREEN, SPAN_DI_R, SPAN_DZ, SPAN_IL_R, SPAN_NCLASS, SPAN_XL, SPAN_ZL, Z_BITS,
+};
 use rust_hdl::prelude::*;
+
+/// Width of a column number (`XL`, `XR`, `tile_base`, `rd_addr`).
+const X_W: usize = SPAN_XL.width;
+/// Width of `ZL`.
+const ZL_W: usize = SPAN_ZL.width;
+/// Width of `dZ`.
+const DZ_W: usize = SPAN_DZ.width;
+/// Width of one `IL` channel.
+const IL_W: usize = SPAN_IL_R.width;
+/// Width of one `dI` channel.
+const DI_W: usize = SPAN_DI_R.width;
+/// Width of the span attribute.
+const ATTR_W: usize = pixelproc_formats::SPAN_ATTR.width;
+/// Width of the normal class.
+const NCLASS_W: usize = SPAN_NCLASS.width;
+/// Width of a depth register.
+const ZB_W: usize = Z_BITS as usize;
+/// Operand width of the entry multipliers (RustHDL multiplies 16 × 16 bits only).
+const MUL_W: usize = 16;
+/// Width of one 16 × 16 partial product.
+const PROD_W: usize = 2 * MUL_W;
+/// Bits of `dZ` above its two low multiplier operands.
+const DZ_HI_W: usize = DZ_W - PROD_W;
+/// Bits of `dI` above its low multiplier operand.
+const DI_HI_W: usize = DI_W - MUL_W;
+// A kernel can only take literal bit positions: the operand splits at 16 and 32, the sign
+// bits 37 (`dZ`) and 20 (`dI`) and the weights 2^38 and 2^21 below are these widths.
+const _: () = assert!(MUL_W == 16 && DZ_W == 38 && DI_W == 21 && REL_W == 14);
 
 /// Rising edges from sampling a command to its effect on processor 0's registers.
 pub const LATENCY_PROC0: usize = 6;
@@ -71,133 +104,133 @@ pub struct PixelProcessorArray {
     /// Command valid.
     pub cmd_valid: Signal<In, Bit>,
     /// Command opcode.
-    pub cmd_op: Signal<In, Bits<3>>,
+    pub cmd_op: Signal<In, Bits<OP_BITS>>,
     /// Background colour for CLEAR_LINE, RGB888.
-    pub cmd_bg: Signal<In, Bits<24>>,
+    pub cmd_bg: Signal<In, Bits<RGB_BITS>>,
     /// Packed span word for SPAN.
-    pub cmd_word: Signal<In, Bits<256>>,
+    pub cmd_word: Signal<In, Bits<SPAN_W>>,
     /// First screen column of the tile the array is processing.
-    pub tile_base: Signal<In, Bits<12>>,
+    pub tile_base: Signal<In, Bits<X_W>>,
     /// Readout address (processor index).
-    pub rd_addr: Signal<In, Bits<12>>,
+    pub rd_addr: Signal<In, Bits<X_W>>,
     /// Readout: depth.
-    pub rd_zb: Signal<Out, Bits<24>>,
+    pub rd_zb: Signal<Out, Bits<ZB_W>>,
     /// Readout: RGB888.
-    pub rd_rgb: Signal<Out, Bits<24>>,
+    pub rd_rgb: Signal<Out, Bits<RGB_BITS>>,
     /// Readout: DSF.
     pub rd_dsf: Signal<Out, Bit>,
     /// Readout: FSF.
     pub rd_fsf: Signal<Out, Bit>,
     /// Readout: shadow count.
-    pub rd_count: Signal<Out, Bits<8>>,
+    pub rd_count: Signal<Out, Bits<COUNT_BITS>>,
     /// Readout: light mask.
-    pub rd_mask: Signal<Out, Bits<8>>,
+    pub rd_mask: Signal<Out, Bits<MASK_BITS>>,
     /// Readout: normal class.
-    pub rd_nclass: Signal<Out, Bits<8>>,
+    pub rd_nclass: Signal<Out, Bits<NCLASS_W>>,
     /// The processors, processor 0 (column `tile_base`) first.
     pub procs: Vec<PixelProcessor>,
     // E1: input registers.
-    e1_op: DFF<Bits<3>>,
-    e1_bg: DFF<Bits<24>>,
-    e1_word: DFF<Bits<256>>,
-    e1_base: DFF<Bits<12>>,
-    e1_rd: DFF<Bits<12>>,
+    e1_op: DFF<Bits<OP_BITS>>,
+    e1_bg: DFF<Bits<RGB_BITS>>,
+    e1_word: DFF<Bits<SPAN_W>>,
+    e1_base: DFF<Bits<X_W>>,
+    e1_rd: DFF<Bits<X_W>>,
     // E2: decoded word, tile offset m = max(0, base − XL).
-    e2_op: DFF<Bits<3>>,
-    e2_attr: DFF<Bits<2>>,
+    e2_op: DFF<Bits<OP_BITS>>,
+    e2_attr: DFF<Bits<ATTR_W>>,
     e2_decal: DFF<Bit>,
-    e2_nclass: DFF<Bits<8>>,
-    e2_rel_l: DFF<Bits<14>>,
-    e2_rel_r: DFF<Bits<14>>,
-    e2_m: DFF<Bits<16>>,
-    e2_zl: DFF<Bits<36>>,
-    e2_dz: DFF<Bits<38>>,
-    e2_ilr: DFF<Bits<20>>,
-    e2_ilg: DFF<Bits<20>>,
-    e2_ilb: DFF<Bits<20>>,
-    e2_dir: DFF<Bits<21>>,
-    e2_dig: DFF<Bits<21>>,
-    e2_dib: DFF<Bits<21>>,
+    e2_nclass: DFF<Bits<NCLASS_W>>,
+    e2_rel_l: DFF<Bits<REL_W>>,
+    e2_rel_r: DFF<Bits<REL_W>>,
+    e2_m: DFF<Bits<MUL_W>>,
+    e2_zl: DFF<Bits<ZL_W>>,
+    e2_dz: DFF<Bits<DZ_W>>,
+    e2_ilr: DFF<Bits<IL_W>>,
+    e2_ilg: DFF<Bits<IL_W>>,
+    e2_ilb: DFF<Bits<IL_W>>,
+    e2_dir: DFF<Bits<DI_W>>,
+    e2_dig: DFF<Bits<DI_W>>,
+    e2_dib: DFF<Bits<DI_W>>,
     // E3: partial products.
-    e3_op: DFF<Bits<3>>,
-    e3_attr: DFF<Bits<2>>,
+    e3_op: DFF<Bits<OP_BITS>>,
+    e3_attr: DFF<Bits<ATTR_W>>,
     e3_decal: DFF<Bit>,
-    e3_nclass: DFF<Bits<8>>,
-    e3_rel_l: DFF<Bits<14>>,
-    e3_rel_r: DFF<Bits<14>>,
-    e3_m: DFF<Bits<16>>,
-    e3_zl: DFF<Bits<36>>,
-    e3_dz: DFF<Bits<38>>,
-    e3_ilr: DFF<Bits<20>>,
-    e3_ilg: DFF<Bits<20>>,
-    e3_ilb: DFF<Bits<20>>,
-    e3_dir: DFF<Bits<21>>,
-    e3_dig: DFF<Bits<21>>,
-    e3_dib: DFF<Bits<21>>,
-    e3_pz0: DFF<Bits<32>>,
-    e3_pz1: DFF<Bits<32>>,
-    e3_pz2: DFF<Bits<32>>,
-    e3_pr0: DFF<Bits<32>>,
-    e3_pr1: DFF<Bits<32>>,
-    e3_pg0: DFF<Bits<32>>,
-    e3_pg1: DFF<Bits<32>>,
-    e3_pb0: DFF<Bits<32>>,
-    e3_pb1: DFF<Bits<32>>,
+    e3_nclass: DFF<Bits<NCLASS_W>>,
+    e3_rel_l: DFF<Bits<REL_W>>,
+    e3_rel_r: DFF<Bits<REL_W>>,
+    e3_m: DFF<Bits<MUL_W>>,
+    e3_zl: DFF<Bits<ZL_W>>,
+    e3_dz: DFF<Bits<DZ_W>>,
+    e3_ilr: DFF<Bits<IL_W>>,
+    e3_ilg: DFF<Bits<IL_W>>,
+    e3_ilb: DFF<Bits<IL_W>>,
+    e3_dir: DFF<Bits<DI_W>>,
+    e3_dig: DFF<Bits<DI_W>>,
+    e3_dib: DFF<Bits<DI_W>>,
+    e3_pz0: DFF<Bits<PROD_W>>,
+    e3_pz1: DFF<Bits<PROD_W>>,
+    e3_pz2: DFF<Bits<PROD_W>>,
+    e3_pr0: DFF<Bits<PROD_W>>,
+    e3_pr1: DFF<Bits<PROD_W>>,
+    e3_pg0: DFF<Bits<PROD_W>>,
+    e3_pg1: DFF<Bits<PROD_W>>,
+    e3_pb0: DFF<Bits<PROD_W>>,
+    e3_pb1: DFF<Bits<PROD_W>>,
     // E4: two partial sums per quantity.
-    e4_op: DFF<Bits<3>>,
-    e4_attr: DFF<Bits<2>>,
+    e4_op: DFF<Bits<OP_BITS>>,
+    e4_attr: DFF<Bits<ATTR_W>>,
     e4_decal: DFF<Bit>,
-    e4_nclass: DFF<Bits<8>>,
-    e4_rel_l: DFF<Bits<14>>,
-    e4_rel_r: DFF<Bits<14>>,
-    e4_dz: DFF<Bits<38>>,
-    e4_dir: DFF<Bits<21>>,
-    e4_dig: DFF<Bits<21>>,
-    e4_dib: DFF<Bits<21>>,
-    e4_za: DFF<Bits<44>>,
-    e4_zb: DFF<Bits<44>>,
-    e4_ra: DFF<Bits<34>>,
-    e4_rb: DFF<Bits<34>>,
-    e4_ga: DFF<Bits<34>>,
-    e4_gb: DFF<Bits<34>>,
-    e4_ba: DFF<Bits<34>>,
-    e4_bb: DFF<Bits<34>>,
+    e4_nclass: DFF<Bits<NCLASS_W>>,
+    e4_rel_l: DFF<Bits<REL_W>>,
+    e4_rel_r: DFF<Bits<REL_W>>,
+    e4_dz: DFF<Bits<DZ_W>>,
+    e4_dir: DFF<Bits<DI_W>>,
+    e4_dig: DFF<Bits<DI_W>>,
+    e4_dib: DFF<Bits<DI_W>>,
+    e4_za: DFF<Bits<ZACC_W>>,
+    e4_zb: DFF<Bits<ZACC_W>>,
+    e4_ra: DFF<Bits<IACC_W>>,
+    e4_rb: DFF<Bits<IACC_W>>,
+    e4_ga: DFF<Bits<IACC_W>>,
+    e4_gb: DFF<Bits<IACC_W>>,
+    e4_ba: DFF<Bits<IACC_W>>,
+    e4_bb: DFF<Bits<IACC_W>>,
     // Readout output registers.
-    rd_zb_r: DFF<Bits<24>>,
-    rd_rgb_r: DFF<Bits<24>>,
+    rd_zb_r: DFF<Bits<ZB_W>>,
+    rd_rgb_r: DFF<Bits<RGB_BITS>>,
     rd_dsf_r: DFF<Bit>,
     rd_fsf_r: DFF<Bit>,
-    rd_count_r: DFF<Bits<8>>,
-    rd_mask_r: DFF<Bits<8>>,
-    rd_nclass_r: DFF<Bits<8>>,
-    k_reset: Constant<Bits<3>>,
-    k_zero74: Constant<Bits<74>>,
-    l_rd: Signal<Local, Bits<74>>,
-    k_nop: Constant<Bits<3>>,
-    k_span: Constant<Bits<3>>,
-    k_one14: Constant<Bits<14>>,
-    k_zero16: Constant<Bits<16>>,
-    k_zero21: Constant<Bits<21>>,
-    k_zero38: Constant<Bits<38>>,
-    l_xl: Signal<Local, Bits<14>>,
-    l_xr: Signal<Local, Bits<14>>,
-    l_base: Signal<Local, Bits<14>>,
-    l_d: Signal<Local, Bits<14>>,
-    l_dz: Signal<Local, Bits<38>>,
-    l_dzmid: Signal<Local, Bits<16>>,
-    l_dzhi: Signal<Local, Bits<16>>,
-    l_dihi_r: Signal<Local, Bits<16>>,
-    l_dihi_g: Signal<Local, Bits<16>>,
-    l_dihi_b: Signal<Local, Bits<16>>,
-    l_m44: Signal<Local, Bits<44>>,
-    l_m34: Signal<Local, Bits<34>>,
+    rd_count_r: DFF<Bits<COUNT_BITS>>,
+    rd_mask_r: DFF<Bits<MASK_BITS>>,
+    rd_nclass_r: DFF<Bits<NCLASS_W>>,
+    k_reset: Constant<Bits<OP_BITS>>,
+    k_zero74: Constant<Bits<READOUT_W>>,
+    l_rd: Signal<Local, Bits<READOUT_W>>,
+    k_nop: Constant<Bits<OP_BITS>>,
+    k_span: Constant<Bits<OP_BITS>>,
+    k_one14: Constant<Bits<REL_W>>,
+    k_zero16: Constant<Bits<MUL_W>>,
+    k_zero21: Constant<Bits<DI_W>>,
+    k_zero38: Constant<Bits<DZ_W>>,
+    l_xl: Signal<Local, Bits<REL_W>>,
+    l_xr: Signal<Local, Bits<REL_W>>,
+    l_base: Signal<Local, Bits<REL_W>>,
+    l_d: Signal<Local, Bits<REL_W>>,
+    l_dz: Signal<Local, Bits<DZ_W>>,
+    l_dzmid: Signal<Local, Bits<MUL_W>>,
+    l_dzhi: Signal<Local, Bits<MUL_W>>,
+    l_dihi_r: Signal<Local, Bits<MUL_W>>,
+    l_dihi_g: Signal<Local, Bits<MUL_W>>,
+    l_dihi_b: Signal<Local, Bits<MUL_W>>,
+    l_m44: Signal<Local, Bits<ZACC_W>>,
+    l_m34: Signal<Local, Bits<IACC_W>>,
 }
 
 impl PixelProcessorArray {
-    /// An array of `width` processors (1 ..= 4096), with the span-parity logic in every
+    /// An array of `width` processors (1 ..= `MAX_SCREEN`), with the span-parity logic in every
     /// processor iff `shadows`.
     pub fn new(width: usize, shadows: bool) -> Result<Self, crate::RtlError> {
-        if width == 0 || width > 4096 {
+        if width == 0 || width > MAX_SCREEN as usize {
             return Err(crate::RtlError::BadWidth(width));
         }
         fn k<const W: usize>(v: u64) -> Constant<Bits<W>> {
@@ -413,29 +446,29 @@ impl Logic for PixelProcessorArray {
         self.e1_word.d.next = self.cmd_word.val();
         self.e1_base.d.next = self.tile_base.val();
         self.e1_rd.d.next = self.rd_addr.val();
-        // ---- E2: decode the span word (layout of `SpanWord::pack`).
-        self.l_xl.next = bit_cast::<14, 12>(self.e1_word.q.val().get_bits::<12>(2));
-        self.l_xr.next = bit_cast::<14, 12>(self.e1_word.q.val().get_bits::<12>(14));
-        self.l_base.next = bit_cast::<14, 12>(self.e1_base.q.val());
+        // ---- E2: decode the span word (fields of `pixelproc_formats::SPAN_FIELDS`).
+        self.l_xl.next = bit_cast::<REL_W, X_W>(self.e1_word.q.val().get_value_xl());
+        self.l_xr.next = bit_cast::<REL_W, X_W>(self.e1_word.q.val().get_value_xr());
+        self.l_base.next = bit_cast::<REL_W, X_W>(self.e1_base.q.val());
         self.l_d.next = self.l_base.val() - self.l_xl.val();
         self.e2_op.d.next = self.e1_op.q.val();
-        self.e2_attr.d.next = self.e1_word.q.val().get_bits::<2>(0);
-        self.e2_decal.d.next = self.e1_word.q.val().get_bit(247);
-        self.e2_nclass.d.next = self.e1_word.q.val().get_bits::<8>(239);
+        self.e2_attr.d.next = self.e1_word.q.val().get_value_attr();
+        self.e2_decal.d.next = self.e1_word.q.val().get_value_decal();
+        self.e2_nclass.d.next = self.e1_word.q.val().get_value_nclass();
         self.e2_rel_l.d.next = (self.l_xl.val() - self.l_base.val()) - self.k_one14.val();
         self.e2_rel_r.d.next = self.l_xr.val() - self.l_base.val();
-        self.e2_zl.d.next = self.e1_word.q.val().get_bits::<36>(26);
-        self.e2_dz.d.next = self.e1_word.q.val().get_bits::<38>(62);
-        self.e2_ilr.d.next = self.e1_word.q.val().get_bits::<20>(100);
-        self.e2_ilg.d.next = self.e1_word.q.val().get_bits::<20>(120);
-        self.e2_ilb.d.next = self.e1_word.q.val().get_bits::<20>(140);
-        self.e2_dir.d.next = self.e1_word.q.val().get_bits::<21>(160);
-        self.e2_dig.d.next = self.e1_word.q.val().get_bits::<21>(181);
-        self.e2_dib.d.next = self.e1_word.q.val().get_bits::<21>(202);
+        self.e2_zl.d.next = self.e1_word.q.val().get_value_zl();
+        self.e2_dz.d.next = self.e1_word.q.val().get_value_dz();
+        self.e2_ilr.d.next = self.e1_word.q.val().get_value_il_r();
+        self.e2_ilg.d.next = self.e1_word.q.val().get_value_il_g();
+        self.e2_ilb.d.next = self.e1_word.q.val().get_value_il_b();
+        self.e2_dir.d.next = self.e1_word.q.val().get_value_di_r();
+        self.e2_dig.d.next = self.e1_word.q.val().get_value_di_g();
+        self.e2_dib.d.next = self.e1_word.q.val().get_value_di_b();
         // Tile offset: the span started `base − XL` columns before this tile.
         self.e2_m.d.next = self.k_zero16.val();
         if !self.l_d.val().get_bit(13) {
-            self.e2_m.d.next = bit_cast::<16, 14>(self.l_d.val());
+            self.e2_m.d.next = bit_cast::<MUL_W, REL_W>(self.l_d.val());
         }
         if self.e1_op.q.val() != self.k_span.val() {
             // No increments; CLEAR_LINE carries the background in the Z accumulator.
@@ -444,7 +477,7 @@ impl Logic for PixelProcessorArray {
             self.e2_dir.d.next = self.k_zero21.val();
             self.e2_dig.d.next = self.k_zero21.val();
             self.e2_dib.d.next = self.k_zero21.val();
-            self.e2_zl.d.next = bit_cast::<36, 24>(self.e1_bg.q.val());
+            self.e2_zl.d.next = bit_cast::<ZL_W, RGB_BITS>(self.e1_bg.q.val());
         }
         // ---- E3: partial products m·dZ (3) and m·dI_c (2 each), 16×16 unsigned.
         self.e3_op.d.next = self.e2_op.q.val();
@@ -463,19 +496,22 @@ impl Logic for PixelProcessorArray {
         self.e3_dig.d.next = self.e2_dig.q.val();
         self.e3_dib.d.next = self.e2_dib.q.val();
         self.l_dz.next = self.e2_dz.q.val();
-        self.l_dzmid.next = self.l_dz.val().get_bits::<16>(16);
-        self.l_dzhi.next = bit_cast::<16, 6>(self.l_dz.val().get_bits::<6>(32));
-        self.l_dihi_r.next = bit_cast::<16, 5>(self.e2_dir.q.val().get_bits::<5>(16));
-        self.l_dihi_g.next = bit_cast::<16, 5>(self.e2_dig.q.val().get_bits::<5>(16));
-        self.l_dihi_b.next = bit_cast::<16, 5>(self.e2_dib.q.val().get_bits::<5>(16));
-        self.e3_pz0.d.next = self.e2_m.q.val() * self.l_dz.val().get_bits::<16>(0);
+        self.l_dzmid.next = self.l_dz.val().get_bits::<MUL_W>(16);
+        self.l_dzhi.next = bit_cast::<MUL_W, DZ_HI_W>(self.l_dz.val().get_bits::<DZ_HI_W>(32));
+        self.l_dihi_r.next =
+            bit_cast::<MUL_W, DI_HI_W>(self.e2_dir.q.val().get_bits::<DI_HI_W>(16));
+        self.l_dihi_g.next =
+            bit_cast::<MUL_W, DI_HI_W>(self.e2_dig.q.val().get_bits::<DI_HI_W>(16));
+        self.l_dihi_b.next =
+            bit_cast::<MUL_W, DI_HI_W>(self.e2_dib.q.val().get_bits::<DI_HI_W>(16));
+        self.e3_pz0.d.next = self.e2_m.q.val() * self.l_dz.val().get_bits::<MUL_W>(0);
         self.e3_pz1.d.next = self.e2_m.q.val() * self.l_dzmid.val();
         self.e3_pz2.d.next = self.e2_m.q.val() * self.l_dzhi.val();
-        self.e3_pr0.d.next = self.e2_m.q.val() * self.e2_dir.q.val().get_bits::<16>(0);
+        self.e3_pr0.d.next = self.e2_m.q.val() * self.e2_dir.q.val().get_bits::<MUL_W>(0);
         self.e3_pr1.d.next = self.e2_m.q.val() * self.l_dihi_r.val();
-        self.e3_pg0.d.next = self.e2_m.q.val() * self.e2_dig.q.val().get_bits::<16>(0);
+        self.e3_pg0.d.next = self.e2_m.q.val() * self.e2_dig.q.val().get_bits::<MUL_W>(0);
         self.e3_pg1.d.next = self.e2_m.q.val() * self.l_dihi_g.val();
-        self.e3_pb0.d.next = self.e2_m.q.val() * self.e2_dib.q.val().get_bits::<16>(0);
+        self.e3_pb0.d.next = self.e2_m.q.val() * self.e2_dib.q.val().get_bits::<MUL_W>(0);
         self.e3_pb1.d.next = self.e2_m.q.val() * self.l_dihi_b.val();
         // ---- E4: m·dZ = m·u38 − s·m·2^38 (u38 = dZ as unsigned), likewise for dI (2^21).
         self.e4_op.d.next = self.e3_op.q.val();
@@ -488,37 +524,37 @@ impl Logic for PixelProcessorArray {
         self.e4_dir.d.next = self.e3_dir.q.val();
         self.e4_dig.d.next = self.e3_dig.q.val();
         self.e4_dib.d.next = self.e3_dib.q.val();
-        self.l_m44.next = bit_cast::<44, 16>(self.e3_m.q.val());
-        self.l_m34.next = bit_cast::<34, 16>(self.e3_m.q.val());
-        self.e4_za.d.next =
-            bit_cast::<44, 36>(self.e3_zl.q.val()) + bit_cast::<44, 32>(self.e3_pz0.q.val());
-        self.e4_zb.d.next = (bit_cast::<44, 32>(self.e3_pz1.q.val()) << 16)
-            + (bit_cast::<44, 32>(self.e3_pz2.q.val()) << 32);
+        self.l_m44.next = bit_cast::<ZACC_W, MUL_W>(self.e3_m.q.val());
+        self.l_m34.next = bit_cast::<IACC_W, MUL_W>(self.e3_m.q.val());
+        self.e4_za.d.next = bit_cast::<ZACC_W, ZL_W>(self.e3_zl.q.val())
+            + bit_cast::<ZACC_W, PROD_W>(self.e3_pz0.q.val());
+        self.e4_zb.d.next = (bit_cast::<ZACC_W, PROD_W>(self.e3_pz1.q.val()) << 16)
+            + (bit_cast::<ZACC_W, PROD_W>(self.e3_pz2.q.val()) << 32);
         if self.e3_dz.q.val().get_bit(37) {
-            self.e4_zb.d.next = ((bit_cast::<44, 32>(self.e3_pz1.q.val()) << 16)
-                + (bit_cast::<44, 32>(self.e3_pz2.q.val()) << 32))
+            self.e4_zb.d.next = ((bit_cast::<ZACC_W, PROD_W>(self.e3_pz1.q.val()) << 16)
+                + (bit_cast::<ZACC_W, PROD_W>(self.e3_pz2.q.val()) << 32))
                 - (self.l_m44.val() << 38);
         }
-        self.e4_ra.d.next =
-            bit_cast::<34, 20>(self.e3_ilr.q.val()) + bit_cast::<34, 32>(self.e3_pr0.q.val());
-        self.e4_rb.d.next = bit_cast::<34, 32>(self.e3_pr1.q.val()) << 16;
+        self.e4_ra.d.next = bit_cast::<IACC_W, IL_W>(self.e3_ilr.q.val())
+            + bit_cast::<IACC_W, PROD_W>(self.e3_pr0.q.val());
+        self.e4_rb.d.next = bit_cast::<IACC_W, PROD_W>(self.e3_pr1.q.val()) << 16;
         if self.e3_dir.q.val().get_bit(20) {
             self.e4_rb.d.next =
-                (bit_cast::<34, 32>(self.e3_pr1.q.val()) << 16) - (self.l_m34.val() << 21);
+                (bit_cast::<IACC_W, PROD_W>(self.e3_pr1.q.val()) << 16) - (self.l_m34.val() << 21);
         }
-        self.e4_ga.d.next =
-            bit_cast::<34, 20>(self.e3_ilg.q.val()) + bit_cast::<34, 32>(self.e3_pg0.q.val());
-        self.e4_gb.d.next = bit_cast::<34, 32>(self.e3_pg1.q.val()) << 16;
+        self.e4_ga.d.next = bit_cast::<IACC_W, IL_W>(self.e3_ilg.q.val())
+            + bit_cast::<IACC_W, PROD_W>(self.e3_pg0.q.val());
+        self.e4_gb.d.next = bit_cast::<IACC_W, PROD_W>(self.e3_pg1.q.val()) << 16;
         if self.e3_dig.q.val().get_bit(20) {
             self.e4_gb.d.next =
-                (bit_cast::<34, 32>(self.e3_pg1.q.val()) << 16) - (self.l_m34.val() << 21);
+                (bit_cast::<IACC_W, PROD_W>(self.e3_pg1.q.val()) << 16) - (self.l_m34.val() << 21);
         }
-        self.e4_ba.d.next =
-            bit_cast::<34, 20>(self.e3_ilb.q.val()) + bit_cast::<34, 32>(self.e3_pb0.q.val());
-        self.e4_bb.d.next = bit_cast::<34, 32>(self.e3_pb1.q.val()) << 16;
+        self.e4_ba.d.next = bit_cast::<IACC_W, IL_W>(self.e3_ilb.q.val())
+            + bit_cast::<IACC_W, PROD_W>(self.e3_pb0.q.val());
+        self.e4_bb.d.next = bit_cast::<IACC_W, PROD_W>(self.e3_pb1.q.val()) << 16;
         if self.e3_dib.q.val().get_bit(20) {
             self.e4_bb.d.next =
-                (bit_cast::<34, 32>(self.e3_pb1.q.val()) << 16) - (self.l_m34.val() << 21);
+                (bit_cast::<IACC_W, PROD_W>(self.e3_pb1.q.val()) << 16) - (self.l_m34.val() << 21);
         }
         // ---- The systolic chain: E4 feeds processor 0, processor p feeds p + 1.
         for i in 0..self.procs.len() {
@@ -562,13 +598,13 @@ impl Logic for PixelProcessorArray {
             self.procs[i].rd_sel.next = self.e1_rd.q.val().index() == i;
             self.l_rd.next = self.l_rd.val() | self.procs[i].rdo.val();
         }
-        self.rd_count_r.d.next = self.l_rd.val().get_bits::<8>(0);
-        self.rd_fsf_r.d.next = self.l_rd.val().get_bit(8);
-        self.rd_dsf_r.d.next = self.l_rd.val().get_bit(9);
-        self.rd_rgb_r.d.next = self.l_rd.val().get_bits::<24>(10);
-        self.rd_zb_r.d.next = self.l_rd.val().get_bits::<24>(34);
-        self.rd_mask_r.d.next = self.l_rd.val().get_bits::<8>(58);
-        self.rd_nclass_r.d.next = self.l_rd.val().get_bits::<8>(66);
+        self.rd_count_r.d.next = self.l_rd.val().get_value_count();
+        self.rd_fsf_r.d.next = self.l_rd.val().get_value_fsf();
+        self.rd_dsf_r.d.next = self.l_rd.val().get_value_dsf();
+        self.rd_rgb_r.d.next = self.l_rd.val().get_value_rgb();
+        self.rd_zb_r.d.next = self.l_rd.val().get_value_zb();
+        self.rd_mask_r.d.next = self.l_rd.val().get_value_mask();
+        self.rd_nclass_r.d.next = self.l_rd.val().get_value_nclass();
         self.rd_zb.next = self.rd_zb_r.q.val();
         self.rd_rgb.next = self.rd_rgb_r.q.val();
         self.rd_dsf.next = self.rd_dsf_r.q.val();

@@ -44,29 +44,48 @@
 //!
 //! Latency: state registers update two rising edges after the token register is loaded.
 
+use crate::layout::{ReadoutFields, READOUT_W};
 use crate::opcodes::*;
 use crate::span_parity::SpanParity;
-use pixelproc_formats::Z_FAR;
+use pixelproc_formats::regs::{ProcState, COUNT_BITS, MASK_BITS, RGB_BITS};
+use pixelproc_formats::{
+    Attr, DEPTH_FRAC_BITS, INTENSITY_FRAC_BITS, SPAN_ATTR, SPAN_DI_R, SPAN_DZ, SPAN_NCLASS,
+    SPAN_XL, Z_BITS, Z_FAR,
+};
 use rust_hdl::prelude::*;
 
-/// The registers of one processor as read by a testbench.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct ProcRegs {
-    /// Depth buffer.
-    pub zb: u32,
-    /// RGB888.
-    pub rgb: u32,
-    /// Shadow decision flag (0 without shadows).
-    pub dsf: bool,
-    /// Final shadow flag (0 without shadows).
-    pub fsf: bool,
-    /// Shadow counter (0 without shadows).
-    pub count: u8,
-    /// Light mask (0 without shadows).
-    pub mask: u8,
-    /// Normal class of the visible surface.
-    pub nclass: u8,
-}
+/// The registers of one processor as read by a testbench: the golden model's record,
+/// defined once in `pixelproc_formats::regs`, so RTL and golden states compare directly.
+pub type ProcRegs = ProcState;
+
+/// Width of the running range differences `XL − col − 1`, `XR − col` (two's complement,
+/// one bit above a column number and a sign bit).
+pub const REL_W: usize = SPAN_XL.width + 2;
+/// Width of the depth accumulator: Q32.12 modulo 2^44.
+pub const ZACC_W: usize = 32 + DEPTH_FRAC_BITS as usize;
+/// Width of an intensity accumulator: Q22.12 two's complement.
+pub const IACC_W: usize = 22 + INTENSITY_FRAC_BITS as usize;
+/// Width of `dZ`.
+const DZ_W: usize = SPAN_DZ.width;
+/// Width of one `dI` channel.
+const DI_W: usize = SPAN_DI_R.width;
+/// Width of the span attribute.
+const ATTR_W: usize = SPAN_ATTR.width;
+/// Width of the normal class.
+const NCLASS_W: usize = SPAN_NCLASS.width;
+/// Width of a depth register.
+const ZB_W: usize = Z_BITS as usize;
+/// Width of one colour channel.
+const CH_W: usize = 8;
+/// Bits of an intensity accumulator above the 8-bit channel (`[IACC_W−2:20]`): any set
+/// bit means `>= 256.0`.
+const OVER_W: usize = IACC_W - CH_W - INTENSITY_FRAC_BITS as usize - 1;
+// A kernel can only take literal bit positions: the sign bits 37 (`dZ`), 20 (`dI`), 13
+// (range), 33 (intensity), the depth slice at 12 and the channel slices at 12 and 20
+// below are these widths.
+const _: () = assert!(
+    DZ_W == 38 && DI_W == 21 && REL_W == 14 && IACC_W == 34 && ZACC_W == 44 && OVER_W == 13
+);
 
 /// One pixel processor. `shadows = false` builds it without the parity block: DSF, FSF,
 /// COUNT and MASK then read 0 and shadow commands do nothing.
@@ -75,135 +94,133 @@ pub struct PixelProcessor {
     /// Clock.
     pub clock: Signal<In, Clock>,
     /// Token in: opcode (RESET included).
-    pub t_op: Signal<In, Bits<3>>,
+    pub t_op: Signal<In, Bits<OP_BITS>>,
     /// Token in: span attribute.
-    pub t_attr: Signal<In, Bits<2>>,
+    pub t_attr: Signal<In, Bits<ATTR_W>>,
     /// Token in: decal flag (depth test passes on equality).
     pub t_decal: Signal<In, Bit>,
     /// Token in: normal class of the span's surface.
-    pub t_nclass: Signal<In, Bits<8>>,
+    pub t_nclass: Signal<In, Bits<NCLASS_W>>,
     /// Token in: `XL − col − 1` (14-bit two's complement).
-    pub t_rel_l: Signal<In, Bits<14>>,
+    pub t_rel_l: Signal<In, Bits<REL_W>>,
     /// Token in: `XR − col` (14-bit two's complement).
-    pub t_rel_r: Signal<In, Bits<14>>,
+    pub t_rel_r: Signal<In, Bits<REL_W>>,
     /// Token in: depth accumulator, Q32.12 mod 2^44 (the argument of CLEAR_LINE and
     /// LATCH_SHADOW in bits 23:0).
-    pub t_z: Signal<In, Bits<44>>,
+    pub t_z: Signal<In, Bits<ZACC_W>>,
     /// Token in: `dZ`, Q26.12 two's complement.
-    pub t_dz: Signal<In, Bits<38>>,
+    pub t_dz: Signal<In, Bits<DZ_W>>,
     /// Token in: red accumulator, Q22.12 two's complement.
-    pub t_ir: Signal<In, Bits<34>>,
+    pub t_ir: Signal<In, Bits<IACC_W>>,
     /// Token in: green accumulator.
-    pub t_ig: Signal<In, Bits<34>>,
+    pub t_ig: Signal<In, Bits<IACC_W>>,
     /// Token in: blue accumulator.
-    pub t_ib: Signal<In, Bits<34>>,
+    pub t_ib: Signal<In, Bits<IACC_W>>,
     /// Token in: `dI` red, Q9.12 two's complement.
-    pub t_dir: Signal<In, Bits<21>>,
+    pub t_dir: Signal<In, Bits<DI_W>>,
     /// Token in: `dI` green.
-    pub t_dig: Signal<In, Bits<21>>,
+    pub t_dig: Signal<In, Bits<DI_W>>,
     /// Token in: `dI` blue.
-    pub t_dib: Signal<In, Bits<21>>,
+    pub t_dib: Signal<In, Bits<DI_W>>,
     /// Readout select (this processor is addressed), registered here.
     pub rd_sel: Signal<In, Bit>,
     /// Readout registers, packed `{NCLASS, MASK, ZB, RGB, DSF, FSF, COUNT}` (74 bits), if
     /// selected at the last edge, else 0 (the array ORs all processors' values).
-    pub rdo: Signal<Out, Bits<74>>,
+    pub rdo: Signal<Out, Bits<READOUT_W>>,
     /// Token out (for processor `p + 1`): opcode.
-    pub o_op: Signal<Out, Bits<3>>,
+    pub o_op: Signal<Out, Bits<OP_BITS>>,
     /// Token out: attribute.
-    pub o_attr: Signal<Out, Bits<2>>,
+    pub o_attr: Signal<Out, Bits<ATTR_W>>,
     /// Token out: decal.
     pub o_decal: Signal<Out, Bit>,
     /// Token out: normal class.
-    pub o_nclass: Signal<Out, Bits<8>>,
+    pub o_nclass: Signal<Out, Bits<NCLASS_W>>,
     /// Token out: `rel_l − 1`.
-    pub o_rel_l: Signal<Out, Bits<14>>,
+    pub o_rel_l: Signal<Out, Bits<REL_W>>,
     /// Token out: `rel_r − 1`.
-    pub o_rel_r: Signal<Out, Bits<14>>,
+    pub o_rel_r: Signal<Out, Bits<REL_W>>,
     /// Token out: depth accumulator for the next column.
-    pub o_z: Signal<Out, Bits<44>>,
+    pub o_z: Signal<Out, Bits<ZACC_W>>,
     /// Token out: `dZ`.
-    pub o_dz: Signal<Out, Bits<38>>,
+    pub o_dz: Signal<Out, Bits<DZ_W>>,
     /// Token out: red accumulator for the next column.
-    pub o_ir: Signal<Out, Bits<34>>,
+    pub o_ir: Signal<Out, Bits<IACC_W>>,
     /// Token out: green accumulator.
-    pub o_ig: Signal<Out, Bits<34>>,
+    pub o_ig: Signal<Out, Bits<IACC_W>>,
     /// Token out: blue accumulator.
-    pub o_ib: Signal<Out, Bits<34>>,
+    pub o_ib: Signal<Out, Bits<IACC_W>>,
     /// Token out: `dI` red.
-    pub o_dir: Signal<Out, Bits<21>>,
+    pub o_dir: Signal<Out, Bits<DI_W>>,
     /// Token out: `dI` green.
-    pub o_dig: Signal<Out, Bits<21>>,
+    pub o_dig: Signal<Out, Bits<DI_W>>,
     /// Token out: `dI` blue.
-    pub o_dib: Signal<Out, Bits<21>>,
+    pub o_dib: Signal<Out, Bits<DI_W>>,
     /// The shadow logic: one element with shadows, none without.
     pub parity: Vec<SpanParity>,
-    tok_op: DFF<Bits<3>>,
-    tok_attr: DFF<Bits<2>>,
+    tok_op: DFF<Bits<OP_BITS>>,
+    tok_attr: DFF<Bits<ATTR_W>>,
     tok_decal: DFF<Bit>,
-    tok_nclass: DFF<Bits<8>>,
-    tok_rel_l: DFF<Bits<14>>,
-    tok_rel_r: DFF<Bits<14>>,
-    tok_z: DFF<Bits<44>>,
-    tok_dz: DFF<Bits<38>>,
-    tok_ir: DFF<Bits<34>>,
-    tok_ig: DFF<Bits<34>>,
-    tok_ib: DFF<Bits<34>>,
-    tok_dir: DFF<Bits<21>>,
-    tok_dig: DFF<Bits<21>>,
-    tok_dib: DFF<Bits<21>>,
-    b_op: DFF<Bits<3>>,
-    b_attr: DFF<Bits<2>>,
+    tok_nclass: DFF<Bits<NCLASS_W>>,
+    tok_rel_l: DFF<Bits<REL_W>>,
+    tok_rel_r: DFF<Bits<REL_W>>,
+    tok_z: DFF<Bits<ZACC_W>>,
+    tok_dz: DFF<Bits<DZ_W>>,
+    tok_ir: DFF<Bits<IACC_W>>,
+    tok_ig: DFF<Bits<IACC_W>>,
+    tok_ib: DFF<Bits<IACC_W>>,
+    tok_dir: DFF<Bits<DI_W>>,
+    tok_dig: DFF<Bits<DI_W>>,
+    tok_dib: DFF<Bits<DI_W>>,
+    b_op: DFF<Bits<OP_BITS>>,
+    b_attr: DFF<Bits<ATTR_W>>,
     b_covered: DFF<Bit>,
     b_zlt: DFF<Bit>,
     b_write: DFF<Bit>,
-    b_z: DFF<Bits<24>>,
-    b_rgb: DFF<Bits<24>>,
-    b_nclass: DFF<Bits<8>>,
-    zb_r: DFF<Bits<24>>,
-    rgb_r: DFF<Bits<24>>,
-    nclass_r: DFF<Bits<8>>,
-    capzb_r: DFF<Bits<24>>,
-    caprgb_r: DFF<Bits<24>>,
+    b_z: DFF<Bits<ZB_W>>,
+    b_rgb: DFF<Bits<RGB_BITS>>,
+    b_nclass: DFF<Bits<NCLASS_W>>,
+    zb_r: DFF<Bits<ZB_W>>,
+    rgb_r: DFF<Bits<RGB_BITS>>,
+    nclass_r: DFF<Bits<NCLASS_W>>,
+    capzb_r: DFF<Bits<ZB_W>>,
+    caprgb_r: DFF<Bits<RGB_BITS>>,
     capdsf_r: DFF<Bit>,
     capfsf_r: DFF<Bit>,
-    capcount_r: DFF<Bits<8>>,
-    capmask_r: DFF<Bits<8>>,
-    capnclass_r: DFF<Bits<8>>,
+    capcount_r: DFF<Bits<COUNT_BITS>>,
+    capmask_r: DFF<Bits<MASK_BITS>>,
+    capnclass_r: DFF<Bits<NCLASS_W>>,
     rdsel_r: DFF<Bit>,
-    k_zero74: Constant<Bits<74>>,
-    k_bit8: Constant<Bits<74>>,
-    k_bit9: Constant<Bits<74>>,
-    k_clear_line: Constant<Bits<3>>,
-    k_span: Constant<Bits<3>>,
-    k_reset: Constant<Bits<3>>,
-    k_attr_op: Constant<Bits<2>>,
-    k_zfar: Constant<Bits<24>>,
-    k_zero8: Constant<Bits<8>>,
-    k_zero13: Constant<Bits<13>>,
-    k_ff8: Constant<Bits<8>>,
-    k_zero24: Constant<Bits<24>>,
-    k_one14: Constant<Bits<14>>,
-    k_sext_z: Constant<Bits<44>>,
-    k_sext_i: Constant<Bits<34>>,
-    dz_x: Signal<Local, Bits<44>>,
-    dir_x: Signal<Local, Bits<34>>,
-    dig_x: Signal<Local, Bits<34>>,
-    dib_x: Signal<Local, Bits<34>>,
+    k_zero74: Constant<Bits<READOUT_W>>,
+    k_clear_line: Constant<Bits<OP_BITS>>,
+    k_span: Constant<Bits<OP_BITS>>,
+    k_reset: Constant<Bits<OP_BITS>>,
+    k_attr_op: Constant<Bits<ATTR_W>>,
+    k_zfar: Constant<Bits<ZB_W>>,
+    k_zero8: Constant<Bits<CH_W>>,
+    k_zero13: Constant<Bits<OVER_W>>,
+    k_ff8: Constant<Bits<CH_W>>,
+    k_zero24: Constant<Bits<RGB_BITS>>,
+    k_one14: Constant<Bits<REL_W>>,
+    k_sext_z: Constant<Bits<ZACC_W>>,
+    k_sext_i: Constant<Bits<IACC_W>>,
+    dz_x: Signal<Local, Bits<ZACC_W>>,
+    dir_x: Signal<Local, Bits<IACC_W>>,
+    dig_x: Signal<Local, Bits<IACC_W>>,
+    dib_x: Signal<Local, Bits<IACC_W>>,
     right_of_xl: Signal<Local, Bit>,
     covered: Signal<Local, Bit>,
-    zv: Signal<Local, Bits<24>>,
+    zv: Signal<Local, Bits<ZB_W>>,
     z_hi_ok: Signal<Local, Bit>,
     z_lt: Signal<Local, Bit>,
     z_pass: Signal<Local, Bit>,
-    zb_next: Signal<Local, Bits<24>>,
-    ch_r: Signal<Local, Bits<8>>,
-    ch_g: Signal<Local, Bits<8>>,
-    ch_b: Signal<Local, Bits<8>>,
+    zb_next: Signal<Local, Bits<ZB_W>>,
+    ch_r: Signal<Local, Bits<CH_W>>,
+    ch_g: Signal<Local, Bits<CH_W>>,
+    ch_b: Signal<Local, Bits<CH_W>>,
     dsf_now: Signal<Local, Bit>,
     fsf_now: Signal<Local, Bit>,
-    count_now: Signal<Local, Bits<8>>,
-    mask_now: Signal<Local, Bits<8>>,
+    count_now: Signal<Local, Bits<COUNT_BITS>>,
+    mask_now: Signal<Local, Bits<MASK_BITS>>,
 }
 
 impl PixelProcessor {
@@ -281,20 +298,18 @@ impl PixelProcessor {
             capnclass_r: Default::default(),
             rdsel_r: Default::default(),
             k_zero74: Constant::new(0u64.to_bits()),
-            k_bit8: Constant::new(256u64.to_bits()),
-            k_bit9: Constant::new(512u64.to_bits()),
             k_clear_line: Constant::new(OP_CLEAR_LINE.to_bits()),
             k_span: Constant::new(OP_SPAN.to_bits()),
             k_reset: Constant::new(OP_RESET.to_bits()),
-            k_attr_op: Constant::new(0u64.to_bits()),
+            k_attr_op: Constant::new((Attr::Op.code() as u64).to_bits()),
             k_zfar: Constant::new((Z_FAR as u64).to_bits()),
             k_zero8: Constant::new(0u64.to_bits()),
             k_zero13: Constant::new(0u64.to_bits()),
-            k_ff8: Constant::new(255u64.to_bits()),
+            k_ff8: Constant::new(((1u64 << CH_W) - 1).to_bits()),
             k_zero24: Constant::new(0u64.to_bits()),
             k_one14: Constant::new(1u64.to_bits()),
-            k_sext_z: Constant::new((((1u64 << 44) - 1) ^ ((1u64 << 38) - 1)).to_bits()),
-            k_sext_i: Constant::new((((1u64 << 34) - 1) ^ ((1u64 << 21) - 1)).to_bits()),
+            k_sext_z: Constant::new((((1u64 << ZACC_W) - 1) ^ ((1u64 << DZ_W) - 1)).to_bits()),
+            k_sext_i: Constant::new((((1u64 << IACC_W) - 1) ^ ((1u64 << DI_W) - 1)).to_bits()),
             dz_x: Default::default(),
             dir_x: Default::default(),
             dig_x: Default::default(),
@@ -408,19 +423,19 @@ impl Logic for PixelProcessor {
         self.tok_dig.d.next = self.t_dig.val();
         self.tok_dib.d.next = self.t_dib.val();
         // Sign-extended increments.
-        self.dz_x.next = bit_cast::<44, 38>(self.tok_dz.q.val());
+        self.dz_x.next = bit_cast::<ZACC_W, DZ_W>(self.tok_dz.q.val());
         if self.tok_dz.q.val().get_bit(37) {
             self.dz_x.next = self.dz_x.val() | self.k_sext_z.val();
         }
-        self.dir_x.next = bit_cast::<34, 21>(self.tok_dir.q.val());
+        self.dir_x.next = bit_cast::<IACC_W, DI_W>(self.tok_dir.q.val());
         if self.tok_dir.q.val().get_bit(20) {
             self.dir_x.next = self.dir_x.val() | self.k_sext_i.val();
         }
-        self.dig_x.next = bit_cast::<34, 21>(self.tok_dig.q.val());
+        self.dig_x.next = bit_cast::<IACC_W, DI_W>(self.tok_dig.q.val());
         if self.tok_dig.q.val().get_bit(20) {
             self.dig_x.next = self.dig_x.val() | self.k_sext_i.val();
         }
-        self.dib_x.next = bit_cast::<34, 21>(self.tok_dib.q.val());
+        self.dib_x.next = bit_cast::<IACC_W, DI_W>(self.tok_dib.q.val());
         if self.tok_dib.q.val().get_bit(20) {
             self.dib_x.next = self.dib_x.val() | self.k_sext_i.val();
         }
@@ -502,30 +517,30 @@ impl Logic for PixelProcessor {
         self.zb_r.d.next = self.zb_next.val();
         // ---- Stage A, decision: depth test against the next-state ZB (bypass), golden
         // `((z >> 12) as u32) < ZB` (or `<=` for decals); intensity clamp.
-        self.zv.next = self.tok_z.q.val().get_bits::<24>(12);
-        self.z_hi_ok.next = self.tok_z.q.val().get_bits::<8>(36) == self.k_zero8.val();
+        self.zv.next = self.tok_z.q.val().get_bits::<ZB_W>(12);
+        self.z_hi_ok.next = self.tok_z.q.val().get_bits::<CH_W>(36) == self.k_zero8.val();
         self.z_lt.next = self.zv.val() < self.zb_next.val();
         self.z_pass.next = self.z_lt.val();
         if self.tok_decal.q.val() {
             self.z_pass.next = self.zv.val() <= self.zb_next.val();
         }
         // Intensity clamp: negative -> 0, >= 256.0 -> 255, else bits [19:12].
-        self.ch_r.next = self.tok_ir.q.val().get_bits::<8>(12);
-        if self.tok_ir.q.val().get_bits::<13>(20) != self.k_zero13.val() {
+        self.ch_r.next = self.tok_ir.q.val().get_bits::<CH_W>(12);
+        if self.tok_ir.q.val().get_bits::<OVER_W>(20) != self.k_zero13.val() {
             self.ch_r.next = self.k_ff8.val();
         }
         if self.tok_ir.q.val().get_bit(33) {
             self.ch_r.next = self.k_zero8.val();
         }
-        self.ch_g.next = self.tok_ig.q.val().get_bits::<8>(12);
-        if self.tok_ig.q.val().get_bits::<13>(20) != self.k_zero13.val() {
+        self.ch_g.next = self.tok_ig.q.val().get_bits::<CH_W>(12);
+        if self.tok_ig.q.val().get_bits::<OVER_W>(20) != self.k_zero13.val() {
             self.ch_g.next = self.k_ff8.val();
         }
         if self.tok_ig.q.val().get_bit(33) {
             self.ch_g.next = self.k_zero8.val();
         }
-        self.ch_b.next = self.tok_ib.q.val().get_bits::<8>(12);
-        if self.tok_ib.q.val().get_bits::<13>(20) != self.k_zero13.val() {
+        self.ch_b.next = self.tok_ib.q.val().get_bits::<CH_W>(12);
+        if self.tok_ib.q.val().get_bits::<OVER_W>(20) != self.k_zero13.val() {
             self.ch_b.next = self.k_ff8.val();
         }
         if self.tok_ib.q.val().get_bit(33) {
@@ -542,28 +557,25 @@ impl Logic for PixelProcessor {
             & self.z_hi_ok.val();
         self.b_z.d.next = self.zv.val();
         self.b_nclass.d.next = self.tok_nclass.q.val();
-        self.b_rgb.d.next = (bit_cast::<24, 8>(self.ch_r.val()) << 16)
-            | (bit_cast::<24, 8>(self.ch_g.val()) << 8)
-            | bit_cast::<24, 8>(self.ch_b.val());
+        self.b_rgb.d.next = (bit_cast::<RGB_BITS, CH_W>(self.ch_r.val()) << 16)
+            | (bit_cast::<RGB_BITS, CH_W>(self.ch_g.val()) << 8)
+            | bit_cast::<RGB_BITS, CH_W>(self.ch_b.val());
         if self.tok_op.q.val() != self.k_span.val() {
             // CLEAR_LINE's background, LATCH_SHADOW's bit.
-            self.b_rgb.d.next = self.tok_z.q.val().get_bits::<24>(0);
+            self.b_rgb.d.next = self.tok_z.q.val().get_bits::<RGB_BITS>(0);
         }
         // ---- Outputs.
         self.rdsel_r.d.next = self.rd_sel.val();
         self.rdo.next = self.k_zero74.val();
         if self.rdsel_r.q.val() {
-            self.rdo.next = (bit_cast::<74, 8>(self.capnclass_r.q.val()) << 66)
-                | (bit_cast::<74, 8>(self.capmask_r.q.val()) << 58)
-                | (bit_cast::<74, 24>(self.capzb_r.q.val()) << 34)
-                | (bit_cast::<74, 24>(self.caprgb_r.q.val()) << 10)
-                | (bit_cast::<74, 8>(self.capcount_r.q.val()));
-            if self.capdsf_r.q.val() {
-                self.rdo.next = self.rdo.val() | self.k_bit9.val();
-            }
-            if self.capfsf_r.q.val() {
-                self.rdo.next = self.rdo.val() | self.k_bit8.val();
-            }
+            // The fields of `pixelproc_formats::regs::READOUT_FIELDS`.
+            self.rdo.next.set_value_nclass(self.capnclass_r.q.val());
+            self.rdo.next.set_value_mask(self.capmask_r.q.val());
+            self.rdo.next.set_value_zb(self.capzb_r.q.val());
+            self.rdo.next.set_value_rgb(self.caprgb_r.q.val());
+            self.rdo.next.set_value_dsf(self.capdsf_r.q.val());
+            self.rdo.next.set_value_fsf(self.capfsf_r.q.val());
+            self.rdo.next.set_value_count(self.capcount_r.q.val());
         }
     }
 }

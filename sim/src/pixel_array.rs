@@ -23,7 +23,7 @@
 //!   the attenuation table at readout (`crate::shadow::FactorTable`).
 //! - Software form (section 5): `Check { xl, xr }` replaces EV, checking only its range.
 
-use pixelproc_formats::{Attr, SpanWord, Z_FAR};
+use pixelproc_formats::{pack_rgb, Attr, SpanWord, I_FRAC, Z_FAR, Z_FRAC};
 
 /// One clock's input to the array.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -58,24 +58,9 @@ pub enum Command {
     Nop,
 }
 
-/// The registers of one pixel processor.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub struct ProcState {
-    /// Depth buffer value `ZB` (24 bits).
-    pub zb: u32,
-    /// Intensity, RGB888 packed.
-    pub rgb: u32,
-    /// Shadow decision flag.
-    pub dsf: bool,
-    /// Final shadow flag.
-    pub fsf: bool,
-    /// Number of point lights that shadow this pixel (area lights, section 6).
-    pub count: u8,
-    /// Which point lights shadow this pixel, one bit per light (section 6).
-    pub mask: u8,
-    /// Normal class of the visible surface (from the span word's `nclass`, section 6).
-    pub nclass: u8,
-}
+/// The registers of one pixel processor: the record shared with the RTL probes, defined
+/// once in `pixelproc_formats::regs`.
+pub use pixelproc_formats::regs::ProcState;
 
 /// A row of `width` pixel processors owning screen columns `base .. base + width`.
 #[derive(Clone, Debug)]
@@ -200,13 +185,12 @@ impl PixelArray {
         let off = base + lo as i64 - xl;
         let mut c: [i64; 3] = std::array::from_fn(|k| w.il[k] as i64 + off * w.di[k] as i64);
         for s in &mut self.procs[lo..=hi] {
-            let zp = (z >> pixelproc_formats::Z_FRAC) as u32;
+            let zp = (z >> Z_FRAC) as u32;
             let pass = if w.decal { zp <= s.zb } else { zp < s.zb };
             if pass {
                 s.zb = zp;
                 s.nclass = w.nclass;
-                let ch = |v: i64| (v >> pixelproc_formats::I_FRAC).clamp(0, 255) as u32;
-                s.rgb = (ch(c[0]) << 16) | (ch(c[1]) << 8) | ch(c[2]);
+                s.rgb = pack_rgb(c.map(|v| (v >> I_FRAC).clamp(0, 255) as u8));
             }
             z += w.dz;
             for (ck, dk) in c.iter_mut().zip(w.di) {
@@ -225,7 +209,7 @@ impl PixelArray {
             let base = self.base as i64;
             let mut z = w.zl as i64 + (base + lo as i64 - w.xl as i64) * w.dz;
             for s in &mut self.procs[lo..=hi] {
-                if ((z >> pixelproc_formats::Z_FRAC) as u32) < s.zb {
+                if ((z >> Z_FRAC) as u32) < s.zb {
                     s.dsf = !s.dsf;
                 }
                 z += w.dz;
@@ -255,9 +239,9 @@ mod tests {
         Command::Span(SpanWord {
             xl,
             xr,
-            zl: (z as u64) << 12,
+            zl: (z as u64) << Z_FRAC,
             dz,
-            il: rgb.map(|c| c << 12),
+            il: rgb.map(|c| c << I_FRAC),
             ..Default::default()
         })
     }
@@ -285,7 +269,7 @@ mod tests {
     #[test]
     fn tiles_see_absolute_columns() {
         let mut a = PixelArray::new(4, 4);
-        a.run_line(7, &[op(2, 5, 10, 1 << 12, [1, 2, 3])]);
+        a.run_line(7, &[op(2, 5, 10, 1 << Z_FRAC, [1, 2, 3])]);
         let s = a.state();
         assert_eq!((s[0].zb, s[1].zb, s[2].zb), (12, 13, Z_FAR));
         assert_eq!(s[2].rgb, 7);
@@ -301,7 +285,7 @@ mod tests {
                 attr,
                 xl: 2,
                 xr: 5,
-                zl: (z as u64) << 12,
+                zl: (z as u64) << Z_FRAC,
                 ..Default::default()
             })
         };

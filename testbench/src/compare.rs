@@ -13,26 +13,10 @@
 
 use crate::stimulus::LineStream;
 use crate::TbError;
-use pixelproc_formats::SpanWord;
-use pixelproc_rtl::opcodes::*;
+use pixelproc_formats::opcodes::*;
+use pixelproc_formats::{SpanWord, MAX_X};
 use pixelproc_rtl::pixel_array::{PixelProcessorArray, LATENCY_PROC0};
-use pixelproc_rtl::pixel_processor::ProcRegs;
 use pixelproc_sim::pixel_array::{Command, PixelArray, ProcState};
-
-/// Largest column a span word (and so a CHECK range) can name.
-const MAX_X: u16 = 4095;
-
-fn to_state(r: ProcRegs) -> ProcState {
-    ProcState {
-        zb: r.zb,
-        rgb: r.rgb,
-        dsf: r.dsf,
-        fsf: r.fsf,
-        count: r.count,
-        mask: r.mask,
-        nclass: r.nclass,
-    }
-}
 use rust_hdl::prelude::*;
 use std::collections::VecDeque;
 use std::path::PathBuf;
@@ -105,35 +89,36 @@ pub fn encode(base: u32, cmd: &Command) -> Result<PortVector, TbError> {
 
 /// Reads every register (`ZB`, RGB, DSF, FSF, COUNT, MASK, NCLASS) of every processor.
 pub fn probe_all(uut: &PixelProcessorArray) -> Vec<ProcState> {
-    uut.procs.iter().map(|p| to_state(p.probe())).collect()
+    uut.procs.iter().map(|p| p.probe()).collect()
 }
 
 fn probe_cap(uut: &PixelProcessorArray, p: usize) -> ProcState {
-    to_state(uut.procs[p].probe_capture())
+    uut.procs[p].probe_capture()
 }
 
 /// Clears the shadow registers (what an array built without shadows reads).
-pub fn without_shadow_regs(mut s: ProcState) -> ProcState {
-    s.dsf = false;
-    s.fsf = false;
-    s.count = 0;
-    s.mask = 0;
-    s
+pub fn without_shadow_regs(s: ProcState) -> ProcState {
+    s.without_shadow_regs()
 }
 
-/// Drives one clock cycle of the RustHDL model with the direct `simulate()` loop.
-pub fn drive(uut: &mut PixelProcessorArray, v: &PortVector) -> Result<(), TbError> {
+/// Puts one port vector on the array's inputs (the clock is left alone).
+fn set_ports(uut: &mut PixelProcessorArray, v: &PortVector) {
     uut.rst.next = v.rst;
     uut.cmd_valid.next = v.valid;
     uut.cmd_op.next = (v.op as u64).to_bits();
     uut.cmd_bg.next = (v.bg as u64).to_bits();
-    let mut w: Bits<256> = Bits::default();
+    let mut w: Bits<{ pixelproc_rtl::layout::SPAN_W }> = Bits::default();
     for (i, limb) in v.word.iter().enumerate() {
         w.set_bits::<64>(64 * i, limb.to_bits());
     }
     uut.cmd_word.next = w;
     uut.tile_base.next = (v.base as u64).to_bits();
     uut.rd_addr.next = (v.rd_addr as u64).to_bits();
+}
+
+/// Drives one clock cycle of the RustHDL model with the direct `simulate()` loop.
+pub fn drive(uut: &mut PixelProcessorArray, v: &PortVector) -> Result<(), TbError> {
+    set_ports(uut, v);
     uut.clock.next = Clock { clk: true };
     if !simulate(uut, 200) {
         return Err(TbError::NoConvergence);
@@ -466,17 +451,7 @@ pub fn write_vcd(
     sim.add_testbench(move |mut ep: Sim<PixelProcessorArray>| {
         let mut x = ep.init()?;
         for v in &vecs {
-            x.rst.next = v.rst;
-            x.cmd_valid.next = v.valid;
-            x.cmd_op.next = (v.op as u64).to_bits();
-            x.cmd_bg.next = (v.bg as u64).to_bits();
-            let mut w: Bits<256> = Bits::default();
-            for (i, limb) in v.word.iter().enumerate() {
-                w.set_bits::<64>(64 * i, limb.to_bits());
-            }
-            x.cmd_word.next = w;
-            x.tile_base.next = (v.base as u64).to_bits();
-            x.rd_addr.next = (v.rd_addr as u64).to_bits();
+            set_ports(&mut x, v);
             wait_clock_cycle!(ep, clock, x);
         }
         ep.done(x)

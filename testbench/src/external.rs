@@ -3,10 +3,13 @@
 //! The golden model writes two `$readmemh` files, one line per clock:
 //! - `stim.hex`, 80 hex digits (320 bits): `cmd_word[255:0]`, `cmd_bg` at `[279:256]`,
 //!   `cmd_op` at `[282:280]`, `cmd_valid` `[283]`, `rst` `[284]`, `tile_base`
-//!   `[296:285]`, `rd_addr` `[308:297]`, zero above (the span word is `SpanWord::to_hex`);
-//! - `expect.hex`, 32 hex digits (128 bits): `{check, 53'b0, rd_nclass[8], rd_mask[8],
-//!   rd_zb[24], rd_rgb[24], rd_dsf, rd_fsf, rd_count[8]}` expected after that clock's
-//!   rising edge; `check` (bit 127) is 0 where the port shows a processor the reset token
+//!   `[296:285]`, `rd_addr` `[308:297]`, zero above (the span word is `SpanWord::to_hex`;
+//!   the ports above it are one field table, `STIM_FIELDS`, that both the Rust writer
+//!   and the Verilog reader follow);
+//! - `expect.hex`, 32 hex digits (128 bits): `{check, 53'b0, readout[73:0]}` expected
+//!   after that clock's rising edge, the readout word in the layout of
+//!   `pixelproc_formats::regs::READOUT_FIELDS` (`{rd_nclass, rd_mask, rd_zb, rd_rgb,
+//!   rd_dsf, rd_fsf, rd_count}`); `check` (bit 127) is 0 where the port shows a processor the reset token
 //!   has not reached yet (power-up values) and on lines 0 and 1.
 //!
 //! Expected values come from the golden `PixelArray` only: after edge `t` the readout
@@ -16,8 +19,12 @@
 //! every output after every clock, prints the first mismatch (cycle, inputs, both
 //! outputs), dumps a VCD of the top-level ports, and prints `PASS cycles=N`.
 
-use crate::compare::{port_vectors, without_shadow_regs};
+use crate::compare::{port_vectors, without_shadow_regs, PortVector};
 use crate::TbError;
+use pixelproc_formats::fields::Field;
+use pixelproc_formats::opcodes::OP_BITS;
+use pixelproc_formats::regs::{READOUT_BITS, READOUT_FIELDS, RGB_BITS};
+use pixelproc_formats::{SPAN_WORD_BITS, X_BITS};
 use pixelproc_rtl::pixel_array::LATENCY_PROC0;
 use pixelproc_sim::pixel_array::{Command, PixelArray, ProcState};
 use std::fmt::Write as _;
@@ -72,15 +79,65 @@ pub fn skip_or_fail(tool: &str) -> Result<(), TbError> {
     }
 }
 
+/// The port fields of a `stim.hex` line above the span word (`cmd_word[255:0]`), named
+/// as the array's input ports.
+const STIM_BG: Field = Field {
+    name: "cmd_bg",
+    lsb: SPAN_WORD_BITS as usize,
+    width: RGB_BITS,
+};
+const STIM_OP: Field = STIM_BG.then("cmd_op", OP_BITS);
+const STIM_VALID: Field = STIM_OP.then("cmd_valid", 1);
+const STIM_RST: Field = STIM_VALID.then("rst", 1);
+const STIM_BASE: Field = STIM_RST.then("tile_base", X_BITS as usize);
+const STIM_RD: Field = STIM_BASE.then("rd_addr", X_BITS as usize);
+const STIM_FIELDS: [Field; 6] = [STIM_BG, STIM_OP, STIM_VALID, STIM_RST, STIM_BASE, STIM_RD];
+
+/// The limb above the span word of a `stim.hex` line (bits 319:256).
+fn stim_high_limb(v: &PortVector) -> u64 {
+    let mut l = [0u64; 5];
+    STIM_BG.put(&mut l, v.bg as u64);
+    STIM_OP.put(&mut l, v.op as u64);
+    STIM_VALID.put(&mut l, v.valid as u64);
+    STIM_RST.put(&mut l, v.rst as u64);
+    STIM_BASE.put(&mut l, v.base as u64);
+    STIM_RD.put(&mut l, v.rd_addr as u64);
+    l[4]
+}
+
+/// The Verilog statements that take one stimulus line apart, one per port.
+fn stim_assignments() -> String {
+    let mut out = format!(
+        "            cmd_word = stim[t][{}:0];\n",
+        SPAN_WORD_BITS - 1
+    );
+    for f in STIM_FIELDS {
+        let bits = if f.width == 1 {
+            format!("{}", f.lsb)
+        } else {
+            format!("{}:{}", f.msb(), f.lsb)
+        };
+        writeln!(out, "            {} = stim[t][{bits}];", f.name).ok();
+    }
+    out
+}
+
+/// Bit 127 of an `expect.hex` line: compare this cycle.
+const CHECK_BIT: u32 = 127;
+
 fn pack_state(s: &ProcState) -> u128 {
-    (1u128 << 127)
-        | ((s.nclass as u128) << 66)
-        | ((s.mask as u128) << 58)
-        | ((s.zb as u128 & 0xff_ffff) << 34)
-        | ((s.rgb as u128 & 0xff_ffff) << 10)
-        | ((s.dsf as u128) << 9)
-        | ((s.fsf as u128) << 8)
-        | s.count as u128
+    (1u128 << CHECK_BIT) | s.pack_readout()
+}
+
+/// The Verilog concatenation of the readout ports in the readout word's layout, most
+/// significant field first: `{rd_nclass, rd_mask, ...}`.
+fn readout_concat() -> String {
+    let ports: Vec<String> = READOUT_FIELDS
+        .iter()
+        .rev()
+        .map(|f| format!("rd_{}", f.name.to_lowercase()))
+        .collect();
+    format!("{{{}}}", ports.join(", "))
 }
 
 /// Writes `stim.hex` and `expect.hex` for `cmds` on an `n`-processor array into `dir`;
@@ -107,12 +164,7 @@ pub fn write_vectors(
     let mut stim = String::new();
     let mut exp = String::new();
     for (t, v) in vecs.iter().enumerate() {
-        let hi = (v.bg as u64 & 0xff_ffff)
-            | ((v.op as u64 & 7) << 24)
-            | ((v.valid as u64) << 27)
-            | ((v.rst as u64) << 28)
-            | ((v.base as u64 & 0xfff) << 29)
-            | ((v.rd_addr as u64 & 0xfff) << 41);
+        let hi = stim_high_limb(v);
         writeln!(
             stim,
             "{:016x}{:016x}{:016x}{:016x}{:016x}",
@@ -140,6 +192,9 @@ pub fn write_vectors(
 
 /// The Verilog testbench for module `dut` over `cycles` vector lines.
 pub fn testbench_verilog(dut: &str, cycles: usize) -> String {
+    let got = readout_concat();
+    let top = READOUT_BITS - 1;
+    let unpack = stim_assignments();
     format!(
         r#"// Vector testbench for {dut}: drives stim.hex, checks every output against expect.hex.
 `timescale 1ns/1ps
@@ -156,7 +211,7 @@ module tb_pixelproc;
     wire [23:0] rd_zb, rd_rgb;
     wire rd_dsf, rd_fsf;
     wire [7:0] rd_count, rd_mask, rd_nclass;
-    wire [73:0] got = {{rd_nclass, rd_mask, rd_zb, rd_rgb, rd_dsf, rd_fsf, rd_count}};
+    wire [{top}:0] got = {got};
     integer t;
     {dut} dut (.clock(clock), .rst(rst), .cmd_valid(cmd_valid), .cmd_op(cmd_op),
         .cmd_bg(cmd_bg), .cmd_word(cmd_word), .tile_base(tile_base), .rd_addr(rd_addr),
@@ -169,16 +224,9 @@ module tb_pixelproc;
         $dumpfile("tb_pixelproc.vcd");
         $dumpvars(1, tb_pixelproc);
         for (t = 0; t < NCYC; t = t + 1) begin
-            cmd_word = stim[t][255:0];
-            cmd_bg = stim[t][279:256];
-            cmd_op = stim[t][282:280];
-            cmd_valid = stim[t][283];
-            rst = stim[t][284];
-            tile_base = stim[t][296:285];
-            rd_addr = stim[t][308:297];
-            @(posedge clock);
+{unpack}            @(posedge clock);
             #1;
-            if (expv[t][127] && got !== expv[t][73:0]) begin
+            if (expv[t][{CHECK_BIT}] && got !== expv[t][{top}:0]) begin
                 $display("MISMATCH cycle=%0d inputs=%h expected=%h got=%h", t, stim[t], expv[t], got);
                 $finish;
             end
@@ -311,4 +359,62 @@ pub fn run_external(
         run_seconds,
         vcd: dir.join("tb_pixelproc.vcd"),
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn readout_compare_follows_the_readout_table() {
+        let tb = testbench_verilog("dut_x", 3);
+        assert!(tb.contains(
+            "wire [73:0] got = {rd_nclass, rd_mask, rd_zb, rd_rgb, rd_dsf, rd_fsf, rd_count};"
+        ));
+        assert!(tb.contains("if (expv[t][127] && got !== expv[t][73:0]) begin"));
+        assert!(tb.contains(
+            "            cmd_word = stim[t][255:0];
+            cmd_bg = stim[t][279:256];
+            cmd_op = stim[t][282:280];
+            cmd_valid = stim[t][283];
+            rst = stim[t][284];
+            tile_base = stim[t][296:285];
+            rd_addr = stim[t][308:297];
+            @(posedge clock);"
+        ));
+        let v = PortVector {
+            rst: true,
+            valid: true,
+            op: 5,
+            bg: 0x1_23456,
+            word: [0; 4],
+            base: 0x1abc,
+            rd_addr: 0xfed,
+        };
+        let old = (v.bg as u64 & 0xff_ffff)
+            | ((v.op as u64 & 7) << 24)
+            | ((v.valid as u64) << 27)
+            | ((v.rst as u64) << 28)
+            | ((v.base as u64 & 0xfff) << 29)
+            | ((v.rd_addr as u64 & 0xfff) << 41);
+        assert_eq!(stim_high_limb(&v), old);
+        let s = ProcState {
+            zb: 0x1_ABCDEF,
+            rgb: 0x123456,
+            dsf: true,
+            fsf: true,
+            count: 3,
+            mask: 0x80,
+            nclass: 9,
+        };
+        let old = (1u128 << 127)
+            | (9u128 << 66)
+            | (0x80u128 << 58)
+            | (0xABCDEFu128 << 34)
+            | (0x123456u128 << 10)
+            | (1u128 << 9)
+            | (1u128 << 8)
+            | 3;
+        assert_eq!(pack_state(&s), old);
+    }
 }

@@ -1,0 +1,137 @@
+//! The registers of one pixel processor (seed 001, Matsumoto: section 3 "scanline
+//! Z-buffer" for `ZB` and the intensity, section 4 for the shadow flags DSF and FSF,
+//! section 6 for the counter, the light mask and the normal class), and the packed
+//! readout word the array's readout port carries.
+//!
+//! One record, [`ProcState`], serves the golden model (`pixelproc_sim::pixel_array`
+//! re-exports it) and the RTL probes (`pixelproc_rtl::pixel_processor::ProcRegs` is the
+//! same type), so the two are compared field for field without conversion.
+//!
+//! The readout word ([`READOUT_FIELDS`], [`READOUT_BITS`] = 74 bits, LSB first) is what
+//! each RTL processor drives onto the array's OR-combined readout bus, what the array
+//! slices into its `rd_*` ports, and what the external testbench's `expect.hex` holds
+//! (`docs/formats.md` prints the table).
+
+use crate::fields::{table_end, Field};
+use crate::{NCLASS_BITS, Z_BITS};
+
+/// The registers of one pixel processor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct ProcState {
+    /// Depth buffer value `ZB` (24 bits).
+    pub zb: u32,
+    /// Intensity, RGB888 packed.
+    pub rgb: u32,
+    /// Shadow decision flag.
+    pub dsf: bool,
+    /// Final shadow flag.
+    pub fsf: bool,
+    /// Number of point lights that shadow this pixel (area lights, section 6).
+    pub count: u8,
+    /// Which point lights shadow this pixel, one bit per light (section 6).
+    pub mask: u8,
+    /// Normal class of the visible surface (from the span word's `nclass`, section 6).
+    pub nclass: u8,
+}
+
+/// Width of the intensity register (RGB888).
+pub const RGB_BITS: usize = 24;
+/// Width of the shadow counter.
+pub const COUNT_BITS: usize = 8;
+/// Width of the light mask (one bit per point light).
+pub const MASK_BITS: usize = 8;
+
+/// Readout field `COUNT`.
+pub const RD_COUNT: Field = Field::first("COUNT", COUNT_BITS);
+/// Readout field `FSF`.
+pub const RD_FSF: Field = RD_COUNT.then("FSF", 1);
+/// Readout field `DSF`.
+pub const RD_DSF: Field = RD_FSF.then("DSF", 1);
+/// Readout field `RGB`.
+pub const RD_RGB: Field = RD_DSF.then("RGB", RGB_BITS);
+/// Readout field `ZB`.
+pub const RD_ZB: Field = RD_RGB.then("ZB", Z_BITS as usize);
+/// Readout field `MASK`.
+pub const RD_MASK: Field = RD_ZB.then("MASK", MASK_BITS);
+/// Readout field `NCLASS`.
+pub const RD_NCLASS: Field = RD_MASK.then("NCLASS", NCLASS_BITS as usize);
+/// The readout word, LSB first.
+pub const READOUT_FIELDS: &[Field] = &[RD_COUNT, RD_FSF, RD_DSF, RD_RGB, RD_ZB, RD_MASK, RD_NCLASS];
+/// Width of the readout word.
+pub const READOUT_BITS: usize = table_end(READOUT_FIELDS);
+
+impl ProcState {
+    /// The readout word of these registers (fields wider than their slot are truncated).
+    pub fn pack_readout(&self) -> u128 {
+        let mut w = 0u128;
+        RD_COUNT.put_u128(&mut w, self.count as u64);
+        RD_FSF.put_u128(&mut w, self.fsf as u64);
+        RD_DSF.put_u128(&mut w, self.dsf as u64);
+        RD_RGB.put_u128(&mut w, self.rgb as u64);
+        RD_ZB.put_u128(&mut w, self.zb as u64);
+        RD_MASK.put_u128(&mut w, self.mask as u64);
+        RD_NCLASS.put_u128(&mut w, self.nclass as u64);
+        w
+    }
+
+    /// Inverse of [`ProcState::pack_readout`].
+    pub fn unpack_readout(w: u128) -> ProcState {
+        ProcState {
+            zb: RD_ZB.get_u128(w) as u32,
+            rgb: RD_RGB.get_u128(w) as u32,
+            dsf: RD_DSF.get_u128(w) == 1,
+            fsf: RD_FSF.get_u128(w) == 1,
+            count: RD_COUNT.get_u128(w) as u8,
+            mask: RD_MASK.get_u128(w) as u8,
+            nclass: RD_NCLASS.get_u128(w) as u8,
+        }
+    }
+
+    /// The same registers with the shadow registers (DSF, FSF, COUNT, MASK) cleared:
+    /// what a processor built without the shadow logic reads.
+    pub fn without_shadow_regs(mut self) -> ProcState {
+        self.dsf = false;
+        self.fsf = false;
+        self.count = 0;
+        self.mask = 0;
+        self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fields::{parse_doc_table, table_rows};
+
+    #[test]
+    fn readout_is_74_bits_and_round_trips() {
+        assert_eq!(READOUT_BITS, 74);
+        let s = ProcState {
+            zb: 0xABCDEF,
+            rgb: 0x123456,
+            dsf: true,
+            fsf: false,
+            count: 200,
+            mask: 0x81,
+            nclass: 7,
+        };
+        assert_eq!(ProcState::unpack_readout(s.pack_readout()), s);
+        // The historical layout `{NCLASS, MASK, ZB, RGB, DSF, FSF, COUNT}`.
+        let old = (7u128 << 66)
+            | (0x81u128 << 58)
+            | (0xABCDEFu128 << 34)
+            | (0x123456u128 << 10)
+            | (1u128 << 9)
+            | 200;
+        assert_eq!(s.pack_readout(), old);
+    }
+
+    #[test]
+    fn readout_table_matches_docs() {
+        let doc = include_str!("../../docs/formats.md");
+        assert_eq!(
+            parse_doc_table(doc, "## The readout word"),
+            table_rows(READOUT_FIELDS)
+        );
+    }
+}

@@ -1,0 +1,189 @@
+//! The packed words of `pixelproc-formats` as named slices inside `#[hdl_gen]` kernels:
+//! the span word of seed 001 section 3 (`attr, XL, XR, ZL, dZ, IL, dI`, plus tag, normal
+//! class and decal; [`pixelproc_formats::SPAN_FIELDS`]) and the 74-bit readout word of a
+//! processor ([`pixelproc_formats::regs::READOUT_FIELDS`]).
+//!
+//! A kernel cannot name a Rust constant as a bit offset: the code generator would emit
+//! the constant's name into the Verilog. It does support RustHDL's struct-field
+//! convention, which is used here: for a field `f`, `x.get_value_f()` reads and
+//! `x.next.set_value_f(v)` writes the slice, and the generator asks the value for
+//! `get_my_width_f()` and `get_my_offset_f()` and emits a part-select with those numbers
+//! as literals. The traits below give `Bits<256>` and `Bits<74>` these methods, every
+//! offset and width taken from the field tables in `pixelproc-formats`.
+
+use pixelproc_formats::regs::{
+    RD_COUNT, RD_DSF, RD_FSF, RD_MASK, RD_NCLASS, RD_RGB, RD_ZB, READOUT_BITS,
+};
+use pixelproc_formats::{
+    SPAN_ATTR, SPAN_DECAL, SPAN_DI_B, SPAN_DI_G, SPAN_DI_R, SPAN_DZ, SPAN_IL_B, SPAN_IL_G,
+    SPAN_IL_R, SPAN_NCLASS, SPAN_WORD_BITS, SPAN_XL, SPAN_XR, SPAN_ZL,
+};
+use rust_hdl::prelude::*;
+
+/// Width of the `cmd_word` port: one packed span word.
+pub const SPAN_W: usize = SPAN_WORD_BITS as usize;
+/// Width of the readout bus and of each processor's `rdo` output.
+pub const READOUT_W: usize = READOUT_BITS;
+
+/// Declares a trait of field accessors and implements it for one `Bits<N>`.
+macro_rules! field_slices {
+    (
+        $(#[$doc:meta])* $tr:ident for $n:expr;
+        bits { $($get:ident, $set:ident, $wid:ident, $off:ident: $f:path;)* }
+        flags { $($bget:ident, $bset:ident, $bwid:ident, $boff:ident: $bf:path;)* }
+    ) => {
+        $(#[$doc])*
+        pub trait $tr {
+            $(
+                #[doc = concat!("Reads field `", stringify!($f), "`.")]
+                fn $get(&self) -> Bits<{ $f.width }>;
+                #[doc = concat!("Writes field `", stringify!($f), "`.")]
+                fn $set(&mut self, v: Bits<{ $f.width }>);
+                #[doc = concat!("Width of `", stringify!($f), "` (read by the code generator).")]
+                fn $wid(&self) -> usize;
+                #[doc = concat!("LSB of `", stringify!($f), "` (read by the code generator).")]
+                fn $off(&self) -> u32;
+            )*
+            $(
+                #[doc = concat!("Reads the one-bit field `", stringify!($bf), "`.")]
+                fn $bget(&self) -> Bit;
+                #[doc = concat!("Writes the one-bit field `", stringify!($bf), "`.")]
+                fn $bset(&mut self, v: Bit);
+                #[doc = concat!("Width of `", stringify!($bf), "` (1).")]
+                fn $bwid(&self) -> usize;
+                #[doc = concat!("LSB of `", stringify!($bf), "` (read by the code generator).")]
+                fn $boff(&self) -> u32;
+            )*
+        }
+        impl $tr for Bits<{ $n }> {
+            $(
+                fn $get(&self) -> Bits<{ $f.width }> {
+                    self.get_bits::<{ $f.width }>($f.lsb)
+                }
+                fn $set(&mut self, v: Bits<{ $f.width }>) {
+                    self.set_bits::<{ $f.width }>($f.lsb, v)
+                }
+                fn $wid(&self) -> usize {
+                    $f.width
+                }
+                fn $off(&self) -> u32 {
+                    $f.lsb as u32
+                }
+            )*
+            $(
+                fn $bget(&self) -> Bit {
+                    self.get_bit($bf.lsb)
+                }
+                fn $bset(&mut self, v: Bit) {
+                    *self = self.replace_bit($bf.lsb, v)
+                }
+                fn $bwid(&self) -> usize {
+                    1
+                }
+                fn $boff(&self) -> u32 {
+                    $bf.lsb as u32
+                }
+            )*
+        }
+    };
+}
+
+field_slices! {
+    /// The span word's fields as slices of the `cmd_word` value.
+    SpanFields for SPAN_W;
+    bits {
+        get_value_attr, set_value_attr, get_my_width_attr, get_my_offset_attr: SPAN_ATTR;
+        get_value_xl, set_value_xl, get_my_width_xl, get_my_offset_xl: SPAN_XL;
+        get_value_xr, set_value_xr, get_my_width_xr, get_my_offset_xr: SPAN_XR;
+        get_value_zl, set_value_zl, get_my_width_zl, get_my_offset_zl: SPAN_ZL;
+        get_value_dz, set_value_dz, get_my_width_dz, get_my_offset_dz: SPAN_DZ;
+        get_value_il_r, set_value_il_r, get_my_width_il_r, get_my_offset_il_r: SPAN_IL_R;
+        get_value_il_g, set_value_il_g, get_my_width_il_g, get_my_offset_il_g: SPAN_IL_G;
+        get_value_il_b, set_value_il_b, get_my_width_il_b, get_my_offset_il_b: SPAN_IL_B;
+        get_value_di_r, set_value_di_r, get_my_width_di_r, get_my_offset_di_r: SPAN_DI_R;
+        get_value_di_g, set_value_di_g, get_my_width_di_g, get_my_offset_di_g: SPAN_DI_G;
+        get_value_di_b, set_value_di_b, get_my_width_di_b, get_my_offset_di_b: SPAN_DI_B;
+        get_value_nclass, set_value_nclass, get_my_width_nclass, get_my_offset_nclass: SPAN_NCLASS;
+    }
+    flags {
+        get_value_decal, set_value_decal, get_my_width_decal, get_my_offset_decal: SPAN_DECAL;
+    }
+}
+
+field_slices! {
+    /// The readout word's fields as slices of a processor's `rdo` value.
+    ReadoutFields for READOUT_W;
+    bits {
+        get_value_count, set_value_count, get_my_width_count, get_my_offset_count: RD_COUNT;
+        get_value_rgb, set_value_rgb, get_my_width_rgb, get_my_offset_rgb: RD_RGB;
+        get_value_zb, set_value_zb, get_my_width_zb, get_my_offset_zb: RD_ZB;
+        get_value_mask, set_value_mask, get_my_width_mask, get_my_offset_mask: RD_MASK;
+        get_value_nclass, set_value_nclass, get_my_width_nclass, get_my_offset_nclass: RD_NCLASS;
+    }
+    flags {
+        get_value_fsf, set_value_fsf, get_my_width_fsf, get_my_offset_fsf: RD_FSF;
+        get_value_dsf, set_value_dsf, get_my_width_dsf, get_my_offset_dsf: RD_DSF;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pixelproc_formats::regs::ProcState;
+    use pixelproc_formats::{Attr, SpanWord};
+
+    #[test]
+    fn span_slices_read_what_pack_wrote() {
+        let w = SpanWord {
+            attr: Attr::Ev,
+            xl: 17,
+            xr: 4000,
+            zl: 0x9_8765_4321,
+            dz: -5,
+            il: [1, 2, 3],
+            di: [-1, 7, -9],
+            tag: 0xBEEF,
+            nclass: 0xA5,
+            decal: true,
+        };
+        let l = w.pack().unwrap();
+        let mut b: Bits<SPAN_W> = Bits::default();
+        for (i, limb) in l.iter().enumerate() {
+            b.set_bits::<64>(64 * i, limb.to_bits());
+        }
+        assert_eq!(b.get_value_attr().to_u64(), 2);
+        assert_eq!(b.get_value_xl().to_u64(), 17);
+        assert_eq!(b.get_value_xr().to_u64(), 4000);
+        assert_eq!(b.get_value_zl().to_u64(), 0x9_8765_4321);
+        assert_eq!(b.get_value_il_b().to_u64(), 3);
+        assert_eq!(b.get_value_nclass().to_u64(), 0xA5);
+        assert!(b.get_value_decal());
+        assert_eq!((b.get_my_offset_decal(), b.get_my_width_zl()), (247, 36));
+    }
+
+    #[test]
+    fn readout_slices_match_pack_readout() {
+        let s = ProcState {
+            zb: 0xABCDEF,
+            rgb: 0x123456,
+            dsf: true,
+            fsf: false,
+            count: 200,
+            mask: 0x81,
+            nclass: 7,
+        };
+        let mut b: Bits<READOUT_W> = Bits::default();
+        b.set_value_nclass(7u64.to_bits());
+        b.set_value_mask(0x81u64.to_bits());
+        b.set_value_zb(0xABCDEFu64.to_bits());
+        b.set_value_rgb(0x123456u64.to_bits());
+        b.set_value_dsf(true);
+        b.set_value_fsf(false);
+        b.set_value_count(200u64.to_bits());
+        let w = s.pack_readout();
+        let lo: u64 = b.get_bits::<64>(0).to_u64();
+        let hi: u64 = b.get_bits::<10>(64).to_u64();
+        assert_eq!(((hi as u128) << 64) | lo as u128, w);
+        assert_eq!(b.get_value_zb().to_u64(), 0xABCDEF);
+    }
+}
