@@ -31,9 +31,12 @@
 
 use crate::mask::MaskEdges;
 use crate::mask_search::{DepthPick, DepthSelect, DepthSelector};
-use crate::setup::{round_div, ExactPlane, SetupError, SnappedTri};
+use crate::raster::edge::check_depths;
+use crate::raster::round_div;
+use crate::raster::rows::Bands;
+use crate::setup::{ExactPlane, SetupError, SnappedTri};
 use pixelproc_formats::abuffer::{saturate_plane, FragPlane, MaskSize, PLANE_FRAC};
-use pixelproc_formats::{I_FRAC, MAX_SCREEN, SUBPIXEL_ONE, Z_GEOM_MAX, Z_GEOM_MIN};
+use pixelproc_formats::{I_FRAC, MAX_SCREEN, SUBPIXEL_ONE};
 use rayon::prelude::*;
 use thiserror::Error;
 
@@ -173,8 +176,9 @@ pub struct Packed {
 
 /// Packs merged groups: free mask starts full and is ANDed away in depth order.
 pub fn pack(frags: &[Fragment], picks: &[DepthPick], groups: &[Group], size: MaskSize) -> Packed {
-    // Ties follow the pixel-processor array's depth test: among ordinary fragments the
-    // earlier primitive wins (`Z < ZB`), among decals the later one (`Z ≤ ZB`).
+    // Ties follow the pixel-processor array's depth test as a sort key (the order of
+    // `raster::depth::tie_front`): decals first, among ordinary fragments the earlier
+    // primitive wins (`Z < ZB`), among decals the later one (`Z ≤ ZB`).
     let tie = |k: usize| {
         let prim = frags[k].prim as i64;
         if frags[k].decal {
@@ -317,11 +321,9 @@ pub struct FragSetup {
 impl FragSetup {
     /// Sets up triangle number `prim`. `Ok(None)` for a zero-area triangle.
     pub fn new(t: &SnappedTri, prim: u32, size: MaskSize) -> Result<Option<FragSetup>, SetupError> {
-        for &z in t.z.iter().chain(t.host.iter().flat_map(|h| h.z.iter())) {
-            if !(Z_GEOM_MIN..=Z_GEOM_MAX).contains(&z) {
-                return Err(SetupError::DepthOutOfRange(z as i64));
-            }
-        }
+        // Depths (with the host's) are checked, coordinates only the triangle's own: the
+        // host plane's coordinates are not range-checked here, unlike span setup.
+        check_depths(t)?;
         let Some(edges) = MaskEdges::new(t, size)? else {
             return Ok(None);
         };
@@ -468,18 +470,11 @@ pub fn render_abuffer(
         .map(|(k, t)| FragSetup::new(t, k as u32, size))
         .collect::<Result<_, _>>()?;
     let setups: Vec<FragSetup> = setups.into_iter().flatten().collect();
-    let nb = (height as i64 + BAND - 1) / BAND;
-    let mut bands = vec![Vec::<u32>::new(); nb as usize];
-    for (k, s) in setups.iter().enumerate() {
-        let lo = s.edges.row_min.max(0);
-        let hi = s.edges.row_max.min(height as i64 - 1);
-        if hi < lo {
-            continue;
-        }
-        for b in lo / BAND..=hi / BAND {
-            bands[b as usize].push(k as u32);
-        }
-    }
+    let bands = Bands::new(
+        BAND,
+        height,
+        setups.iter().map(|s| (s.edges.row_min, s.edges.row_max)),
+    );
     let sel = DepthSelector::new(size);
     let (w, h) = (width as usize, height as usize);
     let mut rgb = vec![0u8; w * h * 3];
@@ -493,7 +488,7 @@ pub fn render_abuffer(
         .zip(visible.par_chunks_mut(w))
         .enumerate()
         .map(|(j, (((rgb_row, cov_row), frag_row), vis_row))| {
-            let band = &bands[j / BAND as usize];
+            let band = bands.members(bands.of_row(j as i64));
             render_row(
                 j as i64,
                 width,

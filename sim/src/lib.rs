@@ -16,6 +16,7 @@ pub mod mask_search;
 pub mod pipeline;
 pub mod pixel_array;
 pub mod plan;
+pub mod raster;
 pub mod reference;
 pub mod render;
 pub mod rng;

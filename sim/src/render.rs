@@ -6,7 +6,8 @@
 //! parallel (rayon) with bit-identical results.
 
 use crate::pixel_array::{Command, PixelArray, ProcState};
-use crate::setup::{SetupError, SnappedTri, TriSetup};
+use crate::raster::{SpanRaster, SpanSink};
+use crate::setup::{SetupError, SnappedTri};
 use pixelproc_formats::{SpanWord, MAX_SCREEN};
 use rayon::prelude::*;
 
@@ -35,10 +36,8 @@ impl Frame {
     }
 }
 
-/// Rows per band of the span generator.
-pub const BAND: i64 = 16;
-
-/// The span words of a frame, per scanline, in scene (draw) order.
+/// The span words of a frame, per scanline, in scene (draw) order: the array feed, a
+/// [`SpanSink`] of the raster core.
 pub struct SpanSource {
     width: u32,
     height: u32,
@@ -46,51 +45,43 @@ pub struct SpanSource {
     triangles: usize,
 }
 
+/// Collects one band's span words per row (the array feed's [`SpanSink`]).
+struct RowFeed {
+    lo: i64,
+    rows: Vec<Vec<SpanWord>>,
+}
+
+impl SpanSink for RowFeed {
+    fn span(&mut self, _prim: u32, row: u32, w: &SpanWord) {
+        self.rows[(row as i64 - self.lo) as usize].push(*w);
+    }
+}
+
 impl SpanSource {
-    /// Sets up every triangle (degenerate ones are dropped), bins them by bands of
-    /// [`BAND`] rows, and generates each band's span words in parallel, triangles in scene
-    /// order within each row: the same words and order as a sequential run.
+    /// Sets up every triangle (degenerate ones are dropped) and scan-converts each row
+    /// band of the raster core ([`SpanRaster`]) in parallel, triangles in scene order
+    /// within each row: the same words and order as a sequential run.
     pub fn new(tris: &[SnappedTri], width: u32, height: u32) -> Result<SpanSource, SetupError> {
         assert!(width <= MAX_SCREEN && height <= MAX_SCREEN);
-        let set: Vec<Option<TriSetup>> = tris
-            .par_iter()
-            .map(TriSetup::new)
-            .collect::<Result<_, _>>()?;
-        let set: Vec<TriSetup> = set.into_iter().flatten().collect();
-        let nb = (height as i64 + BAND - 1) / BAND;
-        let mut bins: Vec<Vec<u32>> = vec![Vec::new(); nb as usize];
-        for (k, t) in set.iter().enumerate() {
-            let lo = t.row_min.max(0);
-            let hi = t.row_max.min(height as i64 - 1);
-            if lo > hi {
-                continue;
-            }
-            for b in lo / BAND..=hi / BAND {
-                bins[b as usize].push(k as u32);
-            }
-        }
-        let bands: Vec<Vec<Vec<SpanWord>>> = bins
-            .par_iter()
-            .enumerate()
-            .map(|(b, list)| {
-                let lo = b as i64 * BAND;
-                let hi = (lo + BAND - 1).min(height as i64 - 1);
-                let mut rows = vec![Vec::new(); (hi - lo + 1) as usize];
-                for &k in list {
-                    set[k as usize].for_each_span_in(lo, hi, width, |j, w| {
-                        rows[(j as i64 - lo) as usize].push(w)
-                    });
-                }
-                rows
+        let raster = SpanRaster::new(tris, width, height)?;
+        let bands: Vec<Vec<Vec<SpanWord>>> = (0..raster.band_count())
+            .into_par_iter()
+            .map(|b| {
+                let (lo, hi) = raster.band_rows(b);
+                let mut feed = RowFeed {
+                    lo,
+                    rows: vec![Vec::new(); (hi - lo + 1) as usize],
+                };
+                raster.scan_band(b, &mut feed);
+                feed.rows
             })
             .collect();
-        let triangles = set.len();
         let rows = bands.into_iter().flatten().collect();
         Ok(SpanSource {
             width,
             height,
             rows,
-            triangles,
+            triangles: raster.triangles(),
         })
     }
 

@@ -68,8 +68,9 @@
 use rayon::prelude::*;
 
 use super::{AaError, AaFrame, AaStats};
+use crate::raster::{depth, round_div};
+use crate::setup::ExactPlane as Plane;
 use crate::setup::SnappedTri;
-use crate::setup::{round_div, ExactPlane as Plane};
 
 /// Q.16 pixel unit.
 const ONE16: i64 = 1 << 16;
@@ -227,12 +228,7 @@ struct Active<'a> {
 
 /// `a` in front of `b` at equal depth (the renderer's depth-test order).
 fn tie_front(a: &MsTri, b: &MsTri) -> bool {
-    match (a.decal, b.decal) {
-        (true, false) => true,
-        (false, true) => false,
-        (true, true) => a.idx > b.idx,
-        (false, false) => a.idx < b.idx,
-    }
+    depth::tie_front((a.decal, a.idx as i64), (b.decal, b.idx as i64))
 }
 
 /// The walk of one sub-scanline over `[xa, xb)`: visible pieces in order, and the number
