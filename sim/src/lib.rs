@@ -23,4 +23,5 @@ pub mod rng;
 pub mod scene;
 pub mod setup;
 pub mod shadow;
+pub mod stream;
 pub mod tradeoff;

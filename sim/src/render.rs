@@ -1,13 +1,15 @@
 //! Whole-frame rendering on the golden pixel-processor array (no anti-aliasing).
 //!
 //! Built on [`PixelArray::step`]: each scanline is split into tiles of the array's width;
-//! every tile gets `ClearLine`, the OP span words of the row (in scene order) that touch
-//! it, then the shadow commands, and is read out. Rows are independent, so they run in
+//! every tile gets its part of the command stream ([`crate::stream`]): `ClearLine`, the OP
+//! span words of the row (in scene order) that touch it, then the shadow commands, and is
+//! read out. Rows are independent, so they run in
 //! parallel (rayon) with bit-identical results.
 
 use crate::pixel_array::{Command, PixelArray, ProcState};
 use crate::raster::{SpanRaster, SpanSink};
 use crate::setup::{SetupError, SnappedTri};
+use crate::stream::feed_tile;
 use pixelproc_formats::{SpanWord, MAX_SCREEN};
 use rayon::prelude::*;
 
@@ -110,54 +112,11 @@ impl SpanSource {
     }
 }
 
-/// Feeds a tile the commands that can change it, skipping those that cannot, with the same
-/// final state as feeding all of them:
-/// - an SP span that does not touch the tile toggles nothing there;
-/// - an EV span ORs DSF into FSF; where no span of its volume touched the tile (and no IF),
-///   DSF is what it was after the previous volume's end, when FSF already absorbed it, so
-///   the OR changes nothing: it is skipped too (its own range test still applies if it
-///   touches the tile);
-/// - IF spans and controls always go through; a `Check` only where its range touches.
-fn feed_tile(arr: &mut PixelArray, cmds: &[Command], base: u32, n: u32) {
-    use pixelproc_formats::Attr;
-    let touches = |xl: u16, xr: u16| (xl as u32) < base + n && (xr as u32) >= base && xl <= xr;
-    let mut touched = false;
-    for c in cmds {
-        match c {
-            Command::Span(w) => match w.attr {
-                Attr::Op | Attr::Sp => {
-                    if touches(w.xl, w.xr) {
-                        touched = true;
-                        arr.step(c);
-                    }
-                }
-                Attr::If => {
-                    touched = true;
-                    arr.step(c);
-                }
-                Attr::Ev => {
-                    if touched || touches(w.xl, w.xr) {
-                        arr.step(c);
-                    }
-                    touched = false;
-                }
-            },
-            Command::Check { xl, xr } => {
-                if touches(*xl, *xr) {
-                    arr.step(c);
-                }
-                touched = false;
-            }
-            _ => arr.step(c),
-        }
-    }
-}
-
 /// Renders every row on an array of `array_width` processors; a wider line is processed
-/// in tiles. Each tile gets `ClearLine`, the row's OP span words that touch it (an OP span
-/// outside a tile is a no-op there, so the span feeder skips it), then every command
-/// `extra(row, &mut cmds)` adds (shadow spans and controls, which all tiles see: IF acts on
-/// every processor).
+/// in tiles. Each tile is fed by [`feed_tile`], the per-tile form of the command stream:
+/// `ClearLine`, the row's OP span words that touch it (an OP span outside a tile is a
+/// no-op there, so the span feeder skips it), then the commands `extra(row, &mut cmds)`
+/// adds (shadow spans and controls, which all tiles see: IF acts on every processor).
 pub fn render_frame<F>(src: &SpanSource, bg: [u8; 3], array_width: usize, extra: F) -> Frame
 where
     F: Fn(u32, &mut Vec<Command>) + Sync,
@@ -190,11 +149,8 @@ where
             for (t, list) in per_tile.iter().enumerate() {
                 let base = (t * array_width) as u32;
                 arr.set_base(base);
-                arr.step(&Command::ClearLine { bg });
-                for &k in list {
-                    arr.step_span(&spans[k as usize]);
-                }
-                feed_tile(arr, cmds, base, array_width as u32);
+                let ops = list.iter().map(|&k| &spans[k as usize]);
+                feed_tile(arr, bg, ops, cmds, base, array_width as u32);
                 let n = (w - base).min(array_width as u32) as usize;
                 row[base as usize..base as usize + n].copy_from_slice(&arr.state()[..n]);
             }
