@@ -451,19 +451,17 @@ pub struct AbufferFrame {
 /// Rows per bin band.
 const BAND: i64 = 8;
 
-/// Renders triangles (scene order) with the A-buffer. Rows run in parallel with identical
-/// results.
-pub fn render_abuffer(
+/// Sets up every triangle for fragments (degenerate ones dropped) and bins them into bands
+/// of [`BAND`] rows.
+fn frag_setups(
     tris: &[SnappedTri],
     width: u32,
     height: u32,
-    bg: [u8; 3],
-    params: &AbufferParams,
-) -> Result<AbufferFrame, AbufferError> {
+    size: MaskSize,
+) -> Result<(Vec<FragSetup>, Bands), AbufferError> {
     if width > MAX_SCREEN || height > MAX_SCREEN {
         return Err(AbufferError::ScreenTooLarge(width, height));
     }
-    let size = params.size;
     let setups: Vec<Option<FragSetup>> = tris
         .par_iter()
         .enumerate()
@@ -475,6 +473,114 @@ pub fn render_abuffer(
         height,
         setups.iter().map(|s| (s.edges.row_min, s.edges.row_max)),
     );
+    Ok((setups, bands))
+}
+
+/// The non-empty fraction masks of row `j`: `(pixel, triangle, mask)` sorted by pixel,
+/// triangles in scene order within a pixel (`tris` in scene order).
+fn row_entries<'a>(
+    j: i64,
+    width: u32,
+    tris: impl Iterator<Item = &'a FragSetup>,
+    size: MaskSize,
+    entries: &mut Vec<(u32, &'a FragSetup, u64)>,
+) {
+    entries.clear();
+    let full = size.full();
+    for t in tris {
+        let Some(rc) = t.edges.row_coverage(j, width) else {
+            continue;
+        };
+        for i in rc.touched.0..=rc.touched.1 {
+            let mask = match rc.full {
+                Some((a, b)) if a <= i && i <= b => full,
+                _ => t.edges.fraction_mask(i, j),
+            };
+            if mask != 0 {
+                entries.push((i as u32, t, mask));
+            }
+        }
+    }
+    entries.sort_by_key(|e| e.0); // stable: scene order within a pixel
+}
+
+/// The end of the run of `entries` (sorted by pixel) that starts at `k`.
+fn run_end<T>(entries: &[(u32, T, u64)], k: usize) -> usize {
+    let i = entries[k].0;
+    let mut e = k;
+    while e < entries.len() && entries[e].0 == i {
+        e += 1;
+    }
+    e
+}
+
+/// A pixel with two or more fragments (where the depth selection runs).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MultiFragmentPixel {
+    /// Column.
+    pub x: u32,
+    /// Row.
+    pub y: u32,
+    /// Its fragments in scene order, as the renderer builds them.
+    pub fragments: Vec<Fragment>,
+}
+
+/// The multi-fragment pixels of a frame: every pixel with two or more fragments, row by
+/// row, left to right, with the same fragments (masks, planes, colours) as
+/// [`render_abuffer`] gives [`process_pixel`].
+pub fn multi_fragment_pixels(
+    tris: &[SnappedTri],
+    width: u32,
+    height: u32,
+    size: MaskSize,
+) -> Result<Vec<MultiFragmentPixel>, AbufferError> {
+    let (setups, bands) = frag_setups(tris, width, height, size)?;
+    let per_row: Vec<Vec<MultiFragmentPixel>> = (0..height as i64)
+        .into_par_iter()
+        .map(|j| {
+            let band = bands.members(bands.of_row(j));
+            let mut entries = Vec::new();
+            row_entries(
+                j,
+                width,
+                band.iter().map(|&k| &setups[k as usize]),
+                size,
+                &mut entries,
+            );
+            let mut out = Vec::new();
+            let mut k = 0;
+            while k < entries.len() {
+                let e = run_end(&entries, k);
+                if e - k >= 2 {
+                    let x = entries[k].0;
+                    out.push(MultiFragmentPixel {
+                        x,
+                        y: j as u32,
+                        fragments: entries[k..e]
+                            .iter()
+                            .map(|(_, t, m)| t.fragment(x as i64, j, *m))
+                            .collect(),
+                    });
+                }
+                k = e;
+            }
+            out
+        })
+        .collect();
+    Ok(per_row.into_iter().flatten().collect())
+}
+
+/// Renders triangles (scene order) with the A-buffer. Rows run in parallel with identical
+/// results.
+pub fn render_abuffer(
+    tris: &[SnappedTri],
+    width: u32,
+    height: u32,
+    bg: [u8; 3],
+    params: &AbufferParams,
+) -> Result<AbufferFrame, AbufferError> {
+    let size = params.size;
+    let (setups, bands) = frag_setups(tris, width, height, size)?;
     let sel = DepthSelector::new(size);
     let (w, h) = (width as usize, height as usize);
     let mut rgb = vec![0u8; w * h * 3];
@@ -530,6 +636,29 @@ fn dominant(frags: &[Fragment], packed: &Packed) -> i32 {
     best.0
 }
 
+/// Runs every depth-selection variant on one multi-fragment pixel and counts, per variant,
+/// its evaluations and where its order, visible bits or colour differ from `exhaustive`.
+fn compare_variants(
+    frags: &[Fragment],
+    sel: &DepthSelector,
+    interpenetrating: bool,
+    bg: [u8; 3],
+    size: MaskSize,
+    st: &mut AbufferStats,
+) {
+    let outs: Vec<PixelOut> = DepthSelect::ALL
+        .iter()
+        .map(|&v| process_pixel(frags, sel, v, interpenetrating, bg, size))
+        .collect();
+    let ex = &outs[3];
+    for (v, o) in outs.iter().enumerate() {
+        st.variant_evals[v] += o.evals as u64;
+        st.order_diff[v] += (o.packed.order != ex.packed.order) as u64;
+        st.visible_diff[v] += (o.packed.visible != ex.packed.visible) as u64;
+        st.rgb_diff[v] += (o.rgb != ex.rgb) as u64;
+    }
+}
+
 /// Renders one row; returns its statistics.
 #[allow(clippy::too_many_arguments)]
 fn render_row<'a>(
@@ -549,21 +678,7 @@ fn render_row<'a>(
     let mut st = AbufferStats::default();
     // (pixel, triangle, mask) in scene order per pixel.
     let mut entries: Vec<(u32, &FragSetup, u64)> = Vec::new();
-    for t in tris {
-        let Some(rc) = t.edges.row_coverage(j, width) else {
-            continue;
-        };
-        for i in rc.touched.0..=rc.touched.1 {
-            let mask = match rc.full {
-                Some((a, b)) if a <= i && i <= b => full,
-                _ => t.edges.fraction_mask(i, j),
-            };
-            if mask != 0 {
-                entries.push((i as u32, t, mask));
-            }
-        }
-    }
-    entries.sort_by_key(|e| e.0); // stable: scene order within a pixel
+    row_entries(j, width, tris, size, &mut entries);
     for px in rgb_row.chunks_mut(3) {
         px.copy_from_slice(&bg);
     }
@@ -571,10 +686,7 @@ fn render_row<'a>(
     let mut k = 0;
     while k < entries.len() {
         let i = entries[k].0;
-        let mut e = k;
-        while e < entries.len() && entries[e].0 == i {
-            e += 1;
-        }
+        let e = run_end(&entries, k);
         let run = &entries[k..e];
         k = e;
         let iu = i as usize;
@@ -607,17 +719,7 @@ fn render_row<'a>(
             st.multi_pixels += 1;
             st.sorted_fragments += frags.len() as u64;
             if params.compare_variants {
-                let outs: Vec<PixelOut> = DepthSelect::ALL
-                    .iter()
-                    .map(|&v| process_pixel(&frags, sel, v, params.interpenetrating, bg, size))
-                    .collect();
-                let ex = &outs[3];
-                for (v, o) in outs.iter().enumerate() {
-                    st.variant_evals[v] += o.evals as u64;
-                    st.order_diff[v] += (o.packed.order != ex.packed.order) as u64;
-                    st.visible_diff[v] += (o.packed.visible != ex.packed.visible) as u64;
-                    st.rgb_diff[v] += (o.rgb != ex.rgb) as u64;
-                }
+                compare_variants(&frags, sel, params.interpenetrating, bg, size, &mut st);
             }
         }
     }
@@ -705,5 +807,33 @@ mod tests {
         // 8 bits of 1 on background 0: 0.5 → 1.
         let o = run(&[frag(0xFF, 0, 1, 0, 0)], 0);
         assert_eq!(o.rgb, [1; 3]);
+    }
+
+    #[test]
+    fn multi_fragment_pixels_are_the_renderers() {
+        // Two overlapping triangles and a third crossing both: the pixels listed are the
+        // ones the renderer counts as multi-fragment, with as many fragments.
+        let t = |v: [[i32; 2]; 3], z: u32, tag: u16| SnappedTri {
+            v,
+            z: [z; 3],
+            c: [[128 << 12; 3]; 3],
+            tag,
+            ..Default::default()
+        };
+        let tris = [
+            t([[100, 50], [3000, 400], [600, 2900]], 1000, 1),
+            t([[2900, 100], [3100, 2800], [200, 1500]], 2000, 2),
+            t([[0, 1300], [3200, 1200], [1600, 1400]], 500, 3),
+        ];
+        let p = AbufferParams::default();
+        let f = render_abuffer(&tris, 14, 12, [0; 3], &p).unwrap();
+        let m = multi_fragment_pixels(&tris, 14, 12, p.size).unwrap();
+        assert_eq!(m.len() as u64, f.stats.multi_pixels);
+        assert!(m.len() > 10);
+        for px in &m {
+            let at = (px.y * 14 + px.x) as usize;
+            assert_eq!(px.fragments.len(), f.fragments[at] as usize);
+            assert!(px.fragments.windows(2).all(|w| w[0].prim < w[1].prim));
+        }
     }
 }

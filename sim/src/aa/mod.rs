@@ -47,6 +47,15 @@ pub enum AaError {
     Screen(u32, u32),
 }
 
+impl From<crate::abuffer::AbufferError> for AaError {
+    fn from(e: crate::abuffer::AbufferError) -> AaError {
+        match e {
+            crate::abuffer::AbufferError::Setup(s) => AaError::Setup(s),
+            crate::abuffer::AbufferError::ScreenTooLarge(w, h) => AaError::Screen(w, h),
+        }
+    }
+}
+
 /// Which method, with its parameters.
 #[derive(Clone, Debug, PartialEq)]
 pub enum AaMethod {
@@ -161,12 +170,7 @@ pub fn render_aa(
         AaMethod::PostFx(p) => postfx::render(tris, width, height, bg, p)?,
         AaMethod::Ssaa { k } => ssaa::render(tris, width, height, bg, *k)?,
         AaMethod::Abuffer(p) => {
-            let a = crate::abuffer::render_abuffer(tris, width, height, bg, p).map_err(
-                |e| match e {
-                    crate::abuffer::AbufferError::Setup(s) => AaError::Setup(s),
-                    crate::abuffer::AbufferError::ScreenTooLarge(w, h) => AaError::Screen(w, h),
-                },
-            )?;
+            let a = crate::abuffer::render_abuffer(tris, width, height, bg, p)?;
             AaFrame {
                 width,
                 height,
