@@ -341,52 +341,69 @@ fn column_area(h0: i64, h1: i64, len: i64, k: i64) -> (i64, i64) {
     }
 }
 
-/// One pass of loop 2 along rows (`transpose = false`: boundaries between rows y and
-/// y+1, runs along x) or along columns. Reads `src`, or `dst` where `flag` is set;
-/// writes `dst`, sets `flag`.
-#[allow(clippy::too_many_arguments)]
-fn run_pass(
-    src: &[[u8; 3]],
-    dst: &mut [[u8; 3]],
-    flag: &mut [bool],
-    skip: &[bool],
-    e: &Edges,
+/// The edge bits as one loop-2 pass sees them: along-run position `u`, across index `v`
+/// (`transpose = false`: runs along x on the boundaries between rows v and v+1).
+struct PassView<'a> {
+    e: &'a Edges,
     transpose: bool,
-    window: bool,
-    reads: &mut u64,
-) {
-    let (w, h) = (e.w, e.h);
-    // Along-run length u and across index v.
-    let (nu, nv) = if transpose { (h, w) } else { (w, h) };
-    let idx = |u: usize, v: usize| if transpose { u * w + v } else { v * w + u };
-    // Edge across the boundary between v and v+1 at position u.
-    let across = |u: usize, v: usize| {
-        if transpose {
-            e.ex[idx(u, v)]
-        } else {
-            e.ey[idx(u, v)]
+    /// Along-run length.
+    nu: usize,
+    /// Number of lines across.
+    nv: usize,
+}
+
+impl PassView<'_> {
+    fn new(e: &Edges, transpose: bool) -> PassView<'_> {
+        let (nu, nv) = if transpose { (e.h, e.w) } else { (e.w, e.h) };
+        PassView {
+            e,
+            transpose,
+            nu,
+            nv,
         }
-    };
-    // Perpendicular edge between u and u+1 in line v.
-    let perp = |u: usize, v: usize| {
-        if transpose {
-            e.ey[idx(u, v)] != 0
+    }
+
+    /// Pixel index of `(u, v)`.
+    fn idx(&self, u: usize, v: usize) -> usize {
+        if self.transpose {
+            u * self.e.w + v
         } else {
-            e.ex[idx(u, v)] != 0
+            v * self.e.w + u
         }
-    };
-    for v in 0..nv.saturating_sub(1) {
-        // State machine: state 0 = outside a run, 1 = inside; count = run length. A run
-        // ends where the edge stops or, with the 5-line window, where a perpendicular
-        // edge in line v or v+1 shows that the surface on one side changes inside the
-        // run (two edges meeting end to end on one boundary, the seed's Fig. 9): the run
-        // is split there and the two parts are blended separately.
+    }
+
+    /// Edge across the boundary between v and v+1 at position u.
+    fn across(&self, u: usize, v: usize) -> u8 {
+        if self.transpose {
+            self.e.ex[self.idx(u, v)]
+        } else {
+            self.e.ey[self.idx(u, v)]
+        }
+    }
+
+    /// Perpendicular edge between u and u+1 in line v.
+    fn perp(&self, u: usize, v: usize) -> bool {
+        if self.transpose {
+            self.e.ey[self.idx(u, v)] != 0
+        } else {
+            self.e.ex[self.idx(u, v)] != 0
+        }
+    }
+
+    /// The runs `(start, length)` on the boundary between v and v+1. State machine: state
+    /// 0 = outside a run, 1 = inside; count = run length. A run ends where the edge stops
+    /// or, with the 5-line window, where a perpendicular edge in line v or v+1 shows that
+    /// the surface on one side changes inside the run (two edges meeting end to end on one
+    /// boundary, the seed's Fig. 9): the run is split there and the two parts are blended
+    /// separately.
+    fn runs(&self, v: usize, window: bool) -> Vec<(usize, usize)> {
         let mut state = 0;
         let mut count = 0usize;
         let mut runs = Vec::new();
-        for u in 0..=nu {
-            let on = u < nu && across(u, v) == 2;
-            let split = window && on && state == 1 && (perp(u - 1, v) || perp(u - 1, v + 1));
+        for u in 0..=self.nu {
+            let on = u < self.nu && self.across(u, v) == 2;
+            let split =
+                window && on && state == 1 && (self.perp(u - 1, v) || self.perp(u - 1, v + 1));
             if state == 1 && (!on || split) {
                 state = 0;
                 runs.push((u - count, count));
@@ -399,79 +416,116 @@ fn run_pass(
                 count += 1;
             }
         }
-        for (u0, count) in runs {
+        runs
+    }
+
+    /// End height (in half pixels) of a run on boundary v at the perpendicular edge between
+    /// b and b+1: in line v (upper) → +1, in line v+1 (lower) → −1. With the 5-line window
+    /// a step counts only if the run continues on the neighbouring boundary (v−1 for a step
+    /// up, v+1 for a step down) at column c just beyond the end; an edge of a close
+    /// parallel neighbour fails this test. If neither or both pass, the 3-line rule
+    /// decides.
+    fn end_height(&self, v: usize, b: usize, c: usize, window: bool) -> i64 {
+        let (up3, dn3) = (self.perp(b, v), self.perp(b, v + 1));
+        if window {
+            let up = up3 && v >= 1 && self.across(c, v - 1) == 2;
+            let dn = dn3 && v + 2 < self.nv && self.across(c, v + 1) == 2;
+            match (up, dn) {
+                (true, false) => return 1,
+                (false, true) => return -1,
+                _ => {}
+            }
+        }
+        if up3 {
+            1
+        } else if dn3 {
+            -1
+        } else {
+            0
+        }
+    }
+}
+
+/// Per-pixel (positive, negative) areas of column `k` of a run of length `len` with end
+/// heights `hl`, `hr`. Two steps on one side (U shape): two half-lines meeting at 0 in the
+/// middle, integrated on half columns.
+fn run_area(hl: i64, hr: i64, len: i64, k: i64) -> (i64, i64) {
+    if hl != 0 && hr != 0 && hl == hr {
+        let mut acc = (0, 0);
+        for c in [2 * k, 2 * k + 1] {
+            let (p, n) = if c < len {
+                column_area(hl, 0, len, c)
+            } else {
+                column_area(0, hr, len, c - len)
+            };
+            acc = (acc.0 + p, acc.1 + n);
+        }
+        (acc.0 / 2, acc.1 / 2)
+    } else {
+        column_area(hl, hr, len, k)
+    }
+}
+
+/// The colour buffers of one loop-2 pass: reads `src`, or `dst` where `flag` is set;
+/// writes `dst`, sets `flag`; never writes a pixel in `skip` (blended by loop 1).
+struct PassBufs<'a> {
+    src: &'a [[u8; 3]],
+    dst: &'a mut [[u8; 3]],
+    flag: &'a mut [bool],
+    skip: &'a [bool],
+    reads: &'a mut u64,
+}
+
+impl PassBufs<'_> {
+    /// Blends pixel `a` toward pixel `o` by `area` (Q.16), if positive and not skipped.
+    fn blend_toward(&mut self, a: usize, o: usize, area: i64) {
+        if area > 0 && !self.skip[a] {
+            *self.reads += 2;
+            let c = if self.flag[a] {
+                self.dst[a]
+            } else {
+                self.src[a]
+            };
+            let oc = if self.flag[o] {
+                self.dst[o]
+            } else {
+                self.src[o]
+            };
+            self.dst[a] = blend(c, oc, area);
+            self.flag[a] = true;
+        }
+    }
+}
+
+/// One pass of loop 2 along rows (`transpose = false`: boundaries between rows y and
+/// y+1, runs along x) or along columns. Reads `src`, or `dst` where `flag` is set;
+/// writes `dst`, sets `flag`.
+fn run_pass(bufs: &mut PassBufs, e: &Edges, transpose: bool, window: bool) {
+    let view = PassView::new(e, transpose);
+    let (nu, nv) = (view.nu, view.nv);
+    for v in 0..nv.saturating_sub(1) {
+        for (u0, count) in view.runs(v, window) {
             let u = u0 + count;
-            {
-                let (u0, len) = (u - count, count as i64);
-                // End heights (in half pixels): a perpendicular edge between b and b+1
-                // in line v (upper) → +1, in line v+1 (lower) → −1. With the 5-line
-                // window a step counts only if the run continues on the neighbouring
-                // boundary (v−1 for a step up, v+1 for a step down) at column c just
-                // beyond the end; an edge of a close parallel neighbour fails this test.
-                // If neither or both pass, the 3-line rule decides.
-                let end_h = |b: usize, c: usize| -> i64 {
-                    let (up3, dn3) = (perp(b, v), perp(b, v + 1));
-                    if window {
-                        let up = up3 && v >= 1 && across(c, v - 1) == 2;
-                        let dn = dn3 && v + 2 < nv && across(c, v + 1) == 2;
-                        match (up, dn) {
-                            (true, false) => return 1,
-                            (false, true) => return -1,
-                            _ => {}
-                        }
-                    }
-                    if up3 {
-                        1
-                    } else if dn3 {
-                        -1
-                    } else {
-                        0
-                    }
-                };
-                let hl = if u0 > 0 { end_h(u0 - 1, u0 - 1) } else { 0 };
-                let hr = if u < nu { end_h(u - 1, u) } else { 0 };
-                if hl == 0 && hr == 0 {
-                    continue;
-                }
-                // Per-pixel (positive, negative) areas. Two steps on one side (U shape):
-                // two half-lines meeting at 0 in the middle, integrated on half columns.
-                let area = |k: i64| -> (i64, i64) {
-                    if hl != 0 && hr != 0 && hl == hr {
-                        let mut acc = (0, 0);
-                        for c in [2 * k, 2 * k + 1] {
-                            let (p, n) = if c < len {
-                                column_area(hl, 0, len, c)
-                            } else {
-                                column_area(0, hr, len, c - len)
-                            };
-                            acc = (acc.0 + p, acc.1 + n);
-                        }
-                        (acc.0 / 2, acc.1 / 2)
-                    } else {
-                        column_area(hl, hr, len, k)
-                    }
-                };
-                {
-                    for k in 0..len {
-                        let (pos, neg) = area(k);
-                        let uu = u0 + k as usize;
-                        let (up, lo) = (idx(uu, v), idx(uu, v + 1));
-                        if pos > 0 && !skip[up] {
-                            *reads += 2;
-                            let c = if flag[up] { dst[up] } else { src[up] };
-                            let o = if flag[lo] { dst[lo] } else { src[lo] };
-                            dst[up] = blend(c, o, pos);
-                            flag[up] = true;
-                        }
-                        if neg > 0 && !skip[lo] {
-                            *reads += 2;
-                            let c = if flag[lo] { dst[lo] } else { src[lo] };
-                            let o = if flag[up] { dst[up] } else { src[up] };
-                            dst[lo] = blend(c, o, neg);
-                            flag[lo] = true;
-                        }
-                    }
-                }
+            let len = count as i64;
+            let hl = if u0 > 0 {
+                view.end_height(v, u0 - 1, u0 - 1, window)
+            } else {
+                0
+            };
+            let hr = if u < nu {
+                view.end_height(v, u - 1, u, window)
+            } else {
+                0
+            };
+            if hl == 0 && hr == 0 {
+                continue;
+            }
+            for k in 0..len {
+                let (pos, neg) = run_area(hl, hr, len, k);
+                let uu = u0 + k as usize;
+                let (up, lo) = (view.idx(uu, v), view.idx(uu, v + 1));
+                bufs.blend_toward(up, lo, pos);
+                bufs.blend_toward(lo, up, neg);
             }
         }
     }
@@ -584,12 +638,15 @@ pub fn render(
     // Loop 2: x pass then y pass, combined through the flag.
     let mut out = after1.clone();
     let mut flag = vec![false; w * h];
-    run_pass(
-        &after1, &mut out, &mut flag, &skip, &e, false, p.window, &mut reads,
-    );
-    run_pass(
-        &after1, &mut out, &mut flag, &skip, &e, true, p.window, &mut reads,
-    );
+    let mut bufs = PassBufs {
+        src: &after1,
+        dst: &mut out,
+        flag: &mut flag,
+        skip: &skip,
+        reads: &mut reads,
+    };
+    run_pass(&mut bufs, &e, false, p.window);
+    run_pass(&mut bufs, &e, true, p.window);
     Ok(AaFrame {
         width,
         height,
