@@ -302,27 +302,17 @@ pub fn render(
             let smp = pixel_samples(p, i, j);
             let mut vals: Vec<(Sample, u32)> = Vec::with_capacity(smp.len());
             for (n, &(l, a, b, wt)) in smp.iter().enumerate() {
-                let v = if corner && n < 4 {
-                    match n {
-                        0 => row_buf[i as usize],
-                        1 => row_buf[i as usize + 1],
-                        2 => {
-                            if i == 0 {
-                                let v = read(l, a, b, &bufs);
-                                next_row.push(v);
-                                v
-                            } else {
-                                next_row[i as usize] // the previous pixel's bottom-right
-                            }
-                        }
-                        _ => {
-                            let v = read(l, a, b, &bufs);
-                            next_row.push(v);
-                            v
-                        }
+                let v = match n {
+                    0 if corner => row_buf[i as usize],
+                    1 if corner => row_buf[i as usize + 1],
+                    // Past the first pixel, sample 2 is the previous pixel's bottom-right.
+                    2 if corner && i > 0 => next_row[i as usize],
+                    2 | 3 if corner => {
+                        let v = read(l, a, b, &bufs);
+                        next_row.push(v);
+                        v
                     }
-                } else {
-                    read(l, a, b, &bufs)
+                    _ => read(l, a, b, &bufs),
                 };
                 vals.push((v, wt));
             }
