@@ -68,8 +68,8 @@ pub struct SpanRaster {
 }
 
 impl SpanRaster {
-    /// Sets up every triangle (in parallel; degenerate ones are dropped; the first setup
-    /// error in scene order is returned) and bins them into row bands.
+    /// Sets up every triangle (in parallel; degenerate ones are dropped) and bins them into
+    /// row bands. Fails with a setup error if any triangle has one.
     pub fn new(tris: &[SnappedTri], width: u32, height: u32) -> Result<SpanRaster, SetupError> {
         let set: Vec<Option<TriSetup>> = tris
             .par_iter()
