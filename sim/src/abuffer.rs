@@ -30,12 +30,18 @@
 //! (n·m·2^12))` per channel.
 
 use crate::mask::MaskEdges;
-use crate::mask_search::{DepthPick, DepthSelect, DepthSelector};
-use crate::setup::{round_div, ExactPlane, SetupError, SnappedTri};
+use crate::mask_search::{DepthSelect, DepthSelector};
+use crate::raster::edge::check_depths;
+use crate::raster::round_div;
+use crate::raster::rows::Bands;
+use crate::setup::{ExactPlane, SetupError, SnappedTri};
 use pixelproc_formats::abuffer::{saturate_plane, FragPlane, MaskSize, PLANE_FRAC};
-use pixelproc_formats::{I_FRAC, MAX_SCREEN, SUBPIXEL_ONE, Z_GEOM_MAX, Z_GEOM_MIN};
+use pixelproc_formats::{I_FRAC, MAX_SCREEN, SUBPIXEL_ONE};
 use rayon::prelude::*;
 use thiserror::Error;
+
+mod pixel;
+pub use pixel::{merge, pack, process_pixel, resolve, Group, Packed, PixelOut};
 
 /// Why a frame cannot be rendered.
 #[derive(Debug, Error, PartialEq)]
@@ -91,204 +97,6 @@ pub struct Fragment {
     pub prim: u32,
 }
 
-/// A merged group of fragments (indices into the pixel's fragment list).
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Group {
-    /// Member fragments, ascending index.
-    pub parts: Vec<usize>,
-    /// OR of the members' masks.
-    pub mask: u64,
-    /// Merge range (see the module header), Q.12.
-    pub range: (i64, i64),
-    /// Nearest ordering depth of the members.
-    pub zmin: i64,
-    /// Farthest ordering depth of the members (interpenetrating scenes), else `zmin`.
-    pub zmax: i64,
-}
-
-/// The merge range of a fragment.
-fn merge_range(f: &Fragment, p: &DepthPick, size: MaskSize, interpenetrating: bool) -> (i64, i64) {
-    if interpenetrating {
-        (p.zmin, p.zmax.unwrap_or(p.zmin))
-    } else {
-        let s = f.plane.sx.abs() * (size.n() as i64 - 1) + f.plane.sy.abs() * (size.m() as i64 - 1);
-        (f.plane.zc - s, f.plane.zc + s)
-    }
-}
-
-/// Merges fragments with the same tag whose ranges overlap, transitively. Groups come out
-/// in order of their first member.
-pub fn merge(
-    frags: &[Fragment],
-    picks: &[DepthPick],
-    size: MaskSize,
-    interpenetrating: bool,
-) -> Vec<Group> {
-    let mut groups: Vec<Group> = frags
-        .iter()
-        .zip(picks)
-        .enumerate()
-        .map(|(k, (f, p))| Group {
-            parts: vec![k],
-            mask: f.mask,
-            range: merge_range(f, p, size, interpenetrating),
-            zmin: p.zmin,
-            zmax: p.zmax.unwrap_or(p.zmin),
-        })
-        .collect();
-    'again: loop {
-        for a in 0..groups.len() {
-            for b in a + 1..groups.len() {
-                let (ga, gb) = (&groups[a], &groups[b]);
-                if frags[ga.parts[0]].tag == frags[gb.parts[0]].tag
-                    && ga.range.0 <= gb.range.1
-                    && gb.range.0 <= ga.range.1
-                {
-                    let gb = groups.remove(b);
-                    let ga = &mut groups[a];
-                    ga.parts.extend(gb.parts);
-                    ga.parts.sort_unstable();
-                    ga.mask |= gb.mask;
-                    ga.range = (ga.range.0.min(gb.range.0), ga.range.1.max(gb.range.1));
-                    ga.zmin = ga.zmin.min(gb.zmin);
-                    ga.zmax = ga.zmax.max(gb.zmax);
-                    continue 'again;
-                }
-            }
-        }
-        return groups;
-    }
-}
-
-/// Result of packing one pixel.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Packed {
-    /// Fragment indices in packing order (groups in depth order, members in depth order).
-    pub order: Vec<usize>,
-    /// Visible bits per fragment (index as in the input).
-    pub visible: Vec<u64>,
-    /// Bits left free (background).
-    pub free: u64,
-}
-
-/// Packs merged groups: free mask starts full and is ANDed away in depth order.
-pub fn pack(frags: &[Fragment], picks: &[DepthPick], groups: &[Group], size: MaskSize) -> Packed {
-    // Ties follow the pixel-processor array's depth test: among ordinary fragments the
-    // earlier primitive wins (`Z < ZB`), among decals the later one (`Z ≤ ZB`).
-    let tie = |k: usize| {
-        let prim = frags[k].prim as i64;
-        if frags[k].decal {
-            -prim
-        } else {
-            prim
-        }
-    };
-    let part_key = |k: usize| {
-        let p = &picks[k];
-        (p.zmin, p.zmax.unwrap_or(p.zmin), !frags[k].decal, tie(k))
-    };
-    let mut gorder: Vec<usize> = (0..groups.len()).collect();
-    gorder.sort_by_key(|&g| {
-        let gr = &groups[g];
-        let decal = gr.parts.iter().any(|&k| frags[k].decal);
-        let first = gr.parts.iter().map(|&k| tie(k)).min().unwrap_or(0);
-        (gr.zmin, gr.zmax, !decal, first)
-    });
-    let mut free = size.full();
-    let mut visible = vec![0u64; frags.len()];
-    let mut order = Vec::with_capacity(frags.len());
-    for g in gorder {
-        let gr = &groups[g];
-        let mut vis = gr.mask & free;
-        free &= !gr.mask;
-        let mut parts = gr.parts.clone();
-        parts.sort_by_key(|&k| part_key(k));
-        for k in parts {
-            visible[k] = frags[k].mask & vis;
-            vis &= !frags[k].mask;
-            order.push(k);
-        }
-    }
-    Packed {
-        order,
-        visible,
-        free,
-    }
-}
-
-/// Resolve: weights every fragment's colour by its visible bits and the background by the
-/// free bits, rounding half up to 8 bits.
-pub fn resolve(frags: &[Fragment], packed: &Packed, bg: [u8; 3], size: MaskSize) -> [u8; 3] {
-    let denom = (size.bits() as u64) << I_FRAC;
-    let free = packed.free.count_ones() as u64;
-    let mut out = [0u8; 3];
-    for (ch, o) in out.iter_mut().enumerate() {
-        let mut sum = free * ((bg[ch] as u64) << I_FRAC);
-        for (f, &v) in frags.iter().zip(&packed.visible) {
-            sum += v.count_ones() as u64 * f.rgb_q12[ch] as u64;
-        }
-        *o = ((2 * sum + denom) / (2 * denom)).min(255) as u8;
-    }
-    out
-}
-
-/// Everything the renderer learns about one pixel.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct PixelOut {
-    /// Resolved colour.
-    pub rgb: [u8; 3],
-    /// Union of the fragments' masks.
-    pub covered: u64,
-    /// Depth-calculator evaluations.
-    pub evals: u32,
-    /// Search-unit steps.
-    pub steps: u32,
-    /// Fragments absorbed by merging (`fragments − groups`).
-    pub merges: u32,
-    /// The packing result.
-    pub packed: Packed,
-}
-
-/// Runs depth selection (if two or more fragments), merge, packing and resolve on one
-/// pixel's fragments (scene order).
-pub fn process_pixel(
-    frags: &[Fragment],
-    sel: &DepthSelector,
-    variant: DepthSelect,
-    interpenetrating: bool,
-    bg: [u8; 3],
-    size: MaskSize,
-) -> PixelOut {
-    let covered = frags.iter().fold(0, |a, f| a | f.mask);
-    let (picks, evals, steps) = if frags.len() >= 2 {
-        let picks: Vec<DepthPick> = frags
-            .iter()
-            .map(|f| sel.select(variant, f.mask, &f.plane, interpenetrating))
-            .collect();
-        let e = picks.iter().map(|p| p.evals).sum();
-        let s = picks.iter().map(|p| p.steps).sum();
-        (picks, e, s)
-    } else {
-        let p = frags.iter().map(|f| DepthPick {
-            zmin: f.plane.zc,
-            zmax: None,
-            evals: 0,
-            steps: 0,
-        });
-        (p.collect(), 0, 0)
-    };
-    let groups = merge(frags, &picks, size, interpenetrating);
-    let packed = pack(frags, &picks, &groups, size);
-    PixelOut {
-        rgb: resolve(frags, &packed, bg, size),
-        covered,
-        evals,
-        steps,
-        merges: (frags.len() - groups.len()) as u32,
-        packed,
-    }
-}
-
 impl ExactPlane {
     /// `round(v · 2^frac)` at the centre of pixel (i, j).
     fn at_centre(&self, i: i64, j: i64, frac: u32) -> i128 {
@@ -317,11 +125,9 @@ pub struct FragSetup {
 impl FragSetup {
     /// Sets up triangle number `prim`. `Ok(None)` for a zero-area triangle.
     pub fn new(t: &SnappedTri, prim: u32, size: MaskSize) -> Result<Option<FragSetup>, SetupError> {
-        for &z in t.z.iter().chain(t.host.iter().flat_map(|h| h.z.iter())) {
-            if !(Z_GEOM_MIN..=Z_GEOM_MAX).contains(&z) {
-                return Err(SetupError::DepthOutOfRange(z as i64));
-            }
-        }
+        // Depths (with the host's) are checked, coordinates only the triangle's own: the
+        // host plane's coordinates are not range-checked here, unlike span setup.
+        check_depths(t)?;
         let Some(edges) = MaskEdges::new(t, size)? else {
             return Ok(None);
         };
@@ -449,6 +255,125 @@ pub struct AbufferFrame {
 /// Rows per bin band.
 const BAND: i64 = 8;
 
+/// Sets up every triangle for fragments (degenerate ones dropped) and bins them into bands
+/// of [`BAND`] rows.
+fn frag_setups(
+    tris: &[SnappedTri],
+    width: u32,
+    height: u32,
+    size: MaskSize,
+) -> Result<(Vec<FragSetup>, Bands), AbufferError> {
+    if width > MAX_SCREEN || height > MAX_SCREEN {
+        return Err(AbufferError::ScreenTooLarge(width, height));
+    }
+    let setups: Vec<Option<FragSetup>> = tris
+        .par_iter()
+        .enumerate()
+        .map(|(k, t)| FragSetup::new(t, k as u32, size))
+        .collect::<Result<_, _>>()?;
+    let setups: Vec<FragSetup> = setups.into_iter().flatten().collect();
+    let bands = Bands::new(
+        BAND,
+        height,
+        setups.iter().map(|s| (s.edges.row_min, s.edges.row_max)),
+    );
+    Ok((setups, bands))
+}
+
+/// The non-empty fraction masks of row `j`: `(pixel, triangle, mask)` sorted by pixel,
+/// triangles in scene order within a pixel (`tris` in scene order).
+fn row_entries<'a>(
+    j: i64,
+    width: u32,
+    tris: impl Iterator<Item = &'a FragSetup>,
+    size: MaskSize,
+    entries: &mut Vec<(u32, &'a FragSetup, u64)>,
+) {
+    entries.clear();
+    let full = size.full();
+    for t in tris {
+        let Some(rc) = t.edges.row_coverage(j, width) else {
+            continue;
+        };
+        for i in rc.touched.0..=rc.touched.1 {
+            let mask = match rc.full {
+                Some((a, b)) if a <= i && i <= b => full,
+                _ => t.edges.fraction_mask(i, j),
+            };
+            if mask != 0 {
+                entries.push((i as u32, t, mask));
+            }
+        }
+    }
+    entries.sort_by_key(|e| e.0); // stable: scene order within a pixel
+}
+
+/// The end of the run of `entries` (sorted by pixel) that starts at `k`.
+fn run_end<T>(entries: &[(u32, T, u64)], k: usize) -> usize {
+    let i = entries[k].0;
+    let mut e = k;
+    while e < entries.len() && entries[e].0 == i {
+        e += 1;
+    }
+    e
+}
+
+/// A pixel with two or more fragments (where the depth selection runs).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MultiFragmentPixel {
+    /// Column.
+    pub x: u32,
+    /// Row.
+    pub y: u32,
+    /// Its fragments in scene order, as the renderer builds them.
+    pub fragments: Vec<Fragment>,
+}
+
+/// The multi-fragment pixels of a frame: every pixel with two or more fragments, row by
+/// row, left to right, with the same fragments (masks, planes, colours) as
+/// [`render_abuffer`] gives [`process_pixel`].
+pub fn multi_fragment_pixels(
+    tris: &[SnappedTri],
+    width: u32,
+    height: u32,
+    size: MaskSize,
+) -> Result<Vec<MultiFragmentPixel>, AbufferError> {
+    let (setups, bands) = frag_setups(tris, width, height, size)?;
+    let per_row: Vec<Vec<MultiFragmentPixel>> = (0..height as i64)
+        .into_par_iter()
+        .map(|j| {
+            let band = bands.members(bands.of_row(j));
+            let mut entries = Vec::new();
+            row_entries(
+                j,
+                width,
+                band.iter().map(|&k| &setups[k as usize]),
+                size,
+                &mut entries,
+            );
+            let mut out = Vec::new();
+            let mut k = 0;
+            while k < entries.len() {
+                let e = run_end(&entries, k);
+                if e - k >= 2 {
+                    let x = entries[k].0;
+                    out.push(MultiFragmentPixel {
+                        x,
+                        y: j as u32,
+                        fragments: entries[k..e]
+                            .iter()
+                            .map(|(_, t, m)| t.fragment(x as i64, j, *m))
+                            .collect(),
+                    });
+                }
+                k = e;
+            }
+            out
+        })
+        .collect();
+    Ok(per_row.into_iter().flatten().collect())
+}
+
 /// Renders triangles (scene order) with the A-buffer. Rows run in parallel with identical
 /// results.
 pub fn render_abuffer(
@@ -458,28 +383,8 @@ pub fn render_abuffer(
     bg: [u8; 3],
     params: &AbufferParams,
 ) -> Result<AbufferFrame, AbufferError> {
-    if width > MAX_SCREEN || height > MAX_SCREEN {
-        return Err(AbufferError::ScreenTooLarge(width, height));
-    }
     let size = params.size;
-    let setups: Vec<Option<FragSetup>> = tris
-        .par_iter()
-        .enumerate()
-        .map(|(k, t)| FragSetup::new(t, k as u32, size))
-        .collect::<Result<_, _>>()?;
-    let setups: Vec<FragSetup> = setups.into_iter().flatten().collect();
-    let nb = (height as i64 + BAND - 1) / BAND;
-    let mut bands = vec![Vec::<u32>::new(); nb as usize];
-    for (k, s) in setups.iter().enumerate() {
-        let lo = s.edges.row_min.max(0);
-        let hi = s.edges.row_max.min(height as i64 - 1);
-        if hi < lo {
-            continue;
-        }
-        for b in lo / BAND..=hi / BAND {
-            bands[b as usize].push(k as u32);
-        }
-    }
+    let (setups, bands) = frag_setups(tris, width, height, size)?;
     let sel = DepthSelector::new(size);
     let (w, h) = (width as usize, height as usize);
     let mut rgb = vec![0u8; w * h * 3];
@@ -493,7 +398,7 @@ pub fn render_abuffer(
         .zip(visible.par_chunks_mut(w))
         .enumerate()
         .map(|(j, (((rgb_row, cov_row), frag_row), vis_row))| {
-            let band = &bands[j / BAND as usize];
+            let band = bands.members(bands.of_row(j as i64));
             render_row(
                 j as i64,
                 width,
@@ -535,6 +440,29 @@ fn dominant(frags: &[Fragment], packed: &Packed) -> i32 {
     best.0
 }
 
+/// Runs every depth-selection variant on one multi-fragment pixel and counts, per variant,
+/// its evaluations and where its order, visible bits or colour differ from `exhaustive`.
+fn compare_variants(
+    frags: &[Fragment],
+    sel: &DepthSelector,
+    interpenetrating: bool,
+    bg: [u8; 3],
+    size: MaskSize,
+    st: &mut AbufferStats,
+) {
+    let outs: Vec<PixelOut> = DepthSelect::ALL
+        .iter()
+        .map(|&v| process_pixel(frags, sel, v, interpenetrating, bg, size))
+        .collect();
+    let ex = &outs[3];
+    for (v, o) in outs.iter().enumerate() {
+        st.variant_evals[v] += o.evals as u64;
+        st.order_diff[v] += (o.packed.order != ex.packed.order) as u64;
+        st.visible_diff[v] += (o.packed.visible != ex.packed.visible) as u64;
+        st.rgb_diff[v] += (o.rgb != ex.rgb) as u64;
+    }
+}
+
 /// Renders one row; returns its statistics.
 #[allow(clippy::too_many_arguments)]
 fn render_row<'a>(
@@ -554,21 +482,7 @@ fn render_row<'a>(
     let mut st = AbufferStats::default();
     // (pixel, triangle, mask) in scene order per pixel.
     let mut entries: Vec<(u32, &FragSetup, u64)> = Vec::new();
-    for t in tris {
-        let Some(rc) = t.edges.row_coverage(j, width) else {
-            continue;
-        };
-        for i in rc.touched.0..=rc.touched.1 {
-            let mask = match rc.full {
-                Some((a, b)) if a <= i && i <= b => full,
-                _ => t.edges.fraction_mask(i, j),
-            };
-            if mask != 0 {
-                entries.push((i as u32, t, mask));
-            }
-        }
-    }
-    entries.sort_by_key(|e| e.0); // stable: scene order within a pixel
+    row_entries(j, width, tris, size, &mut entries);
     for px in rgb_row.chunks_mut(3) {
         px.copy_from_slice(&bg);
     }
@@ -576,10 +490,7 @@ fn render_row<'a>(
     let mut k = 0;
     while k < entries.len() {
         let i = entries[k].0;
-        let mut e = k;
-        while e < entries.len() && entries[e].0 == i {
-            e += 1;
-        }
+        let e = run_end(&entries, k);
         let run = &entries[k..e];
         k = e;
         let iu = i as usize;
@@ -612,17 +523,7 @@ fn render_row<'a>(
             st.multi_pixels += 1;
             st.sorted_fragments += frags.len() as u64;
             if params.compare_variants {
-                let outs: Vec<PixelOut> = DepthSelect::ALL
-                    .iter()
-                    .map(|&v| process_pixel(&frags, sel, v, params.interpenetrating, bg, size))
-                    .collect();
-                let ex = &outs[3];
-                for (v, o) in outs.iter().enumerate() {
-                    st.variant_evals[v] += o.evals as u64;
-                    st.order_diff[v] += (o.packed.order != ex.packed.order) as u64;
-                    st.visible_diff[v] += (o.packed.visible != ex.packed.visible) as u64;
-                    st.rgb_diff[v] += (o.rgb != ex.rgb) as u64;
-                }
+                compare_variants(&frags, sel, params.interpenetrating, bg, size, &mut st);
             }
         }
     }
@@ -710,5 +611,33 @@ mod tests {
         // 8 bits of 1 on background 0: 0.5 → 1.
         let o = run(&[frag(0xFF, 0, 1, 0, 0)], 0);
         assert_eq!(o.rgb, [1; 3]);
+    }
+
+    #[test]
+    fn multi_fragment_pixels_are_the_renderers() {
+        // Two overlapping triangles and a third crossing both: the pixels listed are the
+        // ones the renderer counts as multi-fragment, with as many fragments.
+        let t = |v: [[i32; 2]; 3], z: u32, tag: u16| SnappedTri {
+            v,
+            z: [z; 3],
+            c: [[128 << 12; 3]; 3],
+            tag,
+            ..Default::default()
+        };
+        let tris = [
+            t([[100, 50], [3000, 400], [600, 2900]], 1000, 1),
+            t([[2900, 100], [3100, 2800], [200, 1500]], 2000, 2),
+            t([[0, 1300], [3200, 1200], [1600, 1400]], 500, 3),
+        ];
+        let p = AbufferParams::default();
+        let f = render_abuffer(&tris, 14, 12, [0; 3], &p).unwrap();
+        let m = multi_fragment_pixels(&tris, 14, 12, p.size).unwrap();
+        assert_eq!(m.len() as u64, f.stats.multi_pixels);
+        assert!(m.len() > 10);
+        for px in &m {
+            let at = (px.y * 14 + px.x) as usize;
+            assert_eq!(px.fragments.len(), f.fragments[at] as usize);
+            assert!(px.fragments.windows(2).all(|w| w[0].prim < w[1].prim));
+        }
     }
 }

@@ -23,23 +23,27 @@
 //! edge (`A = 0, B > 0`). Two triangles sharing an edge therefore cover every subpixel centre
 //! on their union exactly once.
 
+use crate::raster::ceil_div;
+use crate::raster::edge::{check_coords, rewind, winding, EdgeFn};
+use crate::raster::rows::touched_rows;
 use crate::setup::{SetupError, SnappedTri};
 use pixelproc_formats::abuffer::MaskSize;
-use pixelproc_formats::{MAX_COORD_PX, SUBPIXEL_BITS, SUBPIXEL_ONE};
+use pixelproc_formats::SUBPIXEL_ONE;
 
-/// One scaled edge function `E' = ax·X + by·Y + c0` (see the module header).
+/// One scaled edge function `E' = ax·X + by·Y + c0` (see the module header): `4nm` times
+/// the edge function `edge`, whose fill rule it keeps.
 #[derive(Clone, Copy, Debug)]
 struct ScaledEdge {
     ax: i64,
     by: i64,
     c0: i64,
-    top_left: bool,
+    edge: EdgeFn,
 }
 
 impl ScaledEdge {
     #[inline]
     fn inside(&self, e: i64) -> bool {
-        e > 0 || (e == 0 && self.top_left)
+        self.edge.inside(e)
     }
 }
 
@@ -64,52 +68,31 @@ pub struct RowCoverage {
     pub full: Option<(i64, i64)>,
 }
 
-/// `ceil(n / d)` for `d > 0`.
-fn ceil_div(n: i64, d: i64) -> i64 {
-    -((-n).div_euclid(d))
-}
-
 impl MaskEdges {
     /// Edge functions of a snapped triangle for masks of `size`. `Ok(None)` for a zero-area
     /// triangle, which covers nothing.
     pub fn new(t: &SnappedTri, size: MaskSize) -> Result<Option<MaskEdges>, SetupError> {
-        let lim = (MAX_COORD_PX as i64) << SUBPIXEL_BITS;
-        for p in &t.v {
-            for &k in p {
-                if (k as i64).abs() > lim {
-                    return Err(SetupError::OutOfRange(k as f64 / SUBPIXEL_ONE as f64));
-                }
-            }
-        }
-        let mut v = t.v.map(|p| [p[0] as i64, p[1] as i64]);
-        let area2 =
-            (v[1][0] - v[0][0]) * (v[2][1] - v[0][1]) - (v[2][0] - v[0][0]) * (v[1][1] - v[0][1]);
-        if area2 == 0 {
+        check_coords(&t.v)?;
+        let Some(order) = winding(t.v) else {
             return Ok(None);
-        }
-        if area2 < 0 {
-            v.swap(1, 2);
-        }
+        };
+        let v = rewind(order, t.v);
         let (n, m) = (size.n() as i64, size.m() as i64);
         let one = SUBPIXEL_ONE as i64;
-        let edge = |p: [i64; 2], q: [i64; 2]| {
-            let a = -(q[1] - p[1]);
-            let b = q[0] - p[0];
-            let c = -(a * p[0] + b * p[1]);
-            ScaledEdge {
-                ax: one * 2 * m * a,
-                by: one * 2 * n * b,
-                c0: 4 * n * m * c,
-                top_left: a > 0 || (a == 0 && b > 0),
-            }
+        let scaled = |e: EdgeFn| ScaledEdge {
+            ax: one * 2 * m * e.a,
+            by: one * 2 * n * e.b,
+            c0: 4 * n * m * e.c,
+            edge: e,
         };
-        let ymin = v.iter().map(|p| p[1]).min().unwrap_or(0);
-        let ymax = v.iter().map(|p| p[1]).max().unwrap_or(0);
+        let ymin = v.iter().map(|p| p[1]).min().unwrap_or(0) as i64;
+        let ymax = v.iter().map(|p| p[1]).max().unwrap_or(0) as i64;
+        let (row_min, row_max) = touched_rows(ymin, ymax);
         Ok(Some(MaskEdges {
             size,
-            edges: [edge(v[0], v[1]), edge(v[1], v[2]), edge(v[2], v[0])],
-            row_min: ymin.div_euclid(one),
-            row_max: ymax.div_euclid(one),
+            edges: EdgeFn::of_triangle(v).map(scaled),
+            row_min,
+            row_max,
         }))
     }
 

@@ -186,8 +186,7 @@ impl PixelArray {
         let mut c: [i64; 3] = std::array::from_fn(|k| w.il[k] as i64 + off * w.di[k] as i64);
         for s in &mut self.procs[lo..=hi] {
             let zp = (z >> Z_FRAC) as u32;
-            let pass = if w.decal { zp <= s.zb } else { zp < s.zb };
-            if pass {
+            if crate::raster::depth::passes(zp, s.zb, w.decal) {
                 s.zb = zp;
                 s.nclass = w.nclass;
                 s.rgb = pack_rgb(c.map(|v| (v >> I_FRAC).clamp(0, 255) as u8));

@@ -1,12 +1,15 @@
 //! Whole-frame rendering on the golden pixel-processor array (no anti-aliasing).
 //!
 //! Built on [`PixelArray::step`]: each scanline is split into tiles of the array's width;
-//! every tile gets `ClearLine`, the OP span words of the row (in scene order) that touch
-//! it, then the shadow commands, and is read out. Rows are independent, so they run in
+//! every tile gets its part of the command stream ([`crate::stream`]): `ClearLine`, the OP
+//! span words of the row (in scene order) that touch it, then the shadow commands, and is
+//! read out. Rows are independent, so they run in
 //! parallel (rayon) with bit-identical results.
 
 use crate::pixel_array::{Command, PixelArray, ProcState};
-use crate::setup::{SetupError, SnappedTri, TriSetup};
+use crate::raster::{SpanRaster, SpanSink};
+use crate::setup::{SetupError, SnappedTri};
+use crate::stream::feed_tile;
 use pixelproc_formats::{SpanWord, MAX_SCREEN};
 use rayon::prelude::*;
 
@@ -35,10 +38,8 @@ impl Frame {
     }
 }
 
-/// Rows per band of the span generator.
-pub const BAND: i64 = 16;
-
-/// The span words of a frame, per scanline, in scene (draw) order.
+/// The span words of a frame, per scanline, in scene (draw) order: the array feed, a
+/// [`SpanSink`] of the raster core.
 pub struct SpanSource {
     width: u32,
     height: u32,
@@ -46,51 +47,43 @@ pub struct SpanSource {
     triangles: usize,
 }
 
+/// Collects one band's span words per row (the array feed's [`SpanSink`]).
+struct RowFeed {
+    lo: i64,
+    rows: Vec<Vec<SpanWord>>,
+}
+
+impl SpanSink for RowFeed {
+    fn span(&mut self, _prim: u32, row: u32, w: &SpanWord) {
+        self.rows[(row as i64 - self.lo) as usize].push(*w);
+    }
+}
+
 impl SpanSource {
-    /// Sets up every triangle (degenerate ones are dropped), bins them by bands of
-    /// [`BAND`] rows, and generates each band's span words in parallel, triangles in scene
-    /// order within each row: the same words and order as a sequential run.
+    /// Sets up every triangle (degenerate ones are dropped) and scan-converts each row
+    /// band of the raster core ([`SpanRaster`]) in parallel, triangles in scene order
+    /// within each row: the same words and order as a sequential run.
     pub fn new(tris: &[SnappedTri], width: u32, height: u32) -> Result<SpanSource, SetupError> {
         assert!(width <= MAX_SCREEN && height <= MAX_SCREEN);
-        let set: Vec<Option<TriSetup>> = tris
-            .par_iter()
-            .map(TriSetup::new)
-            .collect::<Result<_, _>>()?;
-        let set: Vec<TriSetup> = set.into_iter().flatten().collect();
-        let nb = (height as i64 + BAND - 1) / BAND;
-        let mut bins: Vec<Vec<u32>> = vec![Vec::new(); nb as usize];
-        for (k, t) in set.iter().enumerate() {
-            let lo = t.row_min.max(0);
-            let hi = t.row_max.min(height as i64 - 1);
-            if lo > hi {
-                continue;
-            }
-            for b in lo / BAND..=hi / BAND {
-                bins[b as usize].push(k as u32);
-            }
-        }
-        let bands: Vec<Vec<Vec<SpanWord>>> = bins
-            .par_iter()
-            .enumerate()
-            .map(|(b, list)| {
-                let lo = b as i64 * BAND;
-                let hi = (lo + BAND - 1).min(height as i64 - 1);
-                let mut rows = vec![Vec::new(); (hi - lo + 1) as usize];
-                for &k in list {
-                    set[k as usize].for_each_span_in(lo, hi, width, |j, w| {
-                        rows[(j as i64 - lo) as usize].push(w)
-                    });
-                }
-                rows
+        let raster = SpanRaster::new(tris, width, height)?;
+        let bands: Vec<Vec<Vec<SpanWord>>> = (0..raster.band_count())
+            .into_par_iter()
+            .map(|b| {
+                let (lo, hi) = raster.band_rows(b);
+                let mut feed = RowFeed {
+                    lo,
+                    rows: vec![Vec::new(); (hi - lo + 1) as usize],
+                };
+                raster.scan_band(b, &mut feed);
+                feed.rows
             })
             .collect();
-        let triangles = set.len();
         let rows = bands.into_iter().flatten().collect();
         Ok(SpanSource {
             width,
             height,
             rows,
-            triangles,
+            triangles: raster.triangles(),
         })
     }
 
@@ -119,54 +112,11 @@ impl SpanSource {
     }
 }
 
-/// Feeds a tile the commands that can change it, skipping those that cannot, with the same
-/// final state as feeding all of them:
-/// - an SP span that does not touch the tile toggles nothing there;
-/// - an EV span ORs DSF into FSF; where no span of its volume touched the tile (and no IF),
-///   DSF is what it was after the previous volume's end, when FSF already absorbed it, so
-///   the OR changes nothing: it is skipped too (its own range test still applies if it
-///   touches the tile);
-/// - IF spans and controls always go through; a `Check` only where its range touches.
-fn feed_tile(arr: &mut PixelArray, cmds: &[Command], base: u32, n: u32) {
-    use pixelproc_formats::Attr;
-    let touches = |xl: u16, xr: u16| (xl as u32) < base + n && (xr as u32) >= base && xl <= xr;
-    let mut touched = false;
-    for c in cmds {
-        match c {
-            Command::Span(w) => match w.attr {
-                Attr::Op | Attr::Sp => {
-                    if touches(w.xl, w.xr) {
-                        touched = true;
-                        arr.step(c);
-                    }
-                }
-                Attr::If => {
-                    touched = true;
-                    arr.step(c);
-                }
-                Attr::Ev => {
-                    if touched || touches(w.xl, w.xr) {
-                        arr.step(c);
-                    }
-                    touched = false;
-                }
-            },
-            Command::Check { xl, xr } => {
-                if touches(*xl, *xr) {
-                    arr.step(c);
-                }
-                touched = false;
-            }
-            _ => arr.step(c),
-        }
-    }
-}
-
 /// Renders every row on an array of `array_width` processors; a wider line is processed
-/// in tiles. Each tile gets `ClearLine`, the row's OP span words that touch it (an OP span
-/// outside a tile is a no-op there, so the span feeder skips it), then every command
-/// `extra(row, &mut cmds)` adds (shadow spans and controls, which all tiles see: IF acts on
-/// every processor).
+/// in tiles. Each tile is fed by [`feed_tile`], the per-tile form of the command stream:
+/// `ClearLine`, the row's OP span words that touch it (an OP span outside a tile is a
+/// no-op there, so the span feeder skips it), then the commands `extra(row, &mut cmds)`
+/// adds (shadow spans and controls, which all tiles see: IF acts on every processor).
 pub fn render_frame<F>(src: &SpanSource, bg: [u8; 3], array_width: usize, extra: F) -> Frame
 where
     F: Fn(u32, &mut Vec<Command>) + Sync,
@@ -199,11 +149,8 @@ where
             for (t, list) in per_tile.iter().enumerate() {
                 let base = (t * array_width) as u32;
                 arr.set_base(base);
-                arr.step(&Command::ClearLine { bg });
-                for &k in list {
-                    arr.step_span(&spans[k as usize]);
-                }
-                feed_tile(arr, cmds, base, array_width as u32);
+                let ops = list.iter().map(|&k| &spans[k as usize]);
+                feed_tile(arr, bg, ops, cmds, base, array_width as u32);
                 let n = (w - base).min(array_width as u32) as usize;
                 row[base as usize..base as usize + n].copy_from_slice(&arr.state()[..n]);
             }

@@ -25,9 +25,11 @@
 //! i.e. below half a depth unit; `Z_GEOM_MIN`/`Z_GEOM_MAX` leave a margin of 16 units so
 //! an in-triangle value never leaves the 24-bit range or reaches `Z_FAR`.
 
+use crate::raster::edge::{check_coords, check_depths, rewind, winding, EdgeFn};
+use crate::raster::{ceil_div, round_div, rows::centre_rows};
 use pixelproc_formats::{
-    Attr, SpanWord, DI_BITS, DZ_BITS, IL_BITS, I_FRAC, MAX_COORD_PX, SUBPIXEL_BITS, SUBPIXEL_ONE,
-    Z_FRAC, Z_GEOM_MAX, Z_GEOM_MIN,
+    Attr, SpanWord, DI_BITS, DZ_BITS, IL_BITS, I_FRAC, MAX_COORD_PX, SUBPIXEL_ONE, Z_FRAC,
+    Z_GEOM_MAX, Z_GEOM_MIN,
 };
 use thiserror::Error;
 
@@ -97,29 +99,6 @@ pub struct HostPlane {
     pub v: [[i32; 2]; 3],
     /// Host vertex depths.
     pub z: [u32; 3],
-}
-
-/// One edge function `E(x, y) = A·x + B·y + C` in Q.8 units (positive inside).
-#[derive(Clone, Copy, Debug)]
-struct Edge {
-    a: i64,
-    b: i64,
-    c: i64,
-    top_left: bool,
-}
-
-impl Edge {
-    fn new(p: [i32; 2], q: [i32; 2]) -> Edge {
-        let a = -((q[1] - p[1]) as i64);
-        let b = (q[0] - p[0]) as i64;
-        let c = -(a * p[0] as i64 + b * p[1] as i64);
-        Edge {
-            a,
-            b,
-            c,
-            top_left: a > 0 || (a == 0 && b > 0),
-        }
-    }
 }
 
 /// A plane `v(x, y) = v0 + (nx·(x − x0) + ny·(y − y0)) / area2` through three snapped
@@ -222,22 +201,10 @@ impl RowEval {
     }
 }
 
-/// `round(n / d)` with ties toward +∞, exact.
-pub(crate) fn round_div(n: i128, d: i128) -> i128 {
-    let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
-    (2 * n + d).div_euclid(2 * d)
-}
-
-/// `ceil(n / d)` for `d > 0`.
-fn ceil_div(n: i64, d: i64) -> i64 {
-    debug_assert!(d > 0);
-    -((-n).div_euclid(d))
-}
-
 /// Everything per triangle that span setup needs, computed once.
 #[derive(Clone, Debug)]
 pub struct TriSetup {
-    edges: [Edge; 3],
+    edges: [EdgeFn; 3],
     z: ExactPlane,
     c: [ExactPlane; 3],
     /// First scanline whose centre may be covered (unclamped).
@@ -257,35 +224,13 @@ impl TriSetup {
     /// Prepares a triangle. Returns `Ok(None)` for a zero-area (degenerate) triangle, which
     /// covers nothing.
     pub fn new(t: &SnappedTri) -> Result<Option<TriSetup>, SetupError> {
-        for &z in t.z.iter().chain(t.host.iter().flat_map(|h| h.z.iter())) {
-            if !(Z_GEOM_MIN..=Z_GEOM_MAX).contains(&z) {
-                return Err(SetupError::DepthOutOfRange(z as i64));
-            }
-        }
-        let lim = (MAX_COORD_PX as i64) << SUBPIXEL_BITS;
-        for p in t.v.iter().chain(t.host.iter().flat_map(|h| h.v.iter())) {
-            for &k in p {
-                if (k as i64).abs() > lim {
-                    return Err(SetupError::OutOfRange(k as f64 / SUBPIXEL_ONE as f64));
-                }
-            }
-        }
-        let (mut v, mut z, mut c) = (t.v, t.z, t.c);
-        let area2 = (v[1][0] as i64 - v[0][0] as i64) * (v[2][1] as i64 - v[0][1] as i64)
-            - (v[2][0] as i64 - v[0][0] as i64) * (v[1][1] as i64 - v[0][1] as i64);
-        if area2 == 0 {
+        check_depths(t)?;
+        check_coords(t.v.iter().chain(t.host.iter().flat_map(|h| h.v.iter())))?;
+        let Some(order) = winding(t.v) else {
             return Ok(None);
-        }
-        if area2 < 0 {
-            v.swap(1, 2);
-            z.swap(1, 2);
-            c.swap(1, 2);
-        }
-        let edges = [
-            Edge::new(v[0], v[1]),
-            Edge::new(v[1], v[2]),
-            Edge::new(v[2], v[0]),
-        ];
+        };
+        let (v, z, c) = (rewind(order, t.v), rewind(order, t.z), rewind(order, t.c));
+        let edges = EdgeFn::of_triangle(v);
         let zp = match &t.host {
             Some(h) => ExactPlane::new(h.v, h.z.map(|x| x as i64)),
             None => ExactPlane::new(v, z.map(|x| x as i64)),
@@ -297,10 +242,7 @@ impl TriSetup {
         };
         let ymin = v.iter().map(|p| p[1]).min().unwrap() as i64;
         let ymax = v.iter().map(|p| p[1]).max().unwrap() as i64;
-        // Rows whose centre 256·j + 128 lies in [ymin, ymax].
-        let half = (SUBPIXEL_ONE / 2) as i64;
-        let row_min = ceil_div(ymin - half, SUBPIXEL_ONE as i64);
-        let row_max = (ymax - half).div_euclid(SUBPIXEL_ONE as i64);
+        let (row_min, row_max) = centre_rows(ymin, ymax);
         Ok(Some(TriSetup {
             edges,
             dz: zp.ddx_per_px(Z_FRAC),
@@ -330,7 +272,7 @@ impl TriSetup {
                 std::cmp::Ordering::Greater => lo = lo.max(ceil_div(-k, one * e.a)),
                 std::cmp::Ordering::Less => hi = hi.min(ceil_div(k, -one * e.a) - 1),
                 std::cmp::Ordering::Equal => {
-                    if !(k > 0 || (k == 0 && e.top_left)) {
+                    if !e.inside(k) {
                         return None;
                     }
                 }

@@ -4,56 +4,25 @@
 
 use crate::TbError;
 use pixelproc_formats::{pack_rgb, Attr, SpanWord, SUBPIXEL_ONE, Z_GEOM_MAX, Z_GEOM_MIN};
-use pixelproc_sim::frontend::{self, Projector};
 use pixelproc_sim::pixel_array::Command;
 use pixelproc_sim::plan::Effects;
 use pixelproc_sim::render::SpanSource;
 use pixelproc_sim::scene::LoadedScene;
 use pixelproc_sim::setup::SnappedTri;
-use pixelproc_sim::shadow;
+use pixelproc_sim::stream::SceneStream;
 
-/// The golden pipeline's per-scanline command stream of a scene, as the array sees it:
-/// for row `j`, the OP span words of `SpanSource::row_spans(j)` (front end
-/// `frontend::project`, span setup `SpanSource::new`), then, for each shadowing light
-/// of `effects` in order, that light's shadow commands from `shadow::shadow_commands`
-/// (per light sample `ClearFlags`, the volumes' SP/EV/IF spans or `Check`s, then
-/// `LatchShadow` or `AccumulateShadow`) — the assembly of `pipeline::render`. Returns
-/// the rows (no `ClearLine`; [`LineStream::flatten`] adds one per tile) and the
+/// The golden pipeline's per-scanline command stream of a scene, as the array sees it
+/// ([`pixelproc_sim::stream::SceneStream`]): for row `j`, the OP span words of the row,
+/// then, for each shadowing light of `effects` in order, that light's shadow commands.
+/// Returns the rows (no `ClearLine`; [`LineStream::flatten`] adds one per tile) and the
 /// background, RGB888 packed.
 pub fn scene_stream(
     ls: &LoadedScene,
     effects: &Effects,
 ) -> Result<(Vec<Vec<Command>>, u32), TbError> {
-    let (w, h) = (ls.scene.width, ls.scene.height);
-    let bg = pack_rgb(
-        ls.scene
-            .background
-            .map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8),
-    );
-    let projected = frontend::project(ls).map_err(|e| TbError::Scene(e.to_string()))?;
-    let src = SpanSource::new(&projected.tris, w, h).map_err(|e| TbError::Scene(e.to_string()))?;
-    let mut rows: Vec<Vec<Command>> = (0..h)
-        .map(|j| {
-            src.row_spans(j)
-                .iter()
-                .copied()
-                .map(Command::Span)
-                .collect()
-        })
-        .collect();
-    if !effects.shadow_lights.is_empty() {
-        let lights = shadow::shadow_lights(ls, &effects.shadow_lights)
-            .map_err(|e| TbError::Scene(e.to_string()))?;
-        let pj = Projector::new(ls);
-        for l in &lights {
-            let sc = shadow::shadow_commands(ls, &pj, std::slice::from_ref(l), effects.shadow_form)
-                .map_err(|e| TbError::Scene(e.to_string()))?;
-            for (dst, add) in rows.iter_mut().zip(sc.rows) {
-                dst.extend(add);
-            }
-        }
-    }
-    Ok((rows, bg))
+    let s = SceneStream::of_scene(ls, &effects.shadow_lights, effects.shadow_form)
+        .map_err(|e| TbError::Scene(e.to_string()))?;
+    Ok((s.rows(), s.bg_packed()))
 }
 
 /// The command stream of a frame: per scanline, the commands after its `ClearLine`

@@ -242,6 +242,29 @@ fn check(p: &CornerParams) -> Result<u64, AaError> {
     Ok(total)
 }
 
+/// A sample read from a lattice: Q8.12 colour and the visible triangle.
+type Sample = ([u32; 3], i32);
+
+/// The box-weighted colour of one pixel from its samples `(sample, weight)` (weights sum
+/// to `total`; colours truncate) and its visible triangle: the one with the largest summed
+/// weight, the lowest index on a tie. `wsum` is scratch space.
+fn resolve_pixel(vals: &[(Sample, u32)], total: u64, wsum: &mut Vec<(i32, u64)>) -> ([u8; 3], i32) {
+    let mut acc = [0u64; 3];
+    wsum.clear();
+    for &((c, t), wt) in vals {
+        for ch in 0..3 {
+            acc[ch] += wt as u64 * c[ch] as u64;
+        }
+        match wsum.iter_mut().find(|e| e.0 == t) {
+            Some(e) => e.1 += wt as u64,
+            None => wsum.push((t, wt as u64)),
+        }
+    }
+    let rgb = acc.map(|a| (a / (total * 4096)).min(255) as u8);
+    wsum.sort_by_key(|e| (std::cmp::Reverse(e.1), e.0));
+    (rgb, wsum[0].0)
+}
+
 /// Renders with the pattern of `p`.
 pub fn render(
     tris: &[SnappedTri],
@@ -253,9 +276,9 @@ pub fn render(
     let total = check(p)?;
     let lats = lattices(p, width, height);
     let bufs = rasterize(tris, &lats, bg);
-    let (w, h) = (width as usize, height as usize);
-    let mut rgb = vec![0u8; w * h * 3];
-    let mut visible = vec![-1i32; w * h];
+    let w = width as usize;
+    let mut rgb = vec![0u8; w * height as usize * 3];
+    let mut visible = vec![-1i32; w * height as usize];
     let mut reads = 0u64;
     // Sample-memory read (counted).
     let mut read = |l: usize, a: u32, b: u32, bufs: &[SampleBuf]| {
@@ -263,7 +286,6 @@ pub fn render(
         let s = bufs[l].idx(a, b);
         (bufs[l].rgb[s], bufs[l].tri[s])
     };
-    type Sample = ([u32; 3], i32);
     let corner = p.pattern == Pattern::Corner;
     // Row buffer: the corner samples of the current pixel row's top edge (corner row j).
     let mut row_buf: Vec<Sample> = Vec::new();
@@ -280,53 +302,29 @@ pub fn render(
             let smp = pixel_samples(p, i, j);
             let mut vals: Vec<(Sample, u32)> = Vec::with_capacity(smp.len());
             for (n, &(l, a, b, wt)) in smp.iter().enumerate() {
-                let v = if corner && n < 4 {
-                    match n {
-                        0 => row_buf[i as usize],
-                        1 => row_buf[i as usize + 1],
-                        2 => {
-                            if i == 0 {
-                                let v = read(l, a, b, &bufs);
-                                next_row.push(v);
-                                v
-                            } else {
-                                next_row[i as usize] // the previous pixel's bottom-right
-                            }
-                        }
-                        _ => {
-                            let v = read(l, a, b, &bufs);
-                            next_row.push(v);
-                            v
-                        }
+                let v = match n {
+                    0 if corner => row_buf[i as usize],
+                    1 if corner => row_buf[i as usize + 1],
+                    // Past the first pixel, sample 2 is the previous pixel's bottom-right.
+                    2 if corner && i > 0 => next_row[i as usize],
+                    2 | 3 if corner => {
+                        let v = read(l, a, b, &bufs);
+                        next_row.push(v);
+                        v
                     }
-                } else {
-                    read(l, a, b, &bufs)
+                    _ => read(l, a, b, &bufs),
                 };
                 vals.push((v, wt));
             }
-            let mut acc = [0u64; 3];
-            wsum.clear();
-            for &((c, t), wt) in &vals {
-                for ch in 0..3 {
-                    acc[ch] += wt as u64 * c[ch] as u64;
-                }
-                match wsum.iter_mut().find(|e| e.0 == t) {
-                    Some(e) => e.1 += wt as u64,
-                    None => wsum.push((t, wt as u64)),
-                }
-            }
             let px = j as usize * w + i as usize;
-            for ch in 0..3 {
-                rgb[3 * px + ch] = (acc[ch] / (total * 4096)).min(255) as u8;
-            }
-            wsum.sort_by_key(|e| (std::cmp::Reverse(e.1), e.0));
-            visible[px] = wsum[0].0;
+            let (c, t) = resolve_pixel(&vals, total, &mut wsum);
+            rgb[3 * px..3 * px + 3].copy_from_slice(&c);
+            visible[px] = t;
         }
         if corner {
             std::mem::swap(&mut row_buf, &mut next_row);
         }
     }
-    let _ = h;
     Ok(AaFrame {
         width,
         height,

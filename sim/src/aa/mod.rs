@@ -25,6 +25,7 @@ use std::time::Instant;
 
 use thiserror::Error;
 
+use crate::raster::{SpanRaster, VisibleProbe};
 use crate::render::{render_frame, SpanSource};
 use crate::setup::{SetupError, SnappedTri, TriSetup};
 
@@ -44,6 +45,15 @@ pub enum AaError {
     /// Screen size zero or above the format limit.
     #[error("screen size {0}×{1} is not supported (1..=4096)")]
     Screen(u32, u32),
+}
+
+impl From<crate::abuffer::AbufferError> for AaError {
+    fn from(e: crate::abuffer::AbufferError) -> AaError {
+        match e {
+            crate::abuffer::AbufferError::Setup(s) => AaError::Setup(s),
+            crate::abuffer::AbufferError::ScreenTooLarge(w, h) => AaError::Screen(w, h),
+        }
+    }
 }
 
 /// Which method, with its parameters.
@@ -160,12 +170,7 @@ pub fn render_aa(
         AaMethod::PostFx(p) => postfx::render(tris, width, height, bg, p)?,
         AaMethod::Ssaa { k } => ssaa::render(tris, width, height, bg, *k)?,
         AaMethod::Abuffer(p) => {
-            let a = crate::abuffer::render_abuffer(tris, width, height, bg, p).map_err(
-                |e| match e {
-                    crate::abuffer::AbufferError::Setup(s) => AaError::Setup(s),
-                    crate::abuffer::AbufferError::ScreenTooLarge(w, h) => AaError::Screen(w, h),
-                },
-            )?;
+            let a = crate::abuffer::render_abuffer(tris, width, height, bg, p)?;
             AaFrame {
                 width,
                 height,
@@ -213,41 +218,15 @@ fn render_none(
 }
 
 /// Per-pixel visible triangle of the baseline (same span words and depth test as the
-/// array), and the number of depth tests made.
+/// array, through the raster core's visibility probe), and the number of depth tests made.
 pub(crate) fn baseline_visible(
     tris: &[SnappedTri],
     width: u32,
     height: u32,
 ) -> Result<(Vec<i32>, u64), AaError> {
-    let set: Vec<(usize, TriSetup)> = tris
-        .iter()
-        .enumerate()
-        .filter_map(|(k, t)| TriSetup::new(t).transpose().map(|r| r.map(|s| (k, s))))
-        .collect::<Result<_, _>>()?;
-    let w = width as usize;
-    let mut vis = vec![-1i32; w * height as usize];
-    let mut evals = 0u64;
-    for (j, row) in vis.chunks_mut(w).enumerate() {
-        let mut zb = vec![pixelproc_formats::Z_FAR; w];
-        for (k, s) in &set {
-            if let Some(sw) = s.span(j as i64, width) {
-                for p in sw.xl as i64..=sw.xr as i64 {
-                    evals += 1;
-                    let z = sw.z_at(p);
-                    let pass = if sw.decal {
-                        z <= zb[p as usize]
-                    } else {
-                        z < zb[p as usize]
-                    };
-                    if pass {
-                        zb[p as usize] = z;
-                        row[p as usize] = *k as i32;
-                    }
-                }
-            }
-        }
-    }
-    Ok((vis, evals))
+    let mut probe = VisibleProbe::new(width, height);
+    SpanRaster::new(tris, width, height)?.scan(&mut probe);
+    Ok((probe.visible, probe.depth_tests))
 }
 
 /// Number of distinct grey levels a method gives the pixels along a long, nearly

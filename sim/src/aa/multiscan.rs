@@ -68,8 +68,9 @@
 use rayon::prelude::*;
 
 use super::{AaError, AaFrame, AaStats};
+use crate::raster::{depth, round_div};
+use crate::setup::ExactPlane as Plane;
 use crate::setup::SnappedTri;
-use crate::setup::{round_div, ExactPlane as Plane};
 
 /// Q.16 pixel unit.
 const ONE16: i64 = 1 << 16;
@@ -227,12 +228,7 @@ struct Active<'a> {
 
 /// `a` in front of `b` at equal depth (the renderer's depth-test order).
 fn tie_front(a: &MsTri, b: &MsTri) -> bool {
-    match (a.decal, b.decal) {
-        (true, false) => true,
-        (false, true) => false,
-        (true, true) => a.idx > b.idx,
-        (false, false) => a.idx < b.idx,
-    }
+    depth::tie_front((a.decal, a.idx as i64), (b.decal, b.idx as i64))
 }
 
 /// The walk of one sub-scanline over `[xa, xb)`: visible pieces in order, and the number
@@ -250,36 +246,10 @@ fn walk(act: &[Active], xa: i64, xb: i64, inter: bool, out: &mut Vec<Piece>) -> 
         ev.push((a.xr.min(xb), 0, 1 - d, a.t.idx, s));
     }
     ev.sort_unstable();
-    let mut evals = 0u64;
-    let zat = |s: usize, x: i64, evals: &mut u64| {
-        *evals += 1;
-        act[s].z.at(x, ZF)
-    };
-    // Is `p` in front of `q` at x (depth, then slope to the right, then tie order)?
-    let front = |p: usize, q: usize, x: i64, evals: &mut u64| {
-        let (zp, zq) = (zat(p, x, evals), zat(q, x, evals));
-        if zp != zq {
-            return zp < zq;
-        }
-        let (sp, sq) = (act[p].z.s * act[q].z.d, act[q].z.s * act[p].z.d);
-        if sp != sq {
-            return sp < sq;
-        }
-        tie_front(act[p].t, act[q].t)
-    };
+    let mut wk = Walker { act, evals: 0 };
     let mut cur: Option<usize> = None;
     let mut next: Vec<usize> = Vec::new();
     let mut x = xa;
-    let emit = |out: &mut Vec<Piece>, x0: i64, x1: i64, cur: Option<usize>| {
-        if x1 > x0 {
-            out.push(Piece {
-                x0,
-                x1,
-                tri: cur.map_or(-1, |s| act[s].t.idx),
-                slot: cur.unwrap_or(usize::MAX),
-            });
-        }
-    };
     for &(ex, kind, _, _, s) in &ev {
         // Between crossings: a polygon of NEXT may pass in front of the current one.
         if inter {
@@ -287,47 +257,26 @@ fn walk(act: &[Active], xa: i64, xb: i64, inter: bool, out: &mut Vec<Piece>) -> 
                 if ex <= x || next.is_empty() {
                     break;
                 }
-                let mut best: Option<(i64, usize)> = None;
-                for (ni, &q) in next.iter().enumerate() {
-                    let (za, zb) = (
-                        zat(q, x, &mut evals) - zat(c, x, &mut evals),
-                        zat(q, ex, &mut evals) - zat(c, ex, &mut evals),
-                    );
-                    if za >= 0 && zb < 0 {
-                        // First x in (x, ex] where q is in front: d(x*) < 0.
-                        let xs = x + ((ex - x) as i128 * za as i128 / (za - zb) as i128) as i64 + 1;
-                        let xs = xs.min(ex);
-                        if best.is_none_or(|b| xs < b.0) {
-                            best = Some((xs, ni));
-                        }
-                    }
-                }
-                match best {
-                    Some((xs, _)) if xs < ex => {
-                        emit(out, x, xs, cur);
+                match wk.first_pass(c, &next, x, ex) {
+                    Some(xs) if xs < ex => {
+                        emit(out, act, x, xs, cur);
                         x = xs;
                         // The front-most of NEXT and the old current becomes current
                         // (a decal on the passing polygon's plane comes with it).
                         next.push(c);
-                        let mut b = 0;
-                        for ni in 1..next.len() {
-                            if front(next[ni], next[b], xs, &mut evals) {
-                                b = ni;
-                            }
-                        }
-                        cur = Some(next.swap_remove(b));
+                        cur = wk.nearest(&next, xs).map(|b| next.swap_remove(b));
                     }
                     _ => break,
                 }
             }
         }
-        emit(out, x, ex, cur);
+        emit(out, act, x, ex, cur);
         x = ex;
         if kind == 1 {
             match cur {
                 None => cur = Some(s),
                 Some(c) => {
-                    if front(s, c, ex, &mut evals) {
+                    if wk.front(s, c, ex) {
                         next.push(c);
                         cur = Some(s);
                     } else {
@@ -337,26 +286,92 @@ fn walk(act: &[Active], xa: i64, xb: i64, inter: bool, out: &mut Vec<Piece>) -> 
             }
         } else if cur == Some(s) {
             // The nearest polygon in NEXT becomes current.
-            let mut best: Option<usize> = None;
-            for (ni, &q) in next.iter().enumerate() {
-                best = match best {
-                    None => Some(ni),
-                    Some(b) => {
-                        if front(q, next[b], ex, &mut evals) {
-                            Some(ni)
-                        } else {
-                            Some(b)
-                        }
-                    }
-                };
-            }
-            cur = best.map(|b| next.swap_remove(b));
+            cur = wk.nearest(&next, ex).map(|b| next.swap_remove(b));
         } else if let Some(p) = next.iter().position(|&q| q == s) {
             next.swap_remove(p);
         }
     }
-    emit(out, x, xb, cur);
-    evals
+    emit(out, act, x, xb, cur);
+    wk.evals
+}
+
+/// Appends the visible piece `[x0, x1)` of `cur` (background if `None`), if non-empty.
+fn emit(out: &mut Vec<Piece>, act: &[Active], x0: i64, x1: i64, cur: Option<usize>) {
+    if x1 > x0 {
+        out.push(Piece {
+            x0,
+            x1,
+            tri: cur.map_or(-1, |s| act[s].t.idx),
+            slot: cur.unwrap_or(usize::MAX),
+        });
+    }
+}
+
+/// Depth comparisons of one sub-scanline walk, counting plane evaluations.
+struct Walker<'a, 'b> {
+    act: &'a [Active<'b>],
+    evals: u64,
+}
+
+impl Walker<'_, '_> {
+    /// Depth of active polygon `s` at `x` (one evaluation).
+    fn zat(&mut self, s: usize, x: i64) -> i64 {
+        self.evals += 1;
+        self.act[s].z.at(x, ZF)
+    }
+
+    /// Is `p` in front of `q` at x (depth, then slope to the right, then tie order)?
+    fn front(&mut self, p: usize, q: usize, x: i64) -> bool {
+        let (zp, zq) = (self.zat(p, x), self.zat(q, x));
+        if zp != zq {
+            return zp < zq;
+        }
+        let act = self.act;
+        let (sp, sq) = (act[p].z.s * act[q].z.d, act[q].z.s * act[p].z.d);
+        if sp != sq {
+            return sp < sq;
+        }
+        tie_front(act[p].t, act[q].t)
+    }
+
+    /// The first x in `(x, ex]` where a polygon of `next` is in front of the current one
+    /// `c` (the earliest over `next`, the first listed on a tie), if any passes it.
+    fn first_pass(&mut self, c: usize, next: &[usize], x: i64, ex: i64) -> Option<i64> {
+        let mut best: Option<i64> = None;
+        for &q in next {
+            let (za, zb) = (
+                self.zat(q, x) - self.zat(c, x),
+                self.zat(q, ex) - self.zat(c, ex),
+            );
+            if za >= 0 && zb < 0 {
+                // First x in (x, ex] where q is in front: d(x*) < 0.
+                let xs = x + ((ex - x) as i128 * za as i128 / (za - zb) as i128) as i64 + 1;
+                let xs = xs.min(ex);
+                if best.is_none_or(|b| xs < b) {
+                    best = Some(xs);
+                }
+            }
+        }
+        best
+    }
+
+    /// Position in `next` of its front-most polygon at `x` (the first listed on a tie).
+    fn nearest(&mut self, next: &[usize], x: i64) -> Option<usize> {
+        let mut best: Option<usize> = None;
+        for (ni, &q) in next.iter().enumerate() {
+            best = match best {
+                None => Some(ni),
+                Some(b) => {
+                    if self.front(q, next[b], x) {
+                        Some(ni)
+                    } else {
+                        Some(b)
+                    }
+                }
+            };
+        }
+        best
+    }
 }
 
 /// Integer filter tables: `f[m][k]` for `m = 0..=n`, `k = 0..=64`, and the total weight
@@ -442,6 +457,158 @@ impl PixAcc {
     }
 }
 
+/// Per-frame constants of a multi-scanning render.
+struct MsFrame<'a> {
+    mt: &'a [MsTri],
+    p: &'a MultiscanParams,
+    width: u32,
+    height: u32,
+    /// Background, Q8.12 with the rounding offset.
+    bgc: [i64; 3],
+    /// Filter tables (none for the box filter).
+    tab: Option<Tables>,
+}
+
+impl MsFrame<'_> {
+    /// Renders pixel row `j`: RGB8, visible triangles, depth evaluations and pieces of the
+    /// sub-scanlines it owns.
+    fn render_row(&self, j: i64) -> (Vec<u8>, Vec<i32>, u64, u64) {
+        let (p, width, height) = (self.p, self.width, self.height);
+        let n64 = p.subscanlines as i64;
+        let yden = 2 * n64;
+        let w = width as usize;
+        let mut acc = vec![PixAcc::default(); w];
+        let mut pieces = Vec::new();
+        let (mut evals, mut npieces) = (0u64, 0u64);
+        // Sub-scanlines reaching row j: (ynum, weight selector m, owned?).
+        let lines: Vec<(i64, i64, bool)> = match p.filter {
+            Filter::Box => (0..=n64)
+                .map(|l| {
+                    let owned = l < n64 || j == height as i64 - 1;
+                    (2 * (j * n64 + l), l, owned)
+                })
+                .collect(),
+            _ => (-(n64 - 1)..n64)
+                .map(|m| (2 * (j * n64 + m) + n64, m, m >= 0))
+                .collect(),
+        };
+        // Triangles touching the rows' y range.
+        let (ylo, yhi) = (256 * (j - 1), 256 * (j + 2));
+        let cand: Vec<&MsTri> = self
+            .mt
+            .iter()
+            .filter(|t| t.ymax >= ylo && t.ymin <= yhi)
+            .collect();
+        let (xa, xb) = match p.filter {
+            Filter::Box => (0, width as i64 * ONE16),
+            _ => (-ONE16 / 2, width as i64 * ONE16 + ONE16 / 2),
+        };
+        for &(ynum, m, owned) in &lines {
+            // The bottom boundary of a pixel row is seen from inside the row.
+            let from_above = p.filter == Filter::Box && m == n64;
+            let act: Vec<Active> = cand
+                .iter()
+                .filter_map(|t| {
+                    let (xl, xr) = t.interval(ynum, yden, from_above)?;
+                    Some(Active {
+                        t,
+                        z: t.z.subscanline_row(ynum, yden),
+                        c: t.c.map(|c| c.subscanline_row(ynum, yden)),
+                        xl,
+                        xr,
+                    })
+                })
+                .collect();
+            let e = walk(&act, xa, xb, p.intersections, &mut pieces);
+            if owned {
+                evals += e;
+                npieces += pieces.len() as u64;
+            }
+            match &self.tab {
+                None => {
+                    let wl = if m == 0 || m == n64 { 1 } else { 2 };
+                    accumulate_box(&mut acc, &pieces, &act, wl, self.bgc);
+                }
+                Some(tab) => {
+                    let fm = &tab.f[m.unsigned_abs() as usize];
+                    accumulate_filtered(&mut acc, &pieces, &act, fm, width, self.bgc);
+                }
+            }
+        }
+        let div: u64 = match &self.tab {
+            None => 2 * p.subscanlines as u64 * ONE16 as u64 * 4096,
+            Some(t) => t.total as u64 * 4096,
+        };
+        let mut rgb = Vec::with_capacity(3 * w);
+        let mut vis = Vec::with_capacity(w);
+        for a in &mut acc {
+            for ch in 0..3 {
+                rgb.push((a.c[ch] / div).min(255) as u8);
+            }
+            a.w.sort_by_key(|e| (std::cmp::Reverse(e.1), e.0));
+            vis.push(a.w.first().map_or(-1, |e| e.0));
+        }
+        (rgb, vis, evals, npieces)
+    }
+}
+
+/// Colour of piece `pc` over `[x0, x1)`: the background, or the polygon's colour at the
+/// middle, Q8.12.
+fn piece_colour(act: &[Active], pc: &Piece, x0: i64, x1: i64, bgc: [i64; 3]) -> [i64; 3] {
+    if pc.tri < 0 {
+        bgc
+    } else {
+        let mid = (x0 + x1).div_euclid(2);
+        act[pc.slot]
+            .c
+            .map(|c| c.at(mid, 0).clamp(0, (255 << 12) + 4095))
+    }
+}
+
+/// Box filter: adds each piece, split at pixel boundaries, with line weight `wl`.
+fn accumulate_box(acc: &mut [PixAcc], pieces: &[Piece], act: &[Active], wl: i64, bgc: [i64; 3]) {
+    for pc in pieces {
+        let mut x0 = pc.x0;
+        while x0 < pc.x1 {
+            let i = x0.div_euclid(ONE16);
+            let x1 = pc.x1.min((i + 1) * ONE16);
+            let col = piece_colour(act, pc, x0, x1, bgc);
+            acc[i as usize].add(wl * (x1 - x0), col, pc.tri);
+            x0 = x1;
+        }
+    }
+}
+
+/// Axisymmetric filter: adds each piece, split at pixel centres (square R_i spans centres
+/// i .. i+1), to the two pixels of its square with the table weights `fm`.
+fn accumulate_filtered(
+    acc: &mut [PixAcc],
+    pieces: &[Piece],
+    act: &[Active],
+    fm: &[i64; 65],
+    width: u32,
+    bgc: [i64; 3],
+) {
+    for pc in pieces {
+        let mut x0 = pc.x0;
+        while x0 < pc.x1 {
+            let i = (x0 - ONE16 / 2).div_euclid(ONE16);
+            let cx = i * ONE16 + ONE16 / 2;
+            let x1 = pc.x1.min(cx + ONE16);
+            let col = piece_colour(act, pc, x0, x1, bgc);
+            let q = |x: i64| ((x - cx + 512) >> 10).clamp(0, 64) as usize;
+            let (k1, k2) = (q(x0), q(x1));
+            if i >= 0 {
+                acc[i as usize].add(fm[k2] - fm[k1], col, pc.tri);
+            }
+            if i + 1 < width as i64 {
+                acc[(i + 1) as usize].add(fm[64 - k1] - fm[64 - k2], col, pc.tri);
+            }
+            x0 = x1;
+        }
+    }
+}
+
 /// Renders with multi-scanning.
 pub fn render(
     tris: &[SnappedTri],
@@ -461,127 +628,18 @@ pub fn render(
         .enumerate()
         .filter_map(|(k, t)| prepare(k, t))
         .collect();
-    let bgc = bg.map(|v| ((v as i64) << 12) + 2048);
-    let (w, n64) = (width as usize, n as i64);
-    let yden = 2 * n64;
-    let tab = (p.filter != Filter::Box).then(|| tables(p.filter, n));
+    let f = MsFrame {
+        mt: &mt,
+        p,
+        width,
+        height,
+        bgc: bg.map(|v| ((v as i64) << 12) + 2048),
+        tab: (p.filter != Filter::Box).then(|| tables(p.filter, n)),
+    };
+    let w = width as usize;
     let rows: Vec<(Vec<u8>, Vec<i32>, u64, u64)> = (0..height as i64)
         .into_par_iter()
-        .map(|j| {
-            let mut acc = vec![PixAcc::default(); w];
-            let mut pieces = Vec::new();
-            let (mut evals, mut npieces) = (0u64, 0u64);
-            // Sub-scanlines reaching row j: (ynum, weight selector m, owned?).
-            let lines: Vec<(i64, i64, bool)> = match p.filter {
-                Filter::Box => (0..=n64)
-                    .map(|l| {
-                        let owned = l < n64 || j == height as i64 - 1;
-                        (2 * (j * n64 + l), l, owned)
-                    })
-                    .collect(),
-                _ => (-(n64 - 1)..n64)
-                    .map(|m| (2 * (j * n64 + m) + n64, m, m >= 0))
-                    .collect(),
-            };
-            // Triangles touching the rows' y range.
-            let (ylo, yhi) = (256 * (j - 1), 256 * (j + 2));
-            let cand: Vec<&MsTri> = mt
-                .iter()
-                .filter(|t| t.ymax >= ylo && t.ymin <= yhi)
-                .collect();
-            let (xa, xb) = match p.filter {
-                Filter::Box => (0, width as i64 * ONE16),
-                _ => (-ONE16 / 2, width as i64 * ONE16 + ONE16 / 2),
-            };
-            for &(ynum, m, owned) in &lines {
-                // The bottom boundary of a pixel row is seen from inside the row.
-                let from_above = p.filter == Filter::Box && m == n64;
-                let act: Vec<Active> = cand
-                    .iter()
-                    .filter_map(|t| {
-                        let (xl, xr) = t.interval(ynum, yden, from_above)?;
-                        Some(Active {
-                            t,
-                            z: t.z.subscanline_row(ynum, yden),
-                            c: t.c.map(|c| c.subscanline_row(ynum, yden)),
-                            xl,
-                            xr,
-                        })
-                    })
-                    .collect();
-                let e = walk(&act, xa, xb, p.intersections, &mut pieces);
-                if owned {
-                    evals += e;
-                    npieces += pieces.len() as u64;
-                }
-                let colour = |pc: &Piece, x0: i64, x1: i64| -> [i64; 3] {
-                    if pc.tri < 0 {
-                        bgc
-                    } else {
-                        let mid = (x0 + x1).div_euclid(2);
-                        act[pc.slot]
-                            .c
-                            .map(|c| c.at(mid, 0).clamp(0, (255 << 12) + 4095))
-                    }
-                };
-                match &tab {
-                    None => {
-                        let wl = if m == 0 || m == n64 { 1 } else { 2 };
-                        for pc in &pieces {
-                            // Split at pixel boundaries.
-                            let mut x0 = pc.x0;
-                            while x0 < pc.x1 {
-                                let i = x0.div_euclid(ONE16);
-                                let x1 = pc.x1.min((i + 1) * ONE16);
-                                let col = colour(pc, x0, x1);
-                                acc[i as usize].add(wl * (x1 - x0), col, pc.tri);
-                                x0 = x1;
-                            }
-                        }
-                    }
-                    Some(tab) => {
-                        let fm = &tab.f[m.unsigned_abs() as usize];
-                        for pc in &pieces {
-                            // Split at pixel centres: square R_i spans centres i .. i+1.
-                            let mut x0 = pc.x0;
-                            while x0 < pc.x1 {
-                                let i = (x0 - ONE16 / 2).div_euclid(ONE16);
-                                let cx = i * ONE16 + ONE16 / 2;
-                                let x1 = pc.x1.min(cx + ONE16);
-                                let col = colour(pc, x0, x1);
-                                let q = |x: i64| ((x - cx + 512) >> 10).clamp(0, 64) as usize;
-                                let (k1, k2) = (q(x0), q(x1));
-                                if i >= 0 {
-                                    acc[i as usize].add(fm[k2] - fm[k1], col, pc.tri);
-                                }
-                                if i + 1 < width as i64 {
-                                    acc[(i + 1) as usize].add(
-                                        fm[64 - k1] - fm[64 - k2],
-                                        col,
-                                        pc.tri,
-                                    );
-                                }
-                                x0 = x1;
-                            }
-                        }
-                    }
-                }
-            }
-            let div: u64 = match &tab {
-                None => 2 * n as u64 * ONE16 as u64 * 4096,
-                Some(t) => t.total as u64 * 4096,
-            };
-            let mut rgb = Vec::with_capacity(3 * w);
-            let mut vis = Vec::with_capacity(w);
-            for a in &mut acc {
-                for ch in 0..3 {
-                    rgb.push((a.c[ch] / div).min(255) as u8);
-                }
-                a.w.sort_by_key(|e| (std::cmp::Reverse(e.1), e.0));
-                vis.push(a.w.first().map_or(-1, |e| e.0));
-            }
-            (rgb, vis, evals, npieces)
-        })
+        .map(|j| f.render_row(j))
         .collect();
     let mut rgb = Vec::with_capacity(3 * w * height as usize);
     let mut visible = Vec::with_capacity(w * height as usize);

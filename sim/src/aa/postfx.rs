@@ -54,8 +54,10 @@
 
 use super::{AaError, AaFrame, AaStats};
 use crate::render::{render_frame, SpanSource};
-use crate::setup::{SnappedTri, TriSetup};
-use pixelproc_formats::Z_FAR;
+use crate::setup::SnappedTri;
+
+mod draw;
+pub use draw::{draw_buffers, DrawBuffers, StoredNormal};
 
 /// Where the normals of the normal edge test come from (seed 004, "edges from normals").
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -142,188 +144,6 @@ impl PostFxParams {
             }
         )
     }
-}
-
-/// One entry of the stored normal buffer: the unit normal of the visible plane in the
-/// space (x px, y px, z/S), `S` = [`PostFxParams::normal_scale`], as two components in
-/// Q1.15 and the sign of the third (seed 004: "two components and a sign suffice").
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct StoredNormal {
-    /// x component, Q1.15.
-    pub nx: i16,
-    /// y component, Q1.15.
-    pub ny: i16,
-    /// The z component is negative (always, for a depth plane seen from the front;
-    /// kept because the format stores it).
-    pub nz_neg: bool,
-}
-
-impl StoredNormal {
-    /// The background's normal, `(0, 0, −1)`.
-    pub const BACKGROUND: StoredNormal = StoredNormal {
-        nx: 0,
-        ny: 0,
-        nz_neg: true,
-    };
-
-    /// The three components in Q1.15 (as `i64`), the third recovered as
-    /// `±⌊√(2^30 − nx² − ny²)⌋`.
-    pub fn unpack(&self) -> [i64; 3] {
-        let (x, y) = (self.nx as i64, self.ny as i64);
-        let r = ((1i64 << 30) - x * x - y * y).max(0) as u128;
-        let z = isqrt(r) as i64;
-        [x, y, if self.nz_neg { -z } else { z }]
-    }
-
-    /// The unit normal of the plane through three (Q.8 pixel position, 24-bit depth)
-    /// points, `∝ (∂z/∂x, ∂z/∂y, −S)`, rounded to Q1.15. `None` for a degenerate triangle.
-    pub fn of_plane(v: [[i32; 2]; 3], z: [u32; 3], s: u32) -> Option<StoredNormal> {
-        let (e1x, e1y) = ((v[1][0] - v[0][0]) as i128, (v[1][1] - v[0][1]) as i128);
-        let (e2x, e2y) = ((v[2][0] - v[0][0]) as i128, (v[2][1] - v[0][1]) as i128);
-        let (d1, d2) = (z[1] as i128 - z[0] as i128, z[2] as i128 - z[0] as i128);
-        let det = e1x * e2y - e1y * e2x;
-        if det == 0 {
-            return None;
-        }
-        let sg = det.signum();
-        // (∂z/∂x, ∂z/∂y, −S)·det/256, with the sign making the third component negative.
-        let a = sg * 256 * (d1 * e2y - d2 * e1y);
-        let b = sg * 256 * (d2 * e1x - d1 * e2x);
-        let c = -(s as i128) * det.abs();
-        let len = isqrt((a * a + b * b + c * c) as u128) as i128;
-        let q = |u: i128| -> i16 {
-            // round(u·2^15 / len), clamped to the i16 range.
-            (((u << 16) + len).div_euclid(2 * len)).clamp(-32767, 32767) as i16
-        };
-        Some(StoredNormal {
-            nx: q(a),
-            ny: q(b),
-            nz_neg: c < 0,
-        })
-    }
-}
-
-/// Integer square root `⌊√n⌋`.
-fn isqrt(n: u128) -> u128 {
-    if n < 2 {
-        return n;
-    }
-    let mut x = (n as f64).sqrt() as u128;
-    while x * x > n {
-        x -= 1;
-    }
-    while (x + 1) * (x + 1) <= n {
-        x += 1;
-    }
-    x
-}
-
-/// The per-pixel buffers produced during drawing, in scene order with the array's depth
-/// test (same span words, `<`, decals `≤`).
-#[derive(Clone, Debug)]
-pub struct DrawBuffers {
-    /// Width.
-    pub w: usize,
-    /// Height.
-    pub h: usize,
-    /// 24-bit z-buffer.
-    pub z: Vec<u32>,
-    /// Visible triangle (input index, −1 background).
-    pub visible: Vec<i32>,
-    /// `d2x = z(x+1, y) + z(x−1, y) − 2·z(x, y)` (borders replicate), kept up to date by
-    /// read-modify-write on every z change (seed eq. 4); 26-bit signed.
-    pub d2x: Vec<i32>,
-    /// Likewise in y.
-    pub d2y: Vec<i32>,
-    /// Stored normal of the visible plane.
-    pub normals: Vec<StoredNormal>,
-    /// Depth tests made.
-    pub depth_tests: u64,
-    /// Read-modify-writes of the second-difference buffer.
-    pub d2_updates: u64,
-}
-
-/// Weight of `z(p)` in the second difference at `c` along an axis of length `n` with
-/// replicated borders: the sum of the stencil taps `(c−1: +1, c: −2, c+1: +1)` that clamp
-/// to `p`.
-fn d2_weight(c: i64, p: i64, n: i64) -> i32 {
-    let taps: [(i64, i32); 3] = [(c - 1, 1), (c, -2), (c + 1, 1)];
-    taps.iter()
-        .filter(|tk| tk.0.clamp(0, n - 1) == p)
-        .map(|tk| tk.1)
-        .sum()
-}
-
-/// Draws `tris` in scene order into a z-buffer, maintaining the second-difference buffer
-/// (seed 004, eq. 4: when z at a pixel changes from `z0` to `z1`, every second difference
-/// whose stencil contains that pixel gets `weight·(z1 − z0)` by read-modify-write) and
-/// writing the visible plane's normal at each depth-test pass.
-pub fn draw_buffers(
-    tris: &[SnappedTri],
-    width: u32,
-    height: u32,
-    normal_scale: u32,
-) -> Result<DrawBuffers, AaError> {
-    let (w, h) = (width as usize, height as usize);
-    let mut set = Vec::new();
-    for (k, t) in tris.iter().enumerate() {
-        if let Some(s) = TriSetup::new(t)? {
-            let n = match &t.host {
-                Some(hp) => StoredNormal::of_plane(hp.v, hp.z, normal_scale),
-                None => StoredNormal::of_plane(t.v, t.z, normal_scale),
-            }
-            .unwrap_or(StoredNormal::BACKGROUND);
-            set.push((k, s, n));
-        }
-    }
-    let mut b = DrawBuffers {
-        w,
-        h,
-        z: vec![Z_FAR; w * h],
-        visible: vec![-1; w * h],
-        d2x: vec![0; w * h],
-        d2y: vec![0; w * h],
-        normals: vec![StoredNormal::BACKGROUND; w * h],
-        depth_tests: 0,
-        d2_updates: 0,
-    };
-    let (wi, hi) = (w as i64, h as i64);
-    for j in 0..hi {
-        for (k, s, n) in &set {
-            let Some(sw) = s.span(j, width) else { continue };
-            for x in sw.xl as i64..=sw.xr as i64 {
-                let i = j as usize * w + x as usize;
-                b.depth_tests += 1;
-                let z1 = sw.z_at(x);
-                let pass = if sw.decal { z1 <= b.z[i] } else { z1 < b.z[i] };
-                if !pass {
-                    continue;
-                }
-                let dz = z1 as i32 - b.z[i] as i32;
-                b.z[i] = z1;
-                b.visible[i] = *k as i32;
-                b.normals[i] = *n;
-                if dz == 0 {
-                    continue;
-                }
-                for c in (x - 1).max(0)..=(x + 1).min(wi - 1) {
-                    let wt = d2_weight(c, x, wi);
-                    if wt != 0 {
-                        b.d2x[j as usize * w + c as usize] += wt * dz;
-                        b.d2_updates += 1;
-                    }
-                }
-                for c in (j - 1).max(0)..=(j + 1).min(hi - 1) {
-                    let wt = d2_weight(c, j, hi);
-                    if wt != 0 {
-                        b.d2y[c as usize * w + x as usize] += wt * dz;
-                        b.d2_updates += 1;
-                    }
-                }
-            }
-        }
-    }
-    Ok(b)
 }
 
 /// Second differences of a finished z-buffer (seed eq. 7, borders replicate):
@@ -521,52 +341,69 @@ fn column_area(h0: i64, h1: i64, len: i64, k: i64) -> (i64, i64) {
     }
 }
 
-/// One pass of loop 2 along rows (`transpose = false`: boundaries between rows y and
-/// y+1, runs along x) or along columns. Reads `src`, or `dst` where `flag` is set;
-/// writes `dst`, sets `flag`.
-#[allow(clippy::too_many_arguments)]
-fn run_pass(
-    src: &[[u8; 3]],
-    dst: &mut [[u8; 3]],
-    flag: &mut [bool],
-    skip: &[bool],
-    e: &Edges,
+/// The edge bits as one loop-2 pass sees them: along-run position `u`, across index `v`
+/// (`transpose = false`: runs along x on the boundaries between rows v and v+1).
+struct PassView<'a> {
+    e: &'a Edges,
     transpose: bool,
-    window: bool,
-    reads: &mut u64,
-) {
-    let (w, h) = (e.w, e.h);
-    // Along-run length u and across index v.
-    let (nu, nv) = if transpose { (h, w) } else { (w, h) };
-    let idx = |u: usize, v: usize| if transpose { u * w + v } else { v * w + u };
-    // Edge across the boundary between v and v+1 at position u.
-    let across = |u: usize, v: usize| {
-        if transpose {
-            e.ex[idx(u, v)]
-        } else {
-            e.ey[idx(u, v)]
+    /// Along-run length.
+    nu: usize,
+    /// Number of lines across.
+    nv: usize,
+}
+
+impl PassView<'_> {
+    fn new(e: &Edges, transpose: bool) -> PassView<'_> {
+        let (nu, nv) = if transpose { (e.h, e.w) } else { (e.w, e.h) };
+        PassView {
+            e,
+            transpose,
+            nu,
+            nv,
         }
-    };
-    // Perpendicular edge between u and u+1 in line v.
-    let perp = |u: usize, v: usize| {
-        if transpose {
-            e.ey[idx(u, v)] != 0
+    }
+
+    /// Pixel index of `(u, v)`.
+    fn idx(&self, u: usize, v: usize) -> usize {
+        if self.transpose {
+            u * self.e.w + v
         } else {
-            e.ex[idx(u, v)] != 0
+            v * self.e.w + u
         }
-    };
-    for v in 0..nv.saturating_sub(1) {
-        // State machine: state 0 = outside a run, 1 = inside; count = run length. A run
-        // ends where the edge stops or, with the 5-line window, where a perpendicular
-        // edge in line v or v+1 shows that the surface on one side changes inside the
-        // run (two edges meeting end to end on one boundary, the seed's Fig. 9): the run
-        // is split there and the two parts are blended separately.
+    }
+
+    /// Edge across the boundary between v and v+1 at position u.
+    fn across(&self, u: usize, v: usize) -> u8 {
+        if self.transpose {
+            self.e.ex[self.idx(u, v)]
+        } else {
+            self.e.ey[self.idx(u, v)]
+        }
+    }
+
+    /// Perpendicular edge between u and u+1 in line v.
+    fn perp(&self, u: usize, v: usize) -> bool {
+        if self.transpose {
+            self.e.ey[self.idx(u, v)] != 0
+        } else {
+            self.e.ex[self.idx(u, v)] != 0
+        }
+    }
+
+    /// The runs `(start, length)` on the boundary between v and v+1. State machine: state
+    /// 0 = outside a run, 1 = inside; count = run length. A run ends where the edge stops
+    /// or, with the 5-line window, where a perpendicular edge in line v or v+1 shows that
+    /// the surface on one side changes inside the run (two edges meeting end to end on one
+    /// boundary, the seed's Fig. 9): the run is split there and the two parts are blended
+    /// separately.
+    fn runs(&self, v: usize, window: bool) -> Vec<(usize, usize)> {
         let mut state = 0;
         let mut count = 0usize;
         let mut runs = Vec::new();
-        for u in 0..=nu {
-            let on = u < nu && across(u, v) == 2;
-            let split = window && on && state == 1 && (perp(u - 1, v) || perp(u - 1, v + 1));
+        for u in 0..=self.nu {
+            let on = u < self.nu && self.across(u, v) == 2;
+            let split =
+                window && on && state == 1 && (self.perp(u - 1, v) || self.perp(u - 1, v + 1));
             if state == 1 && (!on || split) {
                 state = 0;
                 runs.push((u - count, count));
@@ -579,79 +416,116 @@ fn run_pass(
                 count += 1;
             }
         }
-        for (u0, count) in runs {
+        runs
+    }
+
+    /// End height (in half pixels) of a run on boundary v at the perpendicular edge between
+    /// b and b+1: in line v (upper) → +1, in line v+1 (lower) → −1. With the 5-line window
+    /// a step counts only if the run continues on the neighbouring boundary (v−1 for a step
+    /// up, v+1 for a step down) at column c just beyond the end; an edge of a close
+    /// parallel neighbour fails this test. If neither or both pass, the 3-line rule
+    /// decides.
+    fn end_height(&self, v: usize, b: usize, c: usize, window: bool) -> i64 {
+        let (up3, dn3) = (self.perp(b, v), self.perp(b, v + 1));
+        if window {
+            let up = up3 && v >= 1 && self.across(c, v - 1) == 2;
+            let dn = dn3 && v + 2 < self.nv && self.across(c, v + 1) == 2;
+            match (up, dn) {
+                (true, false) => return 1,
+                (false, true) => return -1,
+                _ => {}
+            }
+        }
+        if up3 {
+            1
+        } else if dn3 {
+            -1
+        } else {
+            0
+        }
+    }
+}
+
+/// Per-pixel (positive, negative) areas of column `k` of a run of length `len` with end
+/// heights `hl`, `hr`. Two steps on one side (U shape): two half-lines meeting at 0 in the
+/// middle, integrated on half columns.
+fn run_area(hl: i64, hr: i64, len: i64, k: i64) -> (i64, i64) {
+    if hl != 0 && hr != 0 && hl == hr {
+        let mut acc = (0, 0);
+        for c in [2 * k, 2 * k + 1] {
+            let (p, n) = if c < len {
+                column_area(hl, 0, len, c)
+            } else {
+                column_area(0, hr, len, c - len)
+            };
+            acc = (acc.0 + p, acc.1 + n);
+        }
+        (acc.0 / 2, acc.1 / 2)
+    } else {
+        column_area(hl, hr, len, k)
+    }
+}
+
+/// The colour buffers of one loop-2 pass: reads `src`, or `dst` where `flag` is set;
+/// writes `dst`, sets `flag`; never writes a pixel in `skip` (blended by loop 1).
+struct PassBufs<'a> {
+    src: &'a [[u8; 3]],
+    dst: &'a mut [[u8; 3]],
+    flag: &'a mut [bool],
+    skip: &'a [bool],
+    reads: &'a mut u64,
+}
+
+impl PassBufs<'_> {
+    /// Blends pixel `a` toward pixel `o` by `area` (Q.16), if positive and not skipped.
+    fn blend_toward(&mut self, a: usize, o: usize, area: i64) {
+        if area > 0 && !self.skip[a] {
+            *self.reads += 2;
+            let c = if self.flag[a] {
+                self.dst[a]
+            } else {
+                self.src[a]
+            };
+            let oc = if self.flag[o] {
+                self.dst[o]
+            } else {
+                self.src[o]
+            };
+            self.dst[a] = blend(c, oc, area);
+            self.flag[a] = true;
+        }
+    }
+}
+
+/// One pass of loop 2 along rows (`transpose = false`: boundaries between rows y and
+/// y+1, runs along x) or along columns. Reads `src`, or `dst` where `flag` is set;
+/// writes `dst`, sets `flag`.
+fn run_pass(bufs: &mut PassBufs, e: &Edges, transpose: bool, window: bool) {
+    let view = PassView::new(e, transpose);
+    let (nu, nv) = (view.nu, view.nv);
+    for v in 0..nv.saturating_sub(1) {
+        for (u0, count) in view.runs(v, window) {
             let u = u0 + count;
-            {
-                let (u0, len) = (u - count, count as i64);
-                // End heights (in half pixels): a perpendicular edge between b and b+1
-                // in line v (upper) → +1, in line v+1 (lower) → −1. With the 5-line
-                // window a step counts only if the run continues on the neighbouring
-                // boundary (v−1 for a step up, v+1 for a step down) at column c just
-                // beyond the end; an edge of a close parallel neighbour fails this test.
-                // If neither or both pass, the 3-line rule decides.
-                let end_h = |b: usize, c: usize| -> i64 {
-                    let (up3, dn3) = (perp(b, v), perp(b, v + 1));
-                    if window {
-                        let up = up3 && v >= 1 && across(c, v - 1) == 2;
-                        let dn = dn3 && v + 2 < nv && across(c, v + 1) == 2;
-                        match (up, dn) {
-                            (true, false) => return 1,
-                            (false, true) => return -1,
-                            _ => {}
-                        }
-                    }
-                    if up3 {
-                        1
-                    } else if dn3 {
-                        -1
-                    } else {
-                        0
-                    }
-                };
-                let hl = if u0 > 0 { end_h(u0 - 1, u0 - 1) } else { 0 };
-                let hr = if u < nu { end_h(u - 1, u) } else { 0 };
-                if hl == 0 && hr == 0 {
-                    continue;
-                }
-                // Per-pixel (positive, negative) areas. Two steps on one side (U shape):
-                // two half-lines meeting at 0 in the middle, integrated on half columns.
-                let area = |k: i64| -> (i64, i64) {
-                    if hl != 0 && hr != 0 && hl == hr {
-                        let mut acc = (0, 0);
-                        for c in [2 * k, 2 * k + 1] {
-                            let (p, n) = if c < len {
-                                column_area(hl, 0, len, c)
-                            } else {
-                                column_area(0, hr, len, c - len)
-                            };
-                            acc = (acc.0 + p, acc.1 + n);
-                        }
-                        (acc.0 / 2, acc.1 / 2)
-                    } else {
-                        column_area(hl, hr, len, k)
-                    }
-                };
-                {
-                    for k in 0..len {
-                        let (pos, neg) = area(k);
-                        let uu = u0 + k as usize;
-                        let (up, lo) = (idx(uu, v), idx(uu, v + 1));
-                        if pos > 0 && !skip[up] {
-                            *reads += 2;
-                            let c = if flag[up] { dst[up] } else { src[up] };
-                            let o = if flag[lo] { dst[lo] } else { src[lo] };
-                            dst[up] = blend(c, o, pos);
-                            flag[up] = true;
-                        }
-                        if neg > 0 && !skip[lo] {
-                            *reads += 2;
-                            let c = if flag[lo] { dst[lo] } else { src[lo] };
-                            let o = if flag[up] { dst[up] } else { src[up] };
-                            dst[lo] = blend(c, o, neg);
-                            flag[lo] = true;
-                        }
-                    }
-                }
+            let len = count as i64;
+            let hl = if u0 > 0 {
+                view.end_height(v, u0 - 1, u0 - 1, window)
+            } else {
+                0
+            };
+            let hr = if u < nu {
+                view.end_height(v, u - 1, u, window)
+            } else {
+                0
+            };
+            if hl == 0 && hr == 0 {
+                continue;
+            }
+            for k in 0..len {
+                let (pos, neg) = run_area(hl, hr, len, k);
+                let uu = u0 + k as usize;
+                let (up, lo) = (view.idx(uu, v), view.idx(uu, v + 1));
+                bufs.blend_toward(up, lo, pos);
+                bufs.blend_toward(lo, up, neg);
             }
         }
     }
@@ -764,12 +638,15 @@ pub fn render(
     // Loop 2: x pass then y pass, combined through the flag.
     let mut out = after1.clone();
     let mut flag = vec![false; w * h];
-    run_pass(
-        &after1, &mut out, &mut flag, &skip, &e, false, p.window, &mut reads,
-    );
-    run_pass(
-        &after1, &mut out, &mut flag, &skip, &e, true, p.window, &mut reads,
-    );
+    let mut bufs = PassBufs {
+        src: &after1,
+        dst: &mut out,
+        flag: &mut flag,
+        skip: &skip,
+        reads: &mut reads,
+    };
+    run_pass(&mut bufs, &e, false, p.window);
+    run_pass(&mut bufs, &e, true, p.window);
     Ok(AaFrame {
         width,
         height,

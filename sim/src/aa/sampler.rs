@@ -18,10 +18,10 @@
 //! carries the +2048 rounding offset, so the background is stored as `bg·4096 + 2048`
 //! and resolves truncate.
 
-use crate::setup::{round_div, ExactPlane as Plane};
+use crate::raster::edge::{rewind, winding, EdgeFn};
+use crate::raster::{ceil_div, depth, round_div};
+use crate::setup::{ExactPlane as Plane, SnappedTri};
 use rayon::prelude::*;
-
-use crate::setup::SnappedTri;
 
 /// A regular sample lattice (see the module header).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -92,8 +92,8 @@ impl Plane {
 #[derive(Clone, Debug)]
 struct SampTri {
     idx: i32,
-    /// Edge functions `(A, B, C, top_left)` in Q.8, positive inside.
-    edges: [(i64, i64, i64, bool); 3],
+    /// Edge functions in Q.8, positive inside.
+    edges: [EdgeFn; 3],
     z: Plane,
     c: [Plane; 3],
     decal: bool,
@@ -102,28 +102,8 @@ struct SampTri {
 }
 
 fn prepare(k: usize, t: &SnappedTri) -> Option<SampTri> {
-    let (mut v, mut c) = (t.v, t.c);
-    let area2 = (v[1][0] as i64 - v[0][0] as i64) * (v[2][1] as i64 - v[0][1] as i64)
-        - (v[2][0] as i64 - v[0][0] as i64) * (v[1][1] as i64 - v[0][1] as i64);
-    if area2 == 0 {
-        return None;
-    }
-    let mut z = t.z;
-    if area2 < 0 {
-        v.swap(1, 2);
-        c.swap(1, 2);
-        z.swap(1, 2);
-    }
-    let edge = |p: [i32; 2], q: [i32; 2]| {
-        let a = -((q[1] - p[1]) as i64);
-        let b = (q[0] - p[0]) as i64;
-        (
-            a,
-            b,
-            -(a * p[0] as i64 + b * p[1] as i64),
-            a > 0 || (a == 0 && b > 0),
-        )
-    };
+    let order = winding(t.v)?;
+    let (v, c, z) = (rewind(order, t.v), rewind(order, t.c), rewind(order, t.z));
     let zp = match &t.host {
         Some(h) => Plane::new(h.v, h.z.map(|x| x as i64))?,
         None => Plane::new(v, z.map(|x| x as i64))?,
@@ -131,7 +111,7 @@ fn prepare(k: usize, t: &SnappedTri) -> Option<SampTri> {
     let cp = |k: usize| Plane::new(v, [c[0][k] as i64, c[1][k] as i64, c[2][k] as i64]);
     Some(SampTri {
         idx: k as i32,
-        edges: [edge(v[0], v[1]), edge(v[1], v[2]), edge(v[2], v[0])],
+        edges: EdgeFn::of_triangle(v),
         z: zp,
         c: [cp(0)?, cp(1)?, cp(2)?],
         decal: t.host.is_some(),
@@ -142,11 +122,6 @@ fn prepare(k: usize, t: &SnappedTri) -> Option<SampTri> {
             v.iter().map(|p| p[1]).max().unwrap() as i64,
         ],
     })
-}
-
-/// `ceil(n / d)` for `d > 0`.
-fn ceil_div(n: i64, d: i64) -> i64 {
-    -((-n).div_euclid(d))
 }
 
 /// Rasterizes `tris` (scene order, z-buffer) onto each lattice; background `bg`.
@@ -190,20 +165,19 @@ fn rasterize_one(st: &[SampTri], l: &Lattice, bgq: [u32; 3]) -> SampleBuf {
                 }
                 let mut e = [0i64; 3];
                 let mut de = [0i64; 3];
-                for (k, &(ea, eb, ec, _)) in t.edges.iter().enumerate() {
-                    e[k] = ea * 256 * (a_lo * l.sx + l.ox) + eb * yq + ec * l.den;
-                    de[k] = ea * 256 * l.sx;
+                for (k, ed) in t.edges.iter().enumerate() {
+                    e[k] = ed.a * 256 * (a_lo * l.sx + l.ox) + ed.b * yq + ed.c * l.den;
+                    de[k] = ed.a * 256 * l.sx;
                 }
                 let (z0, dz) = t.z.lattice_row(l, b);
                 let mut cols: Option<[(i128, i128); 3]> = None;
                 for a in a_lo..=a_hi {
-                    let inside = (0..3).all(|k| e[k] > 0 || (e[k] == 0 && t.edges[k].3));
+                    let inside = (0..3).all(|k| t.edges[k].inside(e[k]));
                     if inside {
                         evals += 1;
                         let zv = ((z0 + a as i128 * dz) >> 20) as i64;
                         let s = a as usize;
-                        let pass = if t.decal { zv <= zr[s] } else { zv < zr[s] };
-                        if pass {
+                        if depth::passes(zv, zr[s], t.decal) {
                             zr[s] = zv;
                             tr[s] = t.idx;
                             let cc = *cols.get_or_insert_with(|| t.c.map(|p| p.lattice_row(l, b)));
