@@ -4,7 +4,7 @@
 use super::SearchJob;
 use crate::TbError;
 use pixelproc_formats::abuffer::{Corner, FragPlane, MaskSize, PLANE_MAX};
-use pixelproc_sim::abuffer::FragSetup;
+use pixelproc_sim::abuffer::multi_fragment_pixels;
 use pixelproc_sim::rng::XorShift64Star;
 
 /// A plane field: the extremes, small values, zero and the full range.
@@ -97,62 +97,19 @@ pub fn loaded_scene_jobs(
     ls: &pixelproc_sim::scene::LoadedScene,
     size: MaskSize,
 ) -> Result<Vec<SearchJob>, TbError> {
-    use pixelproc_sim::frontend;
     let err = |e: String| TbError::Sim(e);
-    let proj = frontend::project(ls).map_err(|e| err(e.to_string()))?;
+    let proj = pixelproc_sim::frontend::project(ls).map_err(|e| err(e.to_string()))?;
     let (w, h) = (ls.scene.width, ls.scene.height);
-    let mut setups = Vec::new();
-    for (k, t) in proj.tris.iter().enumerate() {
-        if let Some(s) = FragSetup::new(t, k as u32, size).map_err(|e| err(e.to_string()))? {
-            setups.push(s);
-        }
-    }
-    // Triangles per row (clamped to the screen).
-    let mut rows: Vec<Vec<usize>> = vec![Vec::new(); h as usize];
-    for (k, s) in setups.iter().enumerate() {
-        let lo = s.edges.row_min.max(0);
-        let hi = s.edges.row_max.min(h as i64 - 1);
-        for j in lo..=hi {
-            rows[j as usize].push(k);
-        }
-    }
+    let pixels = multi_fragment_pixels(&proj.tris, w, h, size).map_err(|e| err(e.to_string()))?;
     let mut jobs = Vec::new();
-    let mut entries: Vec<(i64, usize, u64)> = Vec::new();
-    for j in 0..h as i64 {
-        entries.clear();
-        for &k in &rows[j as usize] {
-            let s = &setups[k];
-            let Some(rc) = s.edges.row_coverage(j, w) else {
-                continue;
-            };
-            for i in rc.touched.0..=rc.touched.1 {
-                let mask = s.edges.fraction_mask(i, j);
-                if mask != 0 {
-                    entries.push((i, k, mask));
-                }
-            }
-        }
-        entries.sort_by_key(|e| e.0);
-        let mut a = 0;
-        while a < entries.len() {
-            let mut b = a;
-            while b < entries.len() && entries[b].0 == entries[a].0 {
-                b += 1;
-            }
-            if b - a >= 2 {
-                for &(i, k, mask) in &entries[a..b] {
-                    let f = setups[k].fragment(i, j, mask);
-                    let c = Corner::of_min(f.plane.sx, f.plane.sy);
-                    for corner in [c, c.opposite()] {
-                        jobs.push(SearchJob {
-                            mask: f.mask,
-                            corner,
-                            plane: f.plane,
-                        });
-                    }
-                }
-            }
-            a = b;
+    for f in pixels.iter().flat_map(|p| &p.fragments) {
+        let c = Corner::of_min(f.plane.sx, f.plane.sy);
+        for corner in [c, c.opposite()] {
+            jobs.push(SearchJob {
+                mask: f.mask,
+                corner,
+                plane: f.plane,
+            });
         }
     }
     Ok(jobs)
