@@ -278,21 +278,24 @@ impl AaSpec {
 impl PostFxSpec {
     /// The post-process parameters; `window` names the window parameter for errors.
     fn params(&self, window: Key) -> Result<PostFxParams, PlanError> {
-        let mut p = PostFxParams::default();
-        p.window = match self.postfx_window {
+        let window = match self.postfx_window {
             5 => true,
             3 => false,
             n => return Err(choice(window, n, "5 or 3")),
         };
-        match self.postfx_normals {
-            PostFxNormals::Off => p.normals = false,
-            PostFxNormals::Recon => {
-                (p.normals, p.normal_source) = (true, NormalSource::Reconstructed)
-            }
-            PostFxNormals::Stored => (p.normals, p.normal_source) = (true, NormalSource::Stored),
-        }
-        p.d2_source = self.postfx_d2;
-        Ok(p)
+        let d = PostFxParams::default();
+        let (normals, normal_source) = match self.postfx_normals {
+            PostFxNormals::Off => (false, d.normal_source),
+            PostFxNormals::Recon => (true, NormalSource::Reconstructed),
+            PostFxNormals::Stored => (true, NormalSource::Stored),
+        };
+        Ok(PostFxParams {
+            window,
+            normals,
+            normal_source,
+            d2_source: self.postfx_d2,
+            ..d
+        })
     }
 }
 
