@@ -5,6 +5,7 @@
 use crate::TbError;
 use pixelproc_formats::{pack_rgb, Attr, SpanWord, SUBPIXEL_ONE, Z_GEOM_MAX, Z_GEOM_MIN};
 use pixelproc_sim::frontend::{self, Projector};
+use pixelproc_sim::pipeline::RenderError;
 use pixelproc_sim::pixel_array::Command;
 use pixelproc_sim::plan::Effects;
 use pixelproc_sim::render::SpanSource;
@@ -30,8 +31,8 @@ pub fn scene_stream(
             .background
             .map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8),
     );
-    let projected = frontend::project(ls).map_err(|e| TbError::Scene(e.to_string()))?;
-    let src = SpanSource::new(&projected.tris, w, h).map_err(|e| TbError::Scene(e.to_string()))?;
+    let projected = frontend::project(ls).map_err(RenderError::from)?;
+    let src = SpanSource::new(&projected.tris, w, h).map_err(RenderError::from)?;
     let mut rows: Vec<Vec<Command>> = (0..h)
         .map(|j| {
             src.row_spans(j)
@@ -42,12 +43,12 @@ pub fn scene_stream(
         })
         .collect();
     if !effects.shadow_lights.is_empty() {
-        let lights = shadow::shadow_lights(ls, &effects.shadow_lights)
-            .map_err(|e| TbError::Scene(e.to_string()))?;
+        let lights =
+            shadow::shadow_lights(ls, &effects.shadow_lights).map_err(RenderError::from)?;
         let pj = Projector::new(ls);
         for l in &lights {
             let sc = shadow::shadow_commands(ls, &pj, std::slice::from_ref(l), effects.shadow_form)
-                .map_err(|e| TbError::Scene(e.to_string()))?;
+                .map_err(RenderError::from)?;
             for (dst, add) in rows.iter_mut().zip(sc.rows) {
                 dst.extend(add);
             }
