@@ -364,6 +364,52 @@ fn print_timings(out: &RenderOutput) {
     say!("  {:<34} {:>9.2} ms", "total", total.as_secs_f64() * 1e3);
 }
 
+/// Prints the anti-aliasing stage's counters, and the depth-selection comparison when
+/// it ran.
+fn print_aa_report(aa: &AaMethod, out: &RenderOutput) {
+    match &out.aa {
+        Some(AaReport::Abuffer(st)) => say!(
+            "a-buffer: {} fragments, {} in {} multi-fragment pixels, {} merges, {} depth evaluations ({:.2} per sorted fragment), {} search steps",
+            st.fragments,
+            st.sorted_fragments,
+            st.multi_pixels,
+            st.merges,
+            st.depth_evals,
+            st.depth_evals as f64 / st.sorted_fragments.max(1) as f64,
+            st.search_steps
+        ),
+        Some(AaReport::Other(st)) => say!(
+            "{}: {:.2} depth evaluations and {:.3} sample-memory reads per pixel",
+            aa.label(),
+            st.depth_evals_per_pixel(),
+            st.reads_per_pixel()
+        ),
+        None => {}
+    }
+    if let Some(AaReport::Abuffer(st)) = &out.aa {
+        if st.variant_evals.iter().any(|&e| e > 0) {
+            say!(
+                "  depth selection vs exhaustive, over {} multi-fragment pixels:",
+                st.multi_pixels
+            );
+            for (k, v) in pixelproc_sim::mask_search::DepthSelect::ALL
+                .iter()
+                .enumerate()
+            {
+                say!(
+                    "    {:<10} {:>9} evaluations ({:.2}/sorted fragment), order differs in {:>6} px, visible bits in {:>6} px, colour in {:>6} px",
+                    v.name(),
+                    st.variant_evals[k],
+                    st.variant_evals[k] as f64 / st.sorted_fragments.max(1) as f64,
+                    st.order_diff[k],
+                    st.visible_diff[k],
+                    st.rgb_diff[k]
+                );
+            }
+        }
+    }
+}
+
 fn cmd_render(a: &RenderArgs) -> Result<()> {
     let ls = load(&a.scene)?;
     let ov = overrides(&a.fx, &a.aov)?;
@@ -395,47 +441,7 @@ fn cmd_render(a: &RenderArgs) -> Result<()> {
         );
     }
     print_timings(&out);
-    match &out.aa {
-        Some(AaReport::Abuffer(st)) => say!(
-            "a-buffer: {} fragments, {} in {} multi-fragment pixels, {} merges, {} depth evaluations ({:.2} per sorted fragment), {} search steps",
-            st.fragments,
-            st.sorted_fragments,
-            st.multi_pixels,
-            st.merges,
-            st.depth_evals,
-            st.depth_evals as f64 / st.sorted_fragments.max(1) as f64,
-            st.search_steps
-        ),
-        Some(AaReport::Other(st)) => say!(
-            "{}: {:.2} depth evaluations and {:.3} sample-memory reads per pixel",
-            fx.aa.label(),
-            st.depth_evals_per_pixel(),
-            st.reads_per_pixel()
-        ),
-        None => {}
-    }
-    if let Some(AaReport::Abuffer(st)) = &out.aa {
-        if st.variant_evals.iter().any(|&e| e > 0) {
-            say!(
-                "  depth selection vs exhaustive, over {} multi-fragment pixels:",
-                st.multi_pixels
-            );
-            for (k, v) in pixelproc_sim::mask_search::DepthSelect::ALL
-                .iter()
-                .enumerate()
-            {
-                say!(
-                    "    {:<10} {:>9} evaluations ({:.2}/sorted fragment), order differs in {:>6} px, visible bits in {:>6} px, colour in {:>6} px",
-                    v.name(),
-                    st.variant_evals[k],
-                    st.variant_evals[k] as f64 / st.sorted_fragments.max(1) as f64,
-                    st.order_diff[k],
-                    st.visible_diff[k],
-                    st.rgb_diff[k]
-                );
-            }
-        }
-    }
+    print_aa_report(&fx.aa, &out);
     write_png(&out_path, &out.image)?;
     say!("wrote {}", out_path.display());
     for (aov, img) in &out.aovs {
