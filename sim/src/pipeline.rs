@@ -4,7 +4,7 @@
 
 use crate::frontend::{self, FrontError, Projected};
 use crate::pixel_array::Command;
-use crate::plan::{AaMethod, Aov, ArrayPlan, Effects, Named, Plan, Stage};
+use crate::plan::{AaMethod, Aov, ArrayPlan, Effects, Plan, Stage};
 use crate::render::{render_frame, Frame, SpanSource};
 use crate::scene::LoadedScene;
 use crate::setup::SetupError;
@@ -131,7 +131,7 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
                 Some(a) => Some(run_array(ls, fx, a, &projected, bg, &lights, &mut timings)?),
                 None => None,
             };
-            let stage = Stage::Antialias(method.name());
+            let stage = Stage::Antialias(*method);
             let mut out = timed(&mut timings, stage, || run_aa(&projected, w, h, bg, &fx.aa))?;
             if let Some(ArrayOut {
                 frame,

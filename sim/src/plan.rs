@@ -199,7 +199,7 @@ pub enum Stage {
     ShadowShade,
     /// An anti-aliasing method renders the image (its own stages inside; the A-buffer's
     /// masks, search unit, packing and resolve; multi-scanning's sub-scanline passes; ...).
-    Antialias(&'static str),
+    Antialias(AaKind),
     /// Multiplies the anti-aliased image by the shadow factor of each pixel centre.
     ShadowApply,
     /// Writes a debug image.
@@ -296,7 +296,7 @@ impl Plan {
             }
         }
         if let Plan::Antialias { method, .. } = self {
-            st.push(Stage::Antialias(method.name()));
+            st.push(Stage::Antialias(*method));
             if shadows {
                 st.push(Stage::ShadowApply);
             }
@@ -372,7 +372,7 @@ mod tests {
             plan(&with(AaKind::Abuffer)),
             vec![
                 Stage::FrontEnd,
-                Stage::Antialias("abuffer"),
+                Stage::Antialias(AaKind::Abuffer),
                 Stage::Aov(Aov::Coverage)
             ]
         );
@@ -382,7 +382,7 @@ mod tests {
                 Stage::FrontEnd,
                 Stage::SpanSetup,
                 Stage::PixelArray,
-                Stage::Antialias("multiscan"),
+                Stage::Antialias(AaKind::Multiscan),
                 Stage::Aov(Aov::Coverage)
             ]
         );
