@@ -3,13 +3,16 @@
 //! Thin by design: parse the command line, call the `pixelproc-sim` library, print.
 
 use anyhow::{bail, Context, Result};
+use clap::builder::PossibleValuesParser;
 use clap::{Args, Parser, Subcommand};
 use pixelproc_rtl::verilog::TopConfig;
 use pixelproc_sim::pipeline::{render, AaReport, Image, RenderOutput};
-use pixelproc_sim::plan::{AaMethod, AaSpec, Aov, Effects, Overrides, AA_NAMES};
+use pixelproc_sim::plan::{
+    parse_mask, parse_param, AaKind, AaMethod, AaSpec, Effects, Key, Named, Overrides,
+};
 use pixelproc_sim::scene::{self, LoadedScene};
 use pixelproc_sim::shadow::ShadowForm;
-use pixelproc_testbench::SimKind;
+use pixelproc_testbench::{Outcome, SimKind};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -112,7 +115,7 @@ struct TradeoffArgs {
 #[derive(Args)]
 struct EffectArgs {
     /// Anti-aliasing method (overrides the scene's `effects.aa`).
-    #[arg(long, value_name = "METHOD", value_parser = clap::builder::PossibleValuesParser::new(AA_NAMES))]
+    #[arg(long, value_name = "METHOD", value_parser = PossibleValuesParser::new(AaKind::names()))]
     aa: Option<String>,
     /// A-buffer: subpixel grid NxM, e.g. 4x4 (default) or 8x8.
     #[arg(long, value_name = "NxM", help_heading = "Anti-aliasing parameters")]
@@ -161,7 +164,7 @@ struct EffectArgs {
     array_width: Option<usize>,
     /// How a shadow volume ends: `ev` (hardware: EV span, every processor checks) or
     /// `check` (software form of seed 001: a dummy check span over the volume's range).
-    #[arg(long, value_name = "FORM", value_parser = ["ev", "check"])]
+    #[arg(long, value_name = "FORM", value_parser = PossibleValuesParser::new(ShadowForm::names()))]
     shadow_form: Option<String>,
 }
 
@@ -214,10 +217,6 @@ struct BenchArgs {
     fx: EffectArgs,
 }
 
-fn aa_label(m: &AaMethod) -> String {
-    m.label()
-}
-
 fn load(spec: &str) -> Result<LoadedScene> {
     Ok(match spec.strip_prefix('@') {
         Some(name) => scene::load_builtin(name)?,
@@ -225,47 +224,94 @@ fn load(spec: &str) -> Result<LoadedScene> {
     })
 }
 
-fn overrides(fx: &EffectArgs, aovs: &[String]) -> Result<Overrides> {
-    let params = fx.mask.is_some()
-        || fx.depth.is_some()
-        || fx.subscanlines.is_some()
-        || fx.filter.is_some()
-        || fx.samples.is_some()
-        || fx.pattern.is_some()
-        || fx.ssaa.is_some()
-        || fx.postfx_window.is_some()
-        || fx.postfx_normals.is_some()
-        || fx.postfx_d2.is_some()
-        || fx.compare_depth;
-    if params && fx.aa.is_none() {
-        bail!("anti-aliasing parameters need --aa METHOD");
+impl EffectArgs {
+    /// The anti-aliasing parameter flags given, each with the method it belongs to.
+    fn aa_flags(&self) -> Vec<(&'static str, AaKind)> {
+        use AaKind::*;
+        [
+            (self.mask.is_some(), "--mask", Abuffer),
+            (self.depth.is_some(), "--depth", Abuffer),
+            (self.subscanlines.is_some(), "--subscanlines", Multiscan),
+            (self.filter.is_some(), "--filter", Multiscan),
+            (self.samples.is_some(), "--samples", Corner),
+            (self.pattern.is_some(), "--pattern", Corner),
+            (self.ssaa.is_some(), "--ssaa", Ssaa),
+            (self.postfx_window.is_some(), "--postfx-window", PostFx),
+            (self.postfx_normals.is_some(), "--postfx-normals", PostFx),
+            (self.postfx_d2.is_some(), "--postfx-d2", PostFx),
+            (self.compare_depth, "--compare-depth", Abuffer),
+        ]
+        .into_iter()
+        .filter(|f| f.0)
+        .map(|(_, flag, owner)| (flag, owner))
+        .collect()
     }
-    let aa = fx.aa.as_ref().map(|m| AaSpec {
-        method: m.clone(),
-        mask: fx.mask.clone(),
-        depth: fx.depth.clone(),
-        subscanlines: fx.subscanlines,
-        filter: fx.filter.clone(),
-        samples: fx.samples,
-        pattern: fx.pattern.clone(),
-        ssaa: fx.ssaa,
-        postfx_window: fx.postfx_window,
-        postfx_normals: fx.postfx_normals.clone(),
-        postfx_d2: fx.postfx_d2.clone(),
-        compare_depth: fx.compare_depth,
-    });
+
+    /// `--aa` and its parameter flags as a typed request; a flag of another method, or
+    /// one without `--aa`, is an error.
+    fn aa_spec(&self) -> Result<Option<AaSpec>> {
+        let flags = self.aa_flags();
+        let Some(m) = &self.aa else {
+            if !flags.is_empty() {
+                bail!("anti-aliasing parameters need --aa METHOD");
+            }
+            return Ok(None);
+        };
+        let kind: AaKind = m.parse()?;
+        if let Some((flag, owner)) = flags.iter().find(|f| f.1 != kind) {
+            bail!("{flag} applies to --aa {owner}, not --aa {kind}");
+        }
+        /// Overwrites a default with a flag's value, if given.
+        fn set<T>(dst: &mut T, v: Option<T>) {
+            if let Some(v) = v {
+                *dst = v;
+            }
+        }
+        /// A named flag's value, parsed.
+        fn name<T: Named>(field: &'static str, v: &Option<String>) -> Result<Option<T>> {
+            Ok(v.as_deref()
+                .map(|s| parse_param(Key::flag(field), s))
+                .transpose()?)
+        }
+        let mut spec = AaSpec::default_for(kind);
+        match &mut spec {
+            AaSpec::None => {}
+            AaSpec::Abuffer(p) => {
+                if let Some(s) = &self.mask {
+                    p.mask = parse_mask(Key::flag("mask"), s)?;
+                }
+                set(&mut p.depth, name("depth", &self.depth)?);
+                p.compare_depth = self.compare_depth;
+            }
+            AaSpec::Multiscan(p) => {
+                set(&mut p.subscanlines, self.subscanlines);
+                set(&mut p.filter, name("filter", &self.filter)?);
+            }
+            AaSpec::Corner(p) => {
+                set(&mut p.samples, self.samples);
+                set(&mut p.pattern, name("pattern", &self.pattern)?);
+            }
+            AaSpec::PostFx(p) => {
+                set(&mut p.postfx_window, self.postfx_window);
+                set(
+                    &mut p.postfx_normals,
+                    name("postfx_normals", &self.postfx_normals)?,
+                );
+                set(&mut p.postfx_d2, name("postfx_d2", &self.postfx_d2)?);
+            }
+            AaSpec::Ssaa(p) => set(&mut p.ssaa, self.ssaa),
+        }
+        Ok(Some(spec))
+    }
+}
+
+fn overrides(fx: &EffectArgs, aovs: &[String]) -> Result<Overrides> {
     Ok(Overrides {
-        aa,
+        aa: fx.aa_spec()?,
         no_shadows: fx.no_shadows,
-        aovs: aovs
-            .iter()
-            .map(|a| Aov::parse(a))
-            .collect::<Result<_, _>>()?,
+        aovs: aovs.iter().map(|a| a.parse()).collect::<Result<_, _>>()?,
         array_width: fx.array_width,
-        shadow_form: fx.shadow_form.as_deref().map(|f| match f {
-            "check" => ShadowForm::Check,
-            _ => ShadowForm::Ev,
-        }),
+        shadow_form: fx.shadow_form.as_deref().map(str::parse).transpose()?,
     })
 }
 
@@ -318,37 +364,9 @@ fn print_timings(out: &RenderOutput) {
     say!("  {:<34} {:>9.2} ms", "total", total.as_secs_f64() * 1e3);
 }
 
-fn cmd_render(a: &RenderArgs) -> Result<()> {
-    let ls = load(&a.scene)?;
-    let ov = overrides(&a.fx, &a.aov)?;
-    let fx = Effects::resolve(&ls, &ov)?;
-    let out_path = a.output.clone().unwrap_or_else(|| {
-        PathBuf::from("pixelproc-out").join(format!("{}.png", scene_stem(&a.scene)))
-    });
-    if out_path.extension().map(|e| e != "png").unwrap_or(true) {
-        bail!("output {} must end in .png", out_path.display());
-    }
-    let out = render(&ls, &fx)?;
-    say!(
-        "rendered {} ({}x{}, {} triangles, {} span words, aa {}, array width {})",
-        ls.name,
-        ls.scene.width,
-        ls.scene.height,
-        out.triangles,
-        out.span_words,
-        aa_label(&fx.aa),
-        fx.array_width
-    );
-    if !fx.shadow_lights.is_empty() {
-        say!(
-            "shadows: lights {:?}, {} volumes ({} contain the eye), {} shadow span words",
-            fx.shadow_lights,
-            out.shadow.volumes,
-            out.shadow.eye_inside,
-            out.shadow.span_words
-        );
-    }
-    print_timings(&out);
+/// Prints the anti-aliasing stage's counters, and the depth-selection comparison when
+/// it ran.
+fn print_aa_report(aa: &AaMethod, out: &RenderOutput) {
     match &out.aa {
         Some(AaReport::Abuffer(st)) => say!(
             "a-buffer: {} fragments, {} in {} multi-fragment pixels, {} merges, {} depth evaluations ({:.2} per sorted fragment), {} search steps",
@@ -362,7 +380,7 @@ fn cmd_render(a: &RenderArgs) -> Result<()> {
         ),
         Some(AaReport::Other(st)) => say!(
             "{}: {:.2} depth evaluations and {:.3} sample-memory reads per pixel",
-            aa_label(&fx.aa),
+            aa.label(),
             st.depth_evals_per_pixel(),
             st.reads_per_pixel()
         ),
@@ -390,6 +408,40 @@ fn cmd_render(a: &RenderArgs) -> Result<()> {
             }
         }
     }
+}
+
+fn cmd_render(a: &RenderArgs) -> Result<()> {
+    let ls = load(&a.scene)?;
+    let ov = overrides(&a.fx, &a.aov)?;
+    let fx = Effects::resolve(&ls, &ov)?;
+    let out_path = a.output.clone().unwrap_or_else(|| {
+        PathBuf::from("pixelproc-out").join(format!("{}.png", scene_stem(&a.scene)))
+    });
+    if out_path.extension().map(|e| e != "png").unwrap_or(true) {
+        bail!("output {} must end in .png", out_path.display());
+    }
+    let out = render(&ls, &fx)?;
+    say!(
+        "rendered {} ({}x{}, {} triangles, {} span words, aa {}, array width {})",
+        ls.name,
+        ls.scene.width,
+        ls.scene.height,
+        out.triangles,
+        out.span_words,
+        fx.aa.label(),
+        fx.array_width
+    );
+    if !fx.shadow_lights.is_empty() {
+        say!(
+            "shadows: lights {:?}, {} volumes ({} contain the eye), {} shadow span words",
+            fx.shadow_lights,
+            out.shadow.volumes,
+            out.shadow.eye_inside,
+            out.shadow.span_words
+        );
+    }
+    print_timings(&out);
+    print_aa_report(&fx.aa, &out);
     write_png(&out_path, &out.image)?;
     say!("wrote {}", out_path.display());
     for (aov, img) in &out.aovs {
@@ -418,7 +470,7 @@ fn cmd_bench(a: &BenchArgs) -> Result<()> {
         ls.scene.width,
         ls.scene.height,
         first.triangles,
-        aa_label(&fx.aa),
+        fx.aa.label(),
         a.runs,
         rayon::current_num_threads()
     );
@@ -486,8 +538,8 @@ fn run_testbench(
         sim,
         work,
     )?;
-    if s.detail.starts_with("SKIPPED") {
-        say!("{}", s.detail);
+    if s.outcome.skipped() {
+        say!("{}", s.outcome);
         return Ok(true);
     }
     say!(
@@ -502,16 +554,16 @@ fn run_testbench(
     );
     say!(
         "  bit-exact: {}  ({} span words, {} cycles compared, {:.2} s, {:.0} cycles/s)",
-        if s.bit_exact { "yes" } else { "NO" },
+        if s.outcome.bit_exact() { "yes" } else { "NO" },
         s.span_words,
         s.cycles,
         s.seconds,
         s.cycles as f64 / s.seconds.max(1e-9)
     );
-    if !s.bit_exact {
-        say!("{}", s.detail);
+    if let Outcome::Mismatch(detail) = &s.outcome {
+        say!("{detail}");
     }
-    Ok(s.bit_exact)
+    Ok(s.outcome.bit_exact())
 }
 
 fn cmd_testbench(a: &TestbenchArgs) -> Result<bool> {

@@ -19,7 +19,7 @@ fn stderr(o: &Output) -> String {
 
 /// Runs a command that must fail: exit code 1, a single `error:` line, no panic, and no
 /// output file left behind.
-fn expect_error(dir: &Path, args: &[&str], needle: &str) {
+fn expect_error(dir: &Path, args: &[&str], needle: &str) -> String {
     let o = pixelproc(dir, args);
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(1), "{args:?}: {err}");
@@ -38,6 +38,7 @@ fn expect_error(dir: &Path, args: &[&str], needle: &str) {
         .filter(|n| n.ends_with(".png") || n.starts_with(".pixelproc-"))
         .collect();
     assert!(leftovers.is_empty(), "{args:?} left files: {leftovers:?}");
+    err
 }
 
 fn write(dir: &Path, name: &str, text: &str) {
@@ -293,6 +294,101 @@ fn anti_aliasing_flags_and_scene_field() {
         &["render", "bad_aa.json", "-o", "b.png"],
         "unknown field",
     );
+}
+
+#[test]
+fn parameter_errors_name_the_flag_or_the_scene_key() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let render = |extra: &[&'static str]| {
+        let mut a = vec!["render", "@default", "-o", "a.png"];
+        a.extend(extra);
+        a
+    };
+    expect_error(
+        p,
+        &render(&["--aa", "multiscan", "--subscanlines", "99"]),
+        "--subscanlines 99 is outside 1..=16",
+    );
+    expect_error(
+        p,
+        &render(&["--aa", "ssaa", "--ssaa", "0"]),
+        "--ssaa 0 is outside 1..=64",
+    );
+    expect_error(
+        p,
+        &render(&["--aa", "postfx", "--postfx-window", "4"]),
+        "--postfx-window 4: expected 5 or 3",
+    );
+    let err = expect_error(
+        p,
+        &render(&["--aa", "abuffer", "--mask", "abc"]),
+        "--mask abc: expected NxM",
+    );
+    assert!(!err.contains("0x0"), "{err}");
+    expect_error(
+        p,
+        &render(&["--aa", "abuffer", "--mask", "9x9"]),
+        "--mask 9x9: mask size 9x9 is not supported",
+    );
+    expect_error(
+        p,
+        &render(&["--aa", "multiscan", "--filter", "blur"]),
+        "--filter: unknown filter 'blur' (known: box, gauss, cone)",
+    );
+    expect_error(
+        p,
+        &render(&["--aa", "corner", "--filter", "box"]),
+        "--filter applies to --aa multiscan, not --aa corner",
+    );
+    expect_error(
+        p,
+        &render(&["--aa", "abuffer", "--depth", "deep"]),
+        "unknown depth selection 'deep'",
+    );
+    let scene = |name: &str, aa: &str| {
+        write(
+            p,
+            name,
+            &format!(r#"{{"width":16,"height":16,"triangles":[],"effects":{{"aa":{aa}}}}}"#),
+        );
+    };
+    scene("range.json", r#"{"method":"multiscan","subscanlines":99}"#);
+    expect_error(
+        p,
+        &["render", "range.json", "-o", "a.png"],
+        "effects.aa.subscanlines 99 is outside 1..=16",
+    );
+    scene("mask.json", r#"{"method":"abuffer","mask":"abc"}"#);
+    let err = expect_error(
+        p,
+        &["render", "mask.json", "-o", "a.png"],
+        "effects.aa.mask abc: expected NxM",
+    );
+    assert!(!err.contains("0x0"), "{err}");
+    scene("filter.json", r#"{"method":"multiscan","filter":"blur"}"#);
+    expect_error(
+        p,
+        &["render", "filter.json", "-o", "a.png"],
+        "unknown filter 'blur'",
+    );
+    scene("other.json", r#"{"method":"corner","subscanlines":4}"#);
+    expect_error(
+        p,
+        &["render", "other.json", "-o", "a.png"],
+        "unknown field `subscanlines`",
+    );
+    scene("name.json", r#""blur""#);
+    expect_error(
+        p,
+        &["render", "name.json", "-o", "a.png"],
+        "unknown anti-aliasing method 'blur'",
+    );
+    // A bare method name is still accepted.
+    scene("bare.json", r#""corner""#);
+    let o = pixelproc(p, &["render", "bare.json", "-o", "bare.png"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("anti-aliasing: corner"));
 }
 
 #[test]

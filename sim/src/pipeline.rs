@@ -1,8 +1,10 @@
-//! Runs a plan: the stages [`crate::plan::plan`] lists, in order, each timed.
+//! Runs a plan: the parts [`Plan`] lists, in order, each stage timed. Each part hands
+//! its output to the next as a value (the array's frame and shadow table, the
+//! anti-aliased image), so a stage cannot run before what it reads.
 
 use crate::frontend::{self, FrontError, Projected};
 use crate::pixel_array::Command;
-use crate::plan::{plan, AaMethod, Aov, Effects, Stage};
+use crate::plan::{AaMethod, Aov, ArrayPlan, Effects, Plan, Stage};
 use crate::render::{render_frame, Frame, SpanSource};
 use crate::scene::LoadedScene;
 use crate::setup::SetupError;
@@ -75,113 +77,102 @@ pub enum AaReport {
     Other(aa::AaStats),
 }
 
-/// Renders a loaded scene with the given effects.
+/// Wall time of each stage that ran, in order.
+type Timings = Vec<(Stage, Duration)>;
+
+/// Runs one stage and records its wall time.
+fn timed<T>(timings: &mut Timings, stage: Stage, run: impl FnOnce() -> T) -> T {
+    let t0 = Instant::now();
+    let out = run();
+    timings.push((stage, t0.elapsed()));
+    out
+}
+
+/// What the pixel-processor array's stages hand on.
+struct ArrayOut {
+    /// Span words generated (OP spans over all rows).
+    span_words: u64,
+    /// The array's final per-pixel state.
+    frame: Frame,
+    /// The shadow factor table, when shadows were shaded.
+    table: Option<FactorTable>,
+    /// Shadow statistics.
+    shadow: ShadowStats,
+}
+
+/// What the anti-aliasing stage hands on.
+struct AaOut {
+    /// The image, RGB8.
+    rgb: Vec<u8>,
+    /// The A-buffer's coverage per pixel, scaled to 0..=255.
+    coverage: Option<Vec<u8>>,
+    /// The method's counters.
+    report: AaReport,
+}
+
+/// Renders a loaded scene with the given effects, following [`Plan::new`].
 pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderError> {
     let (w, h) = (ls.scene.width, ls.scene.height);
     let bg = ls
         .scene
         .background
         .map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
-    let mut timings = Vec::new();
-    let mut projected: Option<Projected> = None;
-    let mut src: Option<SpanSource> = None;
-    let mut frame: Option<Frame> = None;
-    let mut aovs = Vec::new();
     let lights: Vec<ShadowLight> = shadow::shadow_lights(ls, &fx.shadow_lights)?;
-    let mut shadow_rows: Vec<Vec<Command>> = vec![Vec::new(); h as usize];
-    let mut shadow_stats = ShadowStats::default();
-    let mut table: Option<FactorTable> = None;
-    let mut aa_rgb: Option<Vec<u8>> = None;
-    let mut coverage: Option<Vec<u8>> = None;
-    let mut aa_stats = None;
-    for stage in plan(fx) {
-        let t0 = Instant::now();
-        match &stage {
-            Stage::FrontEnd => projected = Some(frontend::project(ls)?),
-            Stage::SpanSetup => {
-                let p = projected.as_ref().expect("front end runs first");
-                src = Some(SpanSource::new(&p.tris, w, h)?);
-            }
-            Stage::ShadowVolumes { light } => {
-                let pj = frontend::Projector::new(ls);
-                let l: Vec<ShadowLight> = lights
-                    .iter()
-                    .filter(|x| x.index == *light)
-                    .cloned()
-                    .collect();
-                let sc = shadow::shadow_commands(ls, &pj, &l, fx.shadow_form)?;
-                for (dst, src) in shadow_rows.iter_mut().zip(sc.rows) {
-                    dst.extend(src);
-                }
-                shadow_stats.volumes += sc.stats.volumes;
-                shadow_stats.span_words += sc.stats.span_words;
-                shadow_stats.eye_inside += sc.stats.eye_inside;
-            }
-            Stage::PixelArray => {
-                let s = src.as_ref().expect("setup runs first");
-                let rows = &shadow_rows;
-                frame = Some(render_frame(s, bg, fx.array_width, |j, cmds| {
-                    cmds.extend_from_slice(&rows[j as usize])
-                }));
-            }
-            Stage::ShadowShade => {
-                let t = FactorTable::new(ls, &lights);
-                shadow::shade(&mut frame.as_mut().expect("array runs first").px, &t);
-                table = Some(t);
-            }
-            Stage::Antialias(_) => {
-                let tris = &projected.as_ref().expect("front end runs first").tris;
-                if let AaMethod::Abuffer(p) = &fx.aa {
-                    let a = abuffer::render_abuffer(tris, w, h, bg, p)?;
-                    let full = p.size.bits();
-                    coverage = Some(
-                        a.coverage
-                            .iter()
-                            .map(|&c| (c as u32 * 255 / full) as u8)
-                            .collect(),
-                    );
-                    aa_rgb = Some(a.rgb);
-                    aa_stats = Some(AaReport::Abuffer(a.stats));
-                } else {
-                    let f = aa::render_aa(tris, w, h, bg, &fx.aa)?;
-                    aa_rgb = Some(f.rgb);
-                    aa_stats = Some(AaReport::Other(f.stats));
-                }
-            }
-            Stage::ShadowApply => {
-                let t = table.as_ref().expect("shadow shading runs first");
-                let f = frame.as_ref().expect("array runs first");
-                let img = aa_rgb.as_mut().expect("anti-aliasing runs first");
-                shadow::apply_to_rgb8(img, &f.px, t);
-            }
-            Stage::Aov(a) => {
-                let img = match (a, &coverage) {
-                    (Aov::Coverage, Some(c)) => Image {
-                        width: w,
-                        height: h,
-                        channels: 1,
-                        data: c.clone(),
-                    },
-                    _ => aov_image(
-                        *a,
-                        frame
-                            .as_ref()
-                            .expect("the plan runs the array for this AOV"),
-                        table.as_ref(),
-                    ),
-                };
-                aovs.push((*a, img));
-            }
+    let shape = Plan::new(fx);
+    let mut timings = Timings::new();
+    let projected = timed(&mut timings, Stage::FrontEnd, || frontend::project(ls))?;
+    let (data, array, aa) = match &shape {
+        Plan::Array(a) => {
+            let arr = run_array(ls, fx, a, &projected, bg, &lights, &mut timings)?;
+            (arr.frame.rgb8(), Some(arr), None)
         }
-        timings.push((stage, t0.elapsed()));
+        Plan::Antialias { method, array, .. } => {
+            let arr = match array {
+                Some(a) => Some(run_array(ls, fx, a, &projected, bg, &lights, &mut timings)?),
+                None => None,
+            };
+            let stage = Stage::Antialias(*method);
+            let mut out = timed(&mut timings, stage, || run_aa(&projected, w, h, bg, &fx.aa))?;
+            if let Some(ArrayOut {
+                frame,
+                table: Some(t),
+                ..
+            }) = &arr
+            {
+                timed(&mut timings, Stage::ShadowApply, || {
+                    shadow::apply_to_rgb8(&mut out.rgb, &frame.px, t)
+                });
+            }
+            (std::mem::take(&mut out.rgb), arr, Some(out))
+        }
+    };
+    let mut aovs = Vec::new();
+    if let (Some(arr), Some(a)) = (&array, shape.array()) {
+        for &aov in &a.aovs {
+            let img = timed(&mut timings, Stage::Aov(aov), || {
+                aov_image(aov, &arr.frame, arr.table.as_ref())
+            });
+            aovs.push((aov, img));
+        }
     }
-    let span_words = src.as_ref().map(|s| s.span_count() as u64).unwrap_or(0);
-    let data = match aa_rgb {
-        Some(rgb) => rgb,
-        None => frame
-            .as_ref()
-            .expect("the plan renders a frame or an AA image")
-            .rgb8(),
+    if let (
+        Plan::Antialias { coverage: true, .. },
+        Some(AaOut {
+            coverage: Some(c), ..
+        }),
+    ) = (&shape, &aa)
+    {
+        let img = timed(&mut timings, Stage::Aov(Aov::Coverage), || Image {
+            width: w,
+            height: h,
+            channels: 1,
+            data: c.clone(),
+        });
+        aovs.push((Aov::Coverage, img));
+    }
+    let (span_words, shadow, frame) = match array {
+        Some(a) => (a.span_words, a.shadow, Some(a.frame)),
+        None => (0, ShadowStats::default(), None),
     };
     Ok(RenderOutput {
         image: Image {
@@ -192,11 +183,110 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
         },
         aovs,
         timings,
-        triangles: projected.map(|p| p.tris.len()).unwrap_or(0),
+        triangles: projected.tris.len(),
         span_words,
-        shadow: shadow_stats,
+        shadow,
         frame,
-        aa: aa_stats,
+        aa: aa.map(|a| a.report),
+    })
+}
+
+/// The array's stages: span setup, each light's shadow volumes, the array, shadow
+/// shading.
+fn run_array(
+    ls: &LoadedScene,
+    fx: &Effects,
+    a: &ArrayPlan,
+    projected: &Projected,
+    bg: [u8; 3],
+    lights: &[ShadowLight],
+    timings: &mut Timings,
+) -> Result<ArrayOut, RenderError> {
+    let (w, h) = (ls.scene.width, ls.scene.height);
+    let src = timed(timings, Stage::SpanSetup, || {
+        SpanSource::new(&projected.tris, w, h)
+    })?;
+    let mut shadow_rows: Vec<Vec<Command>> = vec![Vec::new(); h as usize];
+    let mut stats = ShadowStats::default();
+    for &light in &a.shadow_lights {
+        timed(timings, Stage::ShadowVolumes { light }, || {
+            shadow_volumes(ls, fx, lights, light, &mut shadow_rows, &mut stats)
+        })?;
+    }
+    let mut frame = timed(timings, Stage::PixelArray, || {
+        render_frame(&src, bg, fx.array_width, |j, cmds| {
+            cmds.extend_from_slice(&shadow_rows[j as usize])
+        })
+    });
+    let table = (!a.shadow_lights.is_empty()).then(|| {
+        timed(timings, Stage::ShadowShade, || {
+            let t = FactorTable::new(ls, lights);
+            shadow::shade(&mut frame.px, &t);
+            t
+        })
+    });
+    Ok(ArrayOut {
+        span_words: src.span_count() as u64,
+        frame,
+        table,
+        shadow: stats,
+    })
+}
+
+/// One light's shadow volumes, appended to each row's shadow commands.
+fn shadow_volumes(
+    ls: &LoadedScene,
+    fx: &Effects,
+    lights: &[ShadowLight],
+    light: usize,
+    rows: &mut [Vec<Command>],
+    stats: &mut ShadowStats,
+) -> Result<(), RenderError> {
+    let pj = frontend::Projector::new(ls);
+    let l: Vec<ShadowLight> = lights
+        .iter()
+        .filter(|x| x.index == light)
+        .cloned()
+        .collect();
+    let sc = shadow::shadow_commands(ls, &pj, &l, fx.shadow_form)?;
+    for (dst, src) in rows.iter_mut().zip(sc.rows) {
+        dst.extend(src);
+    }
+    stats.volumes += sc.stats.volumes;
+    stats.span_words += sc.stats.span_words;
+    stats.eye_inside += sc.stats.eye_inside;
+    Ok(())
+}
+
+/// The anti-aliasing stage.
+fn run_aa(
+    projected: &Projected,
+    w: u32,
+    h: u32,
+    bg: [u8; 3],
+    method: &AaMethod,
+) -> Result<AaOut, RenderError> {
+    let tris = &projected.tris;
+    Ok(if let AaMethod::Abuffer(p) = method {
+        let a = abuffer::render_abuffer(tris, w, h, bg, p)?;
+        let full = p.size.bits();
+        AaOut {
+            coverage: Some(
+                a.coverage
+                    .iter()
+                    .map(|&c| (c as u32 * 255 / full) as u8)
+                    .collect(),
+            ),
+            rgb: a.rgb,
+            report: AaReport::Abuffer(a.stats),
+        }
+    } else {
+        let f = aa::render_aa(tris, w, h, bg, method)?;
+        AaOut {
+            rgb: f.rgb,
+            coverage: None,
+            report: AaReport::Other(f.stats),
+        }
     })
 }
 

@@ -164,9 +164,10 @@ pub struct Pattern {
 /// Effects requested by the scene. Command-line flags override these.
 #[derive(Clone, Debug, Default, Deserialize)]
 pub struct EffectsSpec {
-    /// Anti-aliasing method and parameters (default: none).
+    /// Anti-aliasing method and parameters (default: none): a method name or an object
+    /// `{"method": ..., parameters}`.
     #[serde(default)]
-    pub aa: Option<serde_json::Value>,
+    pub aa: Option<crate::plan::AaSpec>,
     /// Surfaces may interpenetrate (enables max-depth search in the A-buffer).
     #[serde(default)]
     pub interpenetrating: bool,

@@ -20,7 +20,7 @@
 //! outputs), dumps a VCD of the top-level ports, and prints `PASS cycles=N`.
 
 use crate::compare::{port_vectors, without_shadow_regs, PortVector};
-use crate::TbError;
+use crate::{Outcome, TbError};
 use pixelproc_formats::fields::Field;
 use pixelproc_formats::opcodes::OP_BITS;
 use pixelproc_formats::regs::{READOUT_BITS, READOUT_FIELDS, RGB_BITS};
@@ -41,7 +41,8 @@ pub enum ExternalSim {
 }
 
 impl ExternalSim {
-    fn tool(self) -> &'static str {
+    /// The simulator's program.
+    pub fn tool(self) -> &'static str {
         match self {
             ExternalSim::Icarus => "iverilog",
             ExternalSim::Verilator => "verilator",
@@ -67,15 +68,15 @@ pub fn tool_available(tool: &str) -> bool {
         .unwrap_or(false)
 }
 
-/// For a missing `tool`: `Err` under `CI=true`, otherwise prints
-/// `SKIPPED: <tool> not installed; install with: ...` and returns `Ok(())`.
-pub fn skip_or_fail(tool: &str) -> Result<(), TbError> {
-    let msg = format!("{tool} not installed; install with: {INSTALL_HINT}");
+/// For a missing `tool`: `Err` under `CI=true`, otherwise prints and returns the
+/// [`Outcome::Skipped`] outcome.
+pub fn skip_or_fail(tool: &str) -> Result<Outcome, TbError> {
+    let skipped = Outcome::missing(tool);
     if std::env::var("CI").map(|v| v == "true").unwrap_or(false) {
-        Err(TbError::Sim(msg))
+        Err(TbError::ToolMissing(tool.to_string()))
     } else {
-        println!("SKIPPED: {msg}");
-        Ok(())
+        println!("{skipped}");
+        Ok(skipped)
     }
 }
 

@@ -29,12 +29,18 @@ pub enum TbError {
     /// The traced simulator failed.
     #[error("RustHDL simulation failed: {0}")]
     Sim(String),
+    /// A simulator is missing under `CI=true`.
+    #[error("{0} not installed; install with: {}", external::INSTALL_HINT)]
+    ToolMissing(String),
     /// File system error.
     #[error(transparent)]
     Io(#[from] std::io::Error),
     /// The golden pipeline could not build a scene's command stream.
-    #[error("scene: {0}")]
-    Scene(String),
+    #[error("scene")]
+    Scene(#[from] pixelproc_sim::pipeline::RenderError),
+    /// The golden model could not build a scene's command stream.
+    #[error("scene")]
+    Stream(#[from] pixelproc_sim::stream::StreamError),
     /// A golden command the array's command port cannot carry (a CHECK range beyond
     /// column 4095).
     #[error("the RTL array cannot encode {0}")]
@@ -54,20 +60,72 @@ pub enum SimKind {
     Verilator,
 }
 
+/// How a comparison of the RTL with the golden model ended.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Outcome {
+    /// Every compared value identical.
+    BitExact,
+    /// A difference: the first mismatch, or the simulator's log.
+    Mismatch(String),
+    /// Not run: a simulator is missing (outside CI, where that is an error).
+    Skipped {
+        /// The missing program.
+        tool: String,
+        /// The command that installs it.
+        install: String,
+    },
+}
+
+impl Outcome {
+    /// `BitExact` if `same`, else a mismatch described by `detail`.
+    pub fn compared(same: bool, detail: impl FnOnce() -> String) -> Outcome {
+        if same {
+            Outcome::BitExact
+        } else {
+            Outcome::Mismatch(detail())
+        }
+    }
+    /// The outcome of a run that needed the missing program `tool`.
+    pub fn missing(tool: &str) -> Outcome {
+        Outcome::Skipped {
+            tool: tool.to_string(),
+            install: external::INSTALL_HINT.to_string(),
+        }
+    }
+    /// True if every compared value was identical.
+    pub fn bit_exact(&self) -> bool {
+        *self == Outcome::BitExact
+    }
+    /// True if the run was skipped.
+    pub fn skipped(&self) -> bool {
+        matches!(self, Outcome::Skipped { .. })
+    }
+}
+
+impl std::fmt::Display for Outcome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Outcome::BitExact => write!(f, "bit-exact"),
+            Outcome::Mismatch(detail) => write!(f, "{detail}"),
+            Outcome::Skipped { tool, install } => {
+                write!(f, "SKIPPED: {tool} not installed; install with: {install}")
+            }
+        }
+    }
+}
+
 /// Summary of a `testbench` run.
 #[derive(Clone, Debug)]
 pub struct TestbenchSummary {
-    /// Bit-exact on every compared value.
-    pub bit_exact: bool,
+    /// Bit-exact, a mismatch (with the first mismatch or the simulator's log), or
+    /// skipped because a simulator is missing outside CI.
+    pub outcome: Outcome,
     /// Span words fed (each tile counts).
     pub span_words: usize,
     /// Clock cycles simulated.
     pub cycles: u64,
     /// Simulation wall time, seconds.
     pub seconds: f64,
-    /// First mismatch or simulator log, when not bit-exact; `SKIPPED: ...` if a tool
-    /// is missing outside CI.
-    pub detail: String,
 }
 
 /// Runs a scene's command stream (`lines`: per scanline, the commands after its
@@ -88,11 +146,13 @@ pub fn testbench(
         SimKind::RustHdl => {
             let c = compare::compare_commands(&cmds, n, shadows, Some(work_dir))?;
             Ok(TestbenchSummary {
-                bit_exact: c.bit_exact(),
+                outcome: match c.mismatch {
+                    Some(m) => Outcome::Mismatch(m.to_string()),
+                    None => Outcome::BitExact,
+                },
                 span_words: c.span_words,
                 cycles: c.cycles,
                 seconds: c.seconds,
-                detail: c.mismatch.map(|m| m.to_string()).unwrap_or_default(),
             })
         }
         SimKind::Icarus | SimKind::Verilator => {
@@ -107,21 +167,16 @@ pub fn testbench(
                 .count();
             match external::run_external(es, work_dir, &cmds, n, shadows)? {
                 None => Ok(TestbenchSummary {
-                    bit_exact: false,
+                    outcome: Outcome::missing(es.tool()),
                     span_words: words,
                     cycles: 0,
                     seconds: 0.0,
-                    detail: format!(
-                        "SKIPPED: tool missing; install with: {}",
-                        external::INSTALL_HINT
-                    ),
                 }),
                 Some(r) => Ok(TestbenchSummary {
-                    bit_exact: r.pass,
+                    outcome: Outcome::compared(r.pass, || r.log),
                     span_words: words,
                     cycles: r.cycles as u64,
                     seconds: r.run_seconds,
-                    detail: if r.pass { String::new() } else { r.log },
                 }),
             }
         }
@@ -135,7 +190,7 @@ pub fn quick_check() -> Result<TestbenchSummary, TbError> {
     let mut rng = stimulus::Rng::new(2024);
     let tris = stimulus::random_triangles(&mut rng, 5, 24, 4);
     let s = stimulus::LineStream::from_triangles(&tris, 24, 4, [16, 32, 48])
-        .map_err(|e| TbError::Sim(e.to_string()))?;
+        .map_err(pixelproc_sim::pipeline::RenderError::from)?;
     let dir = std::env::temp_dir().join("pixelproc-quick-check");
     testbench(s.lines, s.bg, 24, 8, true, SimKind::RustHdl, &dir)
 }

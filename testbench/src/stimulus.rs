@@ -20,8 +20,7 @@ pub fn scene_stream(
     ls: &LoadedScene,
     effects: &Effects,
 ) -> Result<(Vec<Vec<Command>>, u32), TbError> {
-    let s = SceneStream::of_scene(ls, &effects.shadow_lights, effects.shadow_form)
-        .map_err(|e| TbError::Scene(e.to_string()))?;
+    let s = SceneStream::of_scene(ls, &effects.shadow_lights, effects.shadow_form)?;
     Ok((s.rows(), s.bg_packed()))
 }
 

@@ -62,7 +62,7 @@ fn a_shadow_stream_on_a_shadowless_array_is_reported_with_a_trace() {
 #[test]
 fn quick_check_is_bit_exact() {
     let s = pixelproc_testbench::quick_check().unwrap();
-    assert!(s.bit_exact, "{}", s.detail);
+    assert!(s.outcome.bit_exact(), "{}", s.outcome);
     assert!(s.span_words > 0 && s.cycles > 0);
 }
 
