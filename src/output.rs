@@ -201,9 +201,14 @@ mod tests {
         let mut o = OutputSet::new();
         o.add(&link, b"new").unwrap();
         o.commit().unwrap();
-        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        assert!(std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
         assert_eq!(std::fs::read(&target).unwrap(), b"new");
-        let e = OutputSet::new().add(Path::new("/dev/null"), b"x").unwrap_err();
+        let e = OutputSet::new()
+            .add(Path::new("/dev/null"), b"x")
+            .unwrap_err();
         assert!(e.to_string().contains("not a regular file"), "{e}");
     }
 }
