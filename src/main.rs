@@ -17,10 +17,9 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 mod args;
-mod output;
 
 use args::*;
-use output::OutputSet;
+use pixelproc_output::OutputSet;
 
 /// `println!` that ignores a closed stdout (e.g. piped into `head`) instead of panicking.
 macro_rules! say {

@@ -9,7 +9,7 @@
 //!    first moved aside, and moved back if a later rename fails.
 //!
 //! Temporaries are removed on every error path (they are deleted when dropped, and the
-//! CLI returns from `main` instead of calling `process::exit`). A new file gets the usual
+//! command line returns from `main` instead of calling `process::exit`). A new file gets the usual
 //! mode (`0666` less the umask, so `0644` by default); a replaced file keeps its mode. A
 //! destination that is a symlink is followed: the file it points to is replaced and the
 //! link stays.
