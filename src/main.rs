@@ -3,18 +3,23 @@
 //! Thin by design: parse the command line, call the `pixelproc-sim` library, print.
 
 use anyhow::{bail, Context, Result};
-use clap::builder::PossibleValuesParser;
-use clap::{Args, Parser, Subcommand};
+use clap::Parser;
+use pixelproc_formats::abuffer::MaskSize;
 use pixelproc_rtl::verilog::TopConfig;
+use pixelproc_sim::input::ReadPolicy;
 use pixelproc_sim::pipeline::{render, AaReport, Image, RenderOutput};
-use pixelproc_sim::plan::{
-    parse_mask, parse_param, AaKind, AaMethod, AaSpec, Effects, Key, Named, Overrides,
-};
+use pixelproc_sim::plan::{AaMethod, Effects, Named, Overrides};
 use pixelproc_sim::scene::{self, LoadedScene};
-use pixelproc_sim::shadow::ShadowForm;
 use pixelproc_testbench::{Outcome, SimKind};
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 use std::time::Duration;
+
+mod args;
+
+use args::*;
+use pixelproc_output::OutputSet;
 
 /// `println!` that ignores a closed stdout (e.g. piped into `head`) instead of panicking.
 macro_rules! say {
@@ -24,330 +29,45 @@ macro_rules! say {
     }};
 }
 
-#[derive(Parser)]
-#[command(
-    name = "pixelproc",
-    version,
-    about = "Bit-exact model of a scanline pixel-processor rendering back-end",
-    long_about = "Bit-exact model of a scanline pixel-processor rendering back-end.\n\n\
-        With no command, renders the embedded default scene into pixelproc-out/ and \
-        prints the stages it ran.\nScenes are JSON files (see docs/scenes.md) or a \
-        built-in name: @default, @boxes."
-)]
-struct Cli {
-    #[command(subcommand)]
-    cmd: Option<Cmd>,
-}
-
-#[derive(Subcommand)]
-enum Cmd {
-    /// Render a scene to a PNG.
-    Render(RenderArgs),
-    /// Render a scene several times and print the median time of each stage.
-    Bench(BenchArgs),
-    /// Write the Verilog of the blocks a scene's effects call for (and every block).
-    Verilog(VerilogArgs),
-    /// Run a scene's span-word stream through the RTL and the golden model, clock by
-    /// clock, and report whether they agree bit for bit.
-    Testbench(TestbenchArgs),
-    /// Measure every anti-aliasing method and setting: error against the exact
-    /// reference, time, cost; writes CSV, Markdown, a chart and heat maps.
-    Tradeoff(TradeoffArgs),
-}
-
-#[derive(Args)]
-struct VerilogArgs {
-    /// Scene whose effects choose the top's blocks (shadows → span-parity logic).
-    #[arg(default_value = "@default")]
-    scene: String,
-    /// Output directory.
-    #[arg(
-        short,
-        long,
-        value_name = "DIR",
-        default_value = "pixelproc-out/verilog"
-    )]
-    output: PathBuf,
-    #[command(flatten)]
-    fx: EffectArgs,
-}
-
-#[derive(Args)]
-struct TestbenchArgs {
-    /// Scene whose span-word stream (and shadow commands) drives the RTL.
-    #[arg(default_value = "@default")]
-    scene: String,
-    /// Simulator: the built-in RustHDL model (every register compared every clock), or the
-    /// exported Verilog in Icarus Verilog or Verilator (every output compared every clock).
-    #[arg(long, default_value = "rusthdl", value_parser = ["rusthdl", "icarus", "verilator"])]
-    sim: String,
-    /// Only the scanlines FIRST..LAST (inclusive), e.g. 100..120.
-    #[arg(long, value_name = "FIRST..LAST")]
-    rows: Option<String>,
-    /// Folder for vector files, simulator builds and the VCD of a mismatch.
-    #[arg(long, value_name = "DIR", default_value = "pixelproc-out/testbench")]
-    work: PathBuf,
-    #[command(flatten)]
-    fx: EffectArgs,
-}
-
-#[derive(Args)]
-struct TradeoffArgs {
-    /// Folder of scene files (*.json) instead of the built-in scene set.
-    #[arg(long, value_name = "DIR")]
-    scenes: Option<PathBuf>,
-    /// Output folder.
-    #[arg(
-        short,
-        long,
-        value_name = "DIR",
-        default_value = "pixelproc-out/tradeoff"
-    )]
-    output: PathBuf,
-    /// Timed runs per setting and scene (the median is reported).
-    #[arg(long, default_value_t = 3)]
-    runs: usize,
-    /// A small subset of scenes and settings (tests, CI).
-    #[arg(long)]
-    quick: bool,
-}
-
-#[derive(Args)]
-struct EffectArgs {
-    /// Anti-aliasing method (overrides the scene's `effects.aa`).
-    #[arg(long, value_name = "METHOD", value_parser = PossibleValuesParser::new(AaKind::names()))]
-    aa: Option<String>,
-    /// A-buffer: subpixel grid NxM, e.g. 4x4 (default) or 8x8.
-    #[arg(long, value_name = "NxM", help_heading = "Anti-aliasing parameters")]
-    mask: Option<String>,
-    /// A-buffer: depth per fragment: search (seed 000, default), center, slope, exhaustive.
-    #[arg(long, value_name = "SELECT", help_heading = "Anti-aliasing parameters")]
-    depth: Option<String>,
-    /// Multi-scanning: sub-scanlines per pixel row, 1..=16 (default 3).
-    #[arg(long, value_name = "N", help_heading = "Anti-aliasing parameters")]
-    subscanlines: Option<u32>,
-    /// Multi-scanning: filter box (default), gauss or cone.
-    #[arg(long, value_name = "FILTER", help_heading = "Anti-aliasing parameters")]
-    filter: Option<String>,
-    /// Corner sampling: samples per pixel, 1 (default) or 2 (adds the centre sample).
-    #[arg(long, value_name = "N", help_heading = "Anti-aliasing parameters")]
-    samples: Option<u32>,
-    /// Corner sampling: pattern corner (seed 003, default), d3d4x or grid2x2.
-    #[arg(
-        long,
-        value_name = "PATTERN",
-        help_heading = "Anti-aliasing parameters"
-    )]
-    pattern: Option<String>,
-    /// Supersampling: k×k samples per pixel, 1..=64 (default 4).
-    #[arg(long, value_name = "K", help_heading = "Anti-aliasing parameters")]
-    ssaa: Option<u32>,
-    /// Post-process: lines in the pattern window, 5 (seed 004, default) or 3.
-    #[arg(long, value_name = "LINES", help_heading = "Anti-aliasing parameters")]
-    postfx_window: Option<u32>,
-    /// Post-process: edges from normals: off (default), recon (from z) or stored.
-    #[arg(long, value_name = "SRC", help_heading = "Anti-aliasing parameters")]
-    postfx_normals: Option<String>,
-    /// Post-process: second differences from the final z-buffer (final, default) or kept
-    /// during drawing (draw).
-    #[arg(long, value_name = "SRC", help_heading = "Anti-aliasing parameters")]
-    postfx_d2: Option<String>,
-    /// A-buffer: also run every depth-selection variant and report where each orders or
-    /// resolves fragments differently from exhaustive (slower).
-    #[arg(long, help_heading = "Anti-aliasing parameters")]
-    compare_depth: bool,
-    /// Turn shadows off whatever the scene's lights say.
-    #[arg(long)]
-    no_shadows: bool,
-    /// Number of processors in the array (a wider line is processed in tiles).
-    #[arg(long, value_name = "N")]
-    array_width: Option<usize>,
-    /// How a shadow volume ends: `ev` (hardware: EV span, every processor checks) or
-    /// `check` (software form of seed 001: a dummy check span over the volume's range).
-    #[arg(long, value_name = "FORM", value_parser = PossibleValuesParser::new(ShadowForm::names()))]
-    shadow_form: Option<String>,
-}
-
-impl EffectArgs {
-    fn none() -> EffectArgs {
-        EffectArgs {
-            aa: None,
-            mask: None,
-            depth: None,
-            subscanlines: None,
-            filter: None,
-            samples: None,
-            pattern: None,
-            ssaa: None,
-            postfx_window: None,
-            postfx_normals: None,
-            postfx_d2: None,
-            compare_depth: false,
-            no_shadows: false,
-            array_width: None,
-            shadow_form: None,
-        }
-    }
-}
-
-#[derive(Args)]
-struct RenderArgs {
-    /// Scene file (JSON), or @default / @boxes.
-    #[arg(default_value = "@default")]
-    scene: String,
-    /// Output PNG (default: pixelproc-out/<scene name>.png).
-    #[arg(short, long, value_name = "OUT.png")]
-    output: Option<PathBuf>,
-    /// Also write debug images beside the output: depth, shadow, coverage.
-    #[arg(long, value_name = "KIND", value_delimiter = ',')]
-    aov: Vec<String>,
-    #[command(flatten)]
-    fx: EffectArgs,
-}
-
-#[derive(Args)]
-struct BenchArgs {
-    /// Scene file (JSON), or @default / @boxes.
-    #[arg(default_value = "@boxes")]
-    scene: String,
-    /// Timed runs (after one warm-up).
-    #[arg(long, default_value_t = 7)]
-    runs: usize,
-    #[command(flatten)]
-    fx: EffectArgs,
-}
-
-fn load(spec: &str) -> Result<LoadedScene> {
-    Ok(match spec.strip_prefix('@') {
+/// Loads a scene file or a built-in (`@name`) under the input flags; prints warnings, or
+/// fails on them under `--strict`.
+fn load(spec: &OsStr, input: &InputArgs) -> Result<LoadedScene> {
+    let ls = match spec.to_str().and_then(|s| s.strip_prefix('@')) {
         Some(name) => scene::load_builtin(name)?,
-        None => scene::load_file(Path::new(spec))?,
-    })
-}
-
-impl EffectArgs {
-    /// The anti-aliasing parameter flags given, each with the method it belongs to.
-    fn aa_flags(&self) -> Vec<(&'static str, AaKind)> {
-        use AaKind::*;
-        [
-            (self.mask.is_some(), "--mask", Abuffer),
-            (self.depth.is_some(), "--depth", Abuffer),
-            (self.subscanlines.is_some(), "--subscanlines", Multiscan),
-            (self.filter.is_some(), "--filter", Multiscan),
-            (self.samples.is_some(), "--samples", Corner),
-            (self.pattern.is_some(), "--pattern", Corner),
-            (self.ssaa.is_some(), "--ssaa", Ssaa),
-            (self.postfx_window.is_some(), "--postfx-window", PostFx),
-            (self.postfx_normals.is_some(), "--postfx-normals", PostFx),
-            (self.postfx_d2.is_some(), "--postfx-d2", PostFx),
-            (self.compare_depth, "--compare-depth", Abuffer),
-        ]
-        .into_iter()
-        .filter(|f| f.0)
-        .map(|(_, flag, owner)| (flag, owner))
-        .collect()
+        None => {
+            let policy = ReadPolicy {
+                max_bytes: input.max_input_mb << 20,
+                // An empty path: the scene file's own folder.
+                sandbox: input.sandbox.then(PathBuf::new),
+            };
+            scene::load_file_with(Path::new(spec), &policy)?
+        }
+    };
+    if input.strict && !ls.warnings.is_empty() {
+        bail!("{} (--strict)", ls.warnings.join("; "));
     }
-
-    /// `--aa` and its parameter flags as a typed request; a flag of another method, or
-    /// one without `--aa`, is an error.
-    fn aa_spec(&self) -> Result<Option<AaSpec>> {
-        let flags = self.aa_flags();
-        let Some(m) = &self.aa else {
-            if !flags.is_empty() {
-                bail!("anti-aliasing parameters need --aa METHOD");
-            }
-            return Ok(None);
-        };
-        let kind: AaKind = m.parse()?;
-        if let Some((flag, owner)) = flags.iter().find(|f| f.1 != kind) {
-            bail!("{flag} applies to --aa {owner}, not --aa {kind}");
-        }
-        /// Overwrites a default with a flag's value, if given.
-        fn set<T>(dst: &mut T, v: Option<T>) {
-            if let Some(v) = v {
-                *dst = v;
-            }
-        }
-        /// A named flag's value, parsed.
-        fn name<T: Named>(field: &'static str, v: &Option<String>) -> Result<Option<T>> {
-            Ok(v.as_deref()
-                .map(|s| parse_param(Key::flag(field), s))
-                .transpose()?)
-        }
-        let mut spec = AaSpec::default_for(kind);
-        match &mut spec {
-            AaSpec::None => {}
-            AaSpec::Abuffer(p) => {
-                if let Some(s) = &self.mask {
-                    p.mask = parse_mask(Key::flag("mask"), s)?;
-                }
-                set(&mut p.depth, name("depth", &self.depth)?);
-                p.compare_depth = self.compare_depth;
-            }
-            AaSpec::Multiscan(p) => {
-                set(&mut p.subscanlines, self.subscanlines);
-                set(&mut p.filter, name("filter", &self.filter)?);
-            }
-            AaSpec::Corner(p) => {
-                set(&mut p.samples, self.samples);
-                set(&mut p.pattern, name("pattern", &self.pattern)?);
-            }
-            AaSpec::PostFx(p) => {
-                set(&mut p.postfx_window, self.postfx_window);
-                set(
-                    &mut p.postfx_normals,
-                    name("postfx_normals", &self.postfx_normals)?,
-                );
-                set(&mut p.postfx_d2, name("postfx_d2", &self.postfx_d2)?);
-            }
-            AaSpec::Ssaa(p) => set(&mut p.ssaa, self.ssaa),
-        }
-        Ok(Some(spec))
+    for w in &ls.warnings {
+        eprintln!("warning: {w}");
     }
+    Ok(ls)
 }
 
-fn overrides(fx: &EffectArgs, aovs: &[String]) -> Result<Overrides> {
-    Ok(Overrides {
-        aa: fx.aa_spec()?,
-        no_shadows: fx.no_shadows,
-        aovs: aovs.iter().map(|a| a.parse()).collect::<Result<_, _>>()?,
-        array_width: fx.array_width,
-        shadow_form: fx.shadow_form.as_deref().map(str::parse).transpose()?,
-    })
-}
-
-/// Writes a PNG atomically: a temporary file in the same directory, renamed on success.
-fn write_png(path: &Path, img: &Image) -> Result<()> {
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let tmp = tempfile::Builder::new()
-        .prefix(".pixelproc-")
-        .suffix(".png")
-        .tempfile_in(dir)
-        .with_context(|| format!("cannot write into {}", dir.display()))?;
+/// Adds a PNG to an output set (encoded into its temporary file).
+fn add_png(out: &mut OutputSet, path: &Path, img: &Image) -> Result<()> {
     let ct = if img.channels == 3 {
         image::ExtendedColorType::Rgb8
     } else {
         image::ExtendedColorType::L8
     };
-    image::save_buffer_with_format(
-        tmp.path(),
-        &img.data,
-        img.width,
-        img.height,
-        ct,
-        image::ImageFormat::Png,
-    )
-    .with_context(|| format!("cannot encode {}", path.display()))?;
-    tmp.persist(path)
-        .with_context(|| format!("cannot write {}", path.display()))?;
-    Ok(())
+    out.add_with(path, |f| {
+        let enc = image::codecs::png::PngEncoder::new(std::io::BufWriter::new(f));
+        image::ImageEncoder::write_image(enc, &img.data, img.width, img.height, ct)?;
+        Ok(())
+    })
 }
 
-fn scene_stem(spec: &str) -> String {
-    match spec.strip_prefix('@') {
+fn scene_stem(spec: &OsStr) -> String {
+    match spec.to_str().and_then(|s| s.strip_prefix('@')) {
         Some(n) => n.to_string(),
         None => Path::new(spec)
             .file_stem()
@@ -411,14 +131,14 @@ fn print_aa_report(aa: &AaMethod, out: &RenderOutput) {
 }
 
 fn cmd_render(a: &RenderArgs) -> Result<()> {
-    let ls = load(&a.scene)?;
+    let ls = load(&a.scene, &a.input)?;
     let ov = overrides(&a.fx, &a.aov)?;
     let fx = Effects::resolve(&ls, &ov)?;
     let out_path = a.output.clone().unwrap_or_else(|| {
         PathBuf::from("pixelproc-out").join(format!("{}.png", scene_stem(&a.scene)))
     });
     if out_path.extension().map(|e| e != "png").unwrap_or(true) {
-        bail!("output {} must end in .png", out_path.display());
+        bail!("-o {}: the output must end in .png", out_path.display());
     }
     let out = render(&ls, &fx)?;
     say!(
@@ -442,12 +162,18 @@ fn cmd_render(a: &RenderArgs) -> Result<()> {
     }
     print_timings(&out);
     print_aa_report(&fx.aa, &out);
-    write_png(&out_path, &out.image)?;
-    say!("wrote {}", out_path.display());
+    // The image and its AOVs are written together or not at all.
+    let mut files = OutputSet::new();
+    add_png(&mut files, &out_path, &out.image)?;
+    let stem = out_path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
     for (aov, img) in &out.aovs {
-        let stem = out_path.file_stem().unwrap().to_string_lossy();
         let p = out_path.with_file_name(format!("{stem}.{}.png", aov.name()));
-        write_png(&p, img)?;
+        add_png(&mut files, &p, img)?;
+    }
+    for p in files.commit()? {
         say!("wrote {}", p.display());
     }
     Ok(())
@@ -457,7 +183,7 @@ fn cmd_bench(a: &BenchArgs) -> Result<()> {
     if a.runs == 0 {
         bail!("--runs must be at least 1");
     }
-    let ls = load(&a.scene)?;
+    let ls = load(&a.scene, &a.input)?;
     let fx = Effects::resolve(&ls, &overrides(&a.fx, &[])?)?;
     let first = render(&ls, &fx)?;
     let mut runs = Vec::new();
@@ -502,8 +228,13 @@ fn top_config(fx: &Effects) -> TopConfig {
 fn parse_rows(spec: &str, height: u32) -> Result<std::ops::RangeInclusive<u32>> {
     let (a, b) = spec
         .split_once("..")
-        .context("--rows takes FIRST..LAST, e.g. 100..120")?;
-    let (a, b): (u32, u32) = (a.trim().parse()?, b.trim().parse()?);
+        .with_context(|| format!("--rows {spec}: expected FIRST..LAST, e.g. 100..120"))?;
+    let num = |v: &str| -> Result<u32> {
+        v.trim()
+            .parse()
+            .map_err(|_| anyhow::anyhow!("--rows {spec}: `{}` is not a row number", v.trim()))
+    };
+    let (a, b) = (num(a)?, num(b)?);
     if a > b || b >= height {
         bail!("--rows {spec}: need FIRST <= LAST < {height}");
     }
@@ -567,13 +298,25 @@ fn run_testbench(
 }
 
 fn cmd_testbench(a: &TestbenchArgs) -> Result<bool> {
-    let ls = load(&a.scene)?;
+    let ls = load(&a.scene, &a.input)?;
     let fx = Effects::resolve(&ls, &overrides(&a.fx, &[])?)?;
     let sim = match a.sim.as_str() {
         "icarus" => SimKind::Icarus,
         "verilator" => SimKind::Verilator,
         _ => SimKind::RustHdl,
     };
+    // Everything the run needs is checked before the first clock.
+    if let Some(r) = &a.rows {
+        parse_rows(r, ls.scene.height)?;
+    }
+    if let AaMethod::Abuffer(p) = &fx.aa {
+        if ![MaskSize::S4X4, MaskSize::S8X8].contains(&p.size) {
+            bail!(
+                "--mask {}: the RTL mask search unit exists for 4x4 and 8x8 only",
+                p.size
+            );
+        }
+    }
     let mut ok = run_testbench(&ls, &fx, sim, a.rows.as_deref(), &a.work)?;
     // The search unit only when the scene asks for the A-buffer.
     if let AaMethod::Abuffer(p) = &fx.aa {
@@ -612,9 +355,10 @@ fn cmd_default() -> Result<()> {
         scene: "@default".into(),
         output: None,
         aov: vec![],
-        fx: EffectArgs::none(),
+        fx: EffectArgs::default(),
+        input: InputArgs::default(),
     })?;
-    let ls = load("@default")?;
+    let ls = load(OsStr::new("@default"), &InputArgs::default())?;
     let fx = Effects::resolve(&ls, &Overrides::default())?;
     if !run_testbench(
         &ls,
@@ -628,31 +372,43 @@ fn cmd_default() -> Result<()> {
     cmd_verilog(&VerilogArgs {
         scene: "@default".into(),
         output: PathBuf::from("pixelproc-out/verilog"),
-        fx: EffectArgs::none(),
+        fx: EffectArgs::default(),
+        input: InputArgs::default(),
     })
 }
 
 fn cmd_verilog(a: &VerilogArgs) -> Result<()> {
-    let ls = load(&a.scene)?;
+    use pixelproc_rtl::verilog::{is_exported_file_name, mask_search_files, verilog_files};
+    let ls = load(&a.scene, &a.input)?;
     let fx = Effects::resolve(&ls, &overrides(&a.fx, &[])?)?;
     let top = top_config(&fx);
-    let files = pixelproc_rtl::verilog::write_verilog_dir(&a.output, top)
-        .with_context(|| format!("cannot write Verilog into {}", a.output.display()))?;
     say!(
         "{}: top = pixel-processor array of {} processors, {} span-parity logic",
         ls.name,
         top.width,
         if top.shadows { "with" } else { "without" }
     );
-    for f in files {
-        say!("wrote {}", f.display());
-    }
+    let mut texts = verilog_files(top)?;
     if matches!(fx.aa, AaMethod::Abuffer(_)) {
         say!("{}: the scene asks for the A-buffer: mask search unit (iterative and pipelined, 4x4 and 8x8)", ls.name);
-        let files = pixelproc_rtl::verilog::write_mask_search_verilog(&a.output)
-            .with_context(|| format!("cannot write Verilog into {}", a.output.display()))?;
-        for f in files {
-            say!("wrote {}", f.display());
+        texts.extend(mask_search_files()?);
+    }
+    let mut files = OutputSet::new();
+    for (name, text) in &texts {
+        files.add(&a.output.join(name), text.as_bytes())?;
+    }
+    let written = files.commit()?;
+    for f in &written {
+        say!("wrote {}", f.display());
+    }
+    // The command owns the exported file names in its folder: remove the ones this run
+    // did not write (e.g. an array of another width from an earlier run).
+    for e in std::fs::read_dir(&a.output)?.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        if is_exported_file_name(&name) && !written.contains(&e.path()) && e.path().is_file() {
+            std::fs::remove_file(e.path())
+                .with_context(|| format!("cannot remove stale {}", e.path().display()))?;
+            say!("removed stale {}", e.path().display());
         }
     }
     Ok(())
@@ -691,7 +447,9 @@ fn cmd_tradeoff(a: &TradeoffArgs) -> Result<()> {
     Ok(())
 }
 
-fn main() {
+/// Exit codes: 0 success; 1 an error (bad input, a failed run, RTL and golden model
+/// disagree); 2 a command-line usage error (from clap).
+fn main() -> ExitCode {
     let cli = Cli::parse();
     let res = match &cli.cmd {
         None => cmd_default(),
@@ -707,8 +465,12 @@ fn main() {
         }),
         Some(Cmd::Tradeoff(a)) => cmd_tradeoff(a),
     };
-    if let Err(e) = res {
-        eprintln!("error: {e:#}");
-        std::process::exit(1);
+    match res {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            // Returning (not `process::exit`) runs every destructor: temporaries go.
+            eprintln!("error: {e:#}");
+            ExitCode::from(1)
+        }
     }
 }

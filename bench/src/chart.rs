@@ -1,8 +1,6 @@
 //! The sweep's pictures: RMSE against time per frame (log–log) with the Pareto frontier,
 //! and a montage of per-pixel error heat maps for one scene (see `docs/accuracy.md`).
 
-use std::path::Path;
-
 use plotters::prelude::*;
 
 use crate::judge::pareto_frontier;
@@ -41,16 +39,12 @@ fn plot_err<E: std::fmt::Debug>(what: &str) -> impl Fn(E) -> TradeoffError + '_ 
 }
 
 /// Writes RGB8 pixels as a PNG.
-pub(crate) fn save_rgb(path: &Path, buf: &[u8], w: u32, h: u32) -> Result<(), TradeoffError> {
-    image::save_buffer_with_format(
-        path,
-        buf,
-        w,
-        h,
-        image::ExtendedColorType::Rgb8,
-        image::ImageFormat::Png,
-    )
-    .map_err(|e| TradeoffError::Plot(format!("{}: {e}", path.display())))
+pub(crate) fn png_rgb(buf: &[u8], w: u32, h: u32) -> Result<Vec<u8>, TradeoffError> {
+    let mut out = Vec::new();
+    let enc = image::codecs::png::PngEncoder::new(&mut out);
+    image::ImageEncoder::write_image(enc, buf, w, h, image::ExtendedColorType::Rgb8)
+        .map_err(|e| TradeoffError::Plot(format!("PNG encoding: {e}")))?;
+    Ok(out)
 }
 
 /// The chart's drawing context: log–log axes on an RGB8 buffer.

@@ -52,6 +52,9 @@ pub enum TradeoffError {
         /// Cause.
         source: std::io::Error,
     },
+    /// The output files could not be written (nothing was replaced).
+    #[error("{0}")]
+    Output(String),
     /// A scene file could not be loaded.
     #[error(transparent)]
     Scene(#[from] pixelproc_sim::scene::SceneError),

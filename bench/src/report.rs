@@ -7,10 +7,10 @@ use std::path::{Path, PathBuf};
 
 use pixelproc_sim::mask_search::DepthSelect;
 
-use crate::chart::{chart, heat_montage, save_rgb};
+use crate::chart::{chart, heat_montage, png_rgb};
 use crate::judge::pareto_frontier;
 use crate::sweep::Sweep;
-use crate::{io_err, TradeoffError};
+use crate::TradeoffError;
 
 /// Files written by [`write_outputs`].
 #[derive(Clone, Debug)]
@@ -246,9 +246,9 @@ fn md_variants(s: &mut String, sw: &Sweep) {
 }
 
 /// Writes `tradeoff.csv`, `tradeoff_scenes.csv`, `tradeoff.md`, `tradeoff.png` and
-/// `heatmap.png` into `dir` (created if needed).
+/// `heatmap.png` into `dir` (created if needed), all or nothing: every file goes to a
+/// temporary first and they are renamed together.
 pub fn write_outputs(sw: &Sweep, dir: &Path, command: &str) -> Result<Written, TradeoffError> {
-    std::fs::create_dir_all(dir).map_err(io_err(dir))?;
     let w = Written {
         csv: dir.join("tradeoff.csv"),
         scenes_csv: dir.join("tradeoff_scenes.csv"),
@@ -256,13 +256,22 @@ pub fn write_outputs(sw: &Sweep, dir: &Path, command: &str) -> Result<Written, T
         chart: dir.join("tradeoff.png"),
         heatmap: sw.heat.as_ref().map(|_| dir.join("heatmap.png")),
     };
-    std::fs::write(&w.csv, csv(sw)).map_err(io_err(&w.csv))?;
-    std::fs::write(&w.scenes_csv, scenes_csv(sw)).map_err(io_err(&w.scenes_csv))?;
-    std::fs::write(&w.markdown, markdown(sw, command)).map_err(io_err(&w.markdown))?;
+    let out_err = |e: anyhow::Error| TradeoffError::Output(format!("{e:#}"));
+    let mut files = pixelproc_output::OutputSet::new();
+    files.add(&w.csv, csv(sw).as_bytes()).map_err(out_err)?;
+    files
+        .add(&w.scenes_csv, scenes_csv(sw).as_bytes())
+        .map_err(out_err)?;
+    files
+        .add(&w.markdown, markdown(sw, command).as_bytes())
+        .map_err(out_err)?;
     let (cw, chh) = (1100, 760);
-    save_rgb(&w.chart, &chart(sw, cw, chh)?, cw, chh)?;
+    files
+        .add(&w.chart, &png_rgb(&chart(sw, cw, chh)?, cw, chh)?)
+        .map_err(out_err)?;
     if let (Some(p), Some((buf, mw, mh))) = (&w.heatmap, heat_montage(sw)?) {
-        save_rgb(p, &buf, mw, mh)?;
+        files.add(p, &png_rgb(&buf, mw, mh)?).map_err(out_err)?;
     }
+    files.commit().map_err(out_err)?;
     Ok(w)
 }

@@ -546,6 +546,9 @@ pub fn load_scene_dir(dir: &Path) -> Result<Vec<TestScene>, TradeoffError> {
     let mut out = Vec::new();
     for f in files {
         let ls = pixelproc_sim::scene::load_file(&f)?;
+        for w in &ls.warnings {
+            eprintln!("warning: {w}");
+        }
         let pr = pixelproc_sim::frontend::project(&ls)
             .map_err(|e| TradeoffError::Front(f.display().to_string(), e))?;
         let bg = ls

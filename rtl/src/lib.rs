@@ -1,10 +1,14 @@
 //! RustHDL RTL of the pixelproc back-end: the pixel-processor array of seed 001
-//! (Matsumoto) with its span-parity shadow logic, and Verilog export.
+//! (Matsumoto) with its span-parity shadow logic, the A-buffer mask search unit of seed 000
+//! with its offset ROM, and Verilog export.
 //!
 //! Blocks (one file each): [`span_parity::SpanParity`], [`pixel_processor::PixelProcessor`],
-//! [`pixel_array::PixelProcessorArray`]. The per-clock command interface mirrors the
-//! golden model's `Command` ([`opcodes`]); `docs/rtl.md` gives ports, latency,
-//! handshake, the new-scanline and reset protocol, and the lint and synthesis results.
+//! [`pixel_array::PixelProcessorArray`], and under [`mask_search`] the iterative and
+//! pipelined search units with their stages, offset ROM, depth calculator and shift-add
+//! sub-blocks. The array's per-clock command interface mirrors the golden model's
+//! `Command` ([`opcodes`]); [`layout`] carries the `formats` field tables into kernels;
+//! [`verilog`] is the one export path. `docs/rtl.md` and `docs/rtl_mask_search.md` give
+//! ports, latency, protocol, and the lint and synthesis results.
 //!
 //! This crate depends on `pixelproc-formats` and `rust-hdl` only, never on the golden
 //! model.

@@ -5,7 +5,7 @@
 //! the block's own name, so each file is self-contained (its block and all sub-modules)
 //! and files from different blocks can be loaded together without clashes.
 
-pub use crate::mask_search::{mask_search_verilog, write_mask_search_verilog};
+pub use crate::mask_search::{mask_search_files, mask_search_verilog, write_mask_search_verilog};
 use crate::pixel_array::PixelProcessorArray;
 use crate::pixel_processor::PixelProcessor;
 use crate::span_parity::SpanParity;
@@ -222,25 +222,44 @@ pub struct TopConfig {
 pub fn write_verilog_dir(dir: &Path, top: TopConfig) -> Result<Vec<PathBuf>, RtlError> {
     std::fs::create_dir_all(dir)?;
     let mut files = Vec::new();
-    let mut put = |name: &str, text: &str| -> Result<(), RtlError> {
-        let p = dir.join(format!("{name}.v"));
+    for (name, text) in verilog_files(top)? {
+        let p = dir.join(name);
         std::fs::write(&p, text)?;
         files.push(p);
-        Ok(())
-    };
-    put("span_parity", &span_parity_verilog())?;
+    }
+    Ok(files)
+}
+
+/// The files [`write_verilog_dir`] writes, as `(file name, text)`, for callers that write
+/// them their own way (e.g. all or nothing).
+pub fn verilog_files(top: TopConfig) -> Result<Vec<(String, String)>, RtlError> {
+    let mut files = vec![("span_parity.v".to_string(), span_parity_verilog())];
     for s in [true, false] {
         let (n, t) = pixel_processor_verilog(s);
-        put(&n, &t)?;
+        files.push((format!("{n}.v"), t));
     }
     let (n, t) = array_verilog(top.width, top.shadows)?;
-    put(&n, &t)?;
+    files.push((format!("{n}.v"), t));
     let top_text = export(
         PixelProcessorArray::new(top.width, top.shadows)?,
         "pixelproc_top",
     );
-    put("pixelproc_top", &top_text)?;
+    files.push(("pixelproc_top.v".to_string(), top_text));
     Ok(files)
+}
+
+/// Whether a file name is one [`verilog_files`] or the mask search export can write: the
+/// `verilog` command owns these names in its output folder (and removes stale ones).
+pub fn is_exported_file_name(name: &str) -> bool {
+    name.ends_with(".v")
+        && [
+            "span_parity",
+            "pixel_processor",
+            "pixelproc_top",
+            "mask_search",
+        ]
+        .iter()
+        .any(|p| name.starts_with(p))
 }
 
 #[cfg(test)]

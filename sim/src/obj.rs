@@ -77,7 +77,7 @@ pub fn check_lines(text: &str, path: &str) -> Result<ObjNotes, SceneError> {
                         return Err(mesh_err(
                             path,
                             format!(
-                                "line {}: vertex {vertex} coordinate `{}` is not a finite number",
+                                "line {}: vertex {vertex} coordinate `{}` is not finite",
                                 i + 1,
                                 shorten(c)
                             ),
@@ -223,7 +223,7 @@ mod tests {
         let e = check_lines("v 0 1e999 0\n", "m.obj")
             .unwrap_err()
             .to_string();
-        assert!(e.contains("not a finite number"), "{e}");
+        assert!(e.contains("is not finite"), "{e}");
         assert!(check_lines("v 0 0 0 1\nv 0 0 0 1 0 0\n", "m.obj").is_ok());
     }
 

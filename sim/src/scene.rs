@@ -179,7 +179,16 @@ pub struct EffectsSpec {
 /// Errors while reading a scene.
 #[derive(Debug, Error)]
 pub enum SceneError {
-    /// A file could not be read under the input rules.
+    /// The scene file could not be opened or read.
+    #[error("cannot read scene {}", path.display())]
+    Read {
+        /// Path.
+        path: PathBuf,
+        /// Cause.
+        source: std::io::Error,
+    },
+    /// A file is refused by the input rules (not a regular file, too large, not UTF-8,
+    /// outside the sandbox), or a mesh file could not be read.
     #[error(transparent)]
     Input(#[from] InputError),
     /// JSON syntax, shape or type error, or (when strict) an unknown key.
@@ -544,7 +553,10 @@ pub fn load_file(path: &Path) -> Result<LoadedScene, SceneError> {
 /// Loads a scene file under `policy`. A `policy.sandbox` of `Some(empty path)` means "the
 /// scene file's own folder". Unknown keys become warnings on the returned scene.
 pub fn load_file_with(path: &Path, policy: &ReadPolicy) -> Result<LoadedScene, SceneError> {
-    let text = input::read_text(path, policy)?;
+    let text = input::read_text(path, policy).map_err(|e| match e {
+        InputError::Io { path, source } => SceneError::Read { path, source },
+        e => SceneError::Input(e),
+    })?;
     let name = path.display().to_string();
     let (scene, unknown) = parse_with_warnings(&text, &name)?;
     let dir = match path.parent() {

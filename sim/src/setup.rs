@@ -33,6 +33,16 @@ use pixelproc_formats::{
 };
 use thiserror::Error;
 
+/// A number for a message: plain when moderate, in exponent form when huge or tiny (never
+/// a 300-digit literal).
+pub fn short_num(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e7).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
 /// Why a triangle cannot be set up.
 #[derive(Debug, Error, PartialEq)]
 pub enum SetupError {
@@ -40,7 +50,7 @@ pub enum SetupError {
     #[error("coordinate {0} is not a finite number")]
     NotFinite(f64),
     /// A coordinate lies outside the fixed-point range.
-    #[error("coordinate {0} px is outside the fixed-point range ±{MAX_COORD_PX} px")]
+    #[error("coordinate {} px is outside the fixed-point range ±{MAX_COORD_PX} px", short_num(*.0))]
     OutOfRange(f64),
     /// A depth outside the geometric depth range.
     #[error("depth {0} is outside the 24-bit geometry range {Z_GEOM_MIN}..={Z_GEOM_MAX}")]

@@ -191,12 +191,22 @@ pub fn write_mask_search_verilog(dir: &Path) -> Result<Vec<PathBuf>, MaskSearchE
     let io = |e: std::io::Error| MaskSearchError::Io(e.to_string());
     std::fs::create_dir_all(dir).map_err(io)?;
     let mut out = Vec::new();
+    for (name, text) in mask_search_files()? {
+        let p = dir.join(name);
+        std::fs::write(&p, text).map_err(io)?;
+        out.push(p);
+    }
+    Ok(out)
+}
+
+/// The files [`write_mask_search_verilog`] writes, as `(file name, text)`: both variants
+/// at 4×4 and 8×8.
+pub fn mask_search_files() -> Result<Vec<(String, String)>, MaskSearchError> {
+    let mut out = Vec::new();
     for size in [MaskSize::S4X4, MaskSize::S8X8] {
         for v in Variant::ALL {
             let (name, text) = mask_search_verilog(v, size)?;
-            let p = dir.join(format!("{name}.v"));
-            std::fs::write(&p, text).map_err(io)?;
-            out.push(p);
+            out.push((format!("{name}.v"), text));
         }
     }
     Ok(out)

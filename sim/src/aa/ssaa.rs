@@ -11,8 +11,22 @@ use super::sampler::{rasterize, Lattice};
 use super::{AaError, AaFrame, AaStats};
 use crate::setup::SnappedTri;
 
+/// Bytes per lattice sample in [`super::sampler::SampleBuf`]: depth (8), Q8.12 RGB (12),
+/// owner (4).
+const SAMPLE_BYTES: u64 = 24;
+
+/// Largest sample buffer one band may hold: the lattice is rasterized in bands of whole
+/// pixel rows so that memory stays bounded whatever `k` and the resolution (every sample is
+/// independent, so the result is the same as one whole-frame lattice).
+const BAND_BYTES: u64 = 256 << 20;
+
+/// Pixel rows per band for a `width`-wide frame at `k × k`.
+fn band_rows(width: u32, k: u32) -> u32 {
+    let row = width as u64 * (k as u64 * k as u64) * SAMPLE_BYTES;
+    (BAND_BYTES / row.max(1)).clamp(1, u32::MAX as u64) as u32
+}
+
 /// Renders with `k × k` supersampling, `1 ≤ k ≤ 64`.
-#[allow(clippy::needless_range_loop)]
 pub fn render(
     tris: &[SnappedTri],
     width: u32,
@@ -23,22 +37,70 @@ pub fn render(
     if !(1..=64).contains(&k) {
         return Err(AaError::Param(format!("ssaa k = {k} must be in 1..=64")));
     }
-    let lat = Lattice {
-        nx: width * k,
-        ny: height * k,
-        sx: 2,
-        sy: 2,
-        ox: 1,
-        oy: 1,
-        den: 2 * k as i64,
-    };
-    let buf = rasterize(tris, &[lat], bg).pop().expect("one lattice");
-    let (w, h, k) = (width as usize, height as usize, k as usize);
+    render_in_bands(tris, width, height, bg, k, band_rows(width, k))
+}
+
+/// [`render`] with an explicit band height in pixel rows.
+fn render_in_bands(
+    tris: &[SnappedTri],
+    width: u32,
+    height: u32,
+    bg: [u8; 3],
+    k: u32,
+    rows: u32,
+) -> Result<AaFrame, AaError> {
+    let (w, h) = (width as usize, height as usize);
     let mut rgb = vec![0u8; w * h * 3];
     let mut visible = vec![-1i32; w * h];
+    let mut stats = AaStats::default();
+    for j0 in (0..height).step_by(rows as usize) {
+        let j1 = (j0 + rows).min(height);
+        // Sample row b of the band is frame sample row j0·k + b: y = (2(j0·k + b) + 1)/(2k).
+        let lat = Lattice {
+            nx: width * k,
+            ny: (j1 - j0) * k,
+            sx: 2,
+            sy: 2,
+            ox: 1,
+            oy: 1 + 2 * (j0 as i64) * (k as i64),
+            den: 2 * k as i64,
+        };
+        let buf = rasterize(tris, &[lat], bg).pop().expect("one lattice");
+        let px = j0 as usize * w..j1 as usize * w;
+        resolve(
+            &buf,
+            width,
+            k,
+            &mut rgb[px.start * 3..px.end * 3],
+            &mut visible[px],
+        );
+        stats.depth_evals += buf.depth_evals;
+        stats.samples_written += buf.z.len() as u64;
+        stats.sample_reads += buf.z.len() as u64;
+    }
+    Ok(AaFrame {
+        width,
+        height,
+        rgb,
+        visible: Some(visible),
+        stats,
+    })
+}
+
+/// Box resolve of one band: every pixel's `k²` samples summed and truncated once; the
+/// visible triangle is the one owning most samples (lowest index on a tie).
+#[allow(clippy::needless_range_loop)]
+fn resolve(
+    buf: &super::sampler::SampleBuf,
+    width: u32,
+    k: u32,
+    rgb: &mut [u8],
+    visible: &mut [i32],
+) {
+    let (w, k) = (width as usize, k as usize);
     let n = (k * k) as u64;
     let mut counts: Vec<(i32, u32)> = Vec::new();
-    for j in 0..h {
+    for j in 0..visible.len() / w {
         for i in 0..w {
             let mut acc = [0u64; 3];
             counts.clear();
@@ -62,16 +124,28 @@ pub fn render(
             visible[j * w + i] = counts[0].0;
         }
     }
-    Ok(AaFrame {
-        width,
-        height,
-        rgb,
-        visible: Some(visible),
-        stats: AaStats {
-            depth_evals: buf.depth_evals,
-            samples_written: buf.z.len() as u64,
-            sample_reads: buf.z.len() as u64,
-            ..Default::default()
-        },
-    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bands_bound_memory_and_change_nothing() {
+        for (w, k) in [(1920, 2), (1920, 8), (4096, 64), (16, 1)] {
+            let rows = band_rows(w, k) as u64;
+            assert!(rows == 1 || rows * w as u64 * (k * k) as u64 * SAMPLE_BYTES <= BAND_BYTES);
+        }
+        let ls = crate::scene::load_builtin("default").unwrap();
+        let p = crate::frontend::project(&ls).unwrap();
+        let (w, h) = (ls.scene.width, ls.scene.height);
+        let whole = render_in_bands(&p.tris, w, h, [10, 20, 30], 3, h).unwrap();
+        for rows in [1, 7, 64] {
+            let banded = render_in_bands(&p.tris, w, h, [10, 20, 30], 3, rows).unwrap();
+            assert_eq!(banded.rgb, whole.rgb, "rows per band {rows}");
+            assert_eq!(banded.visible, whole.visible);
+            assert_eq!(banded.stats.depth_evals, whole.stats.depth_evals);
+            assert_eq!(banded.stats.samples_written, whole.stats.samples_written);
+        }
+    }
 }

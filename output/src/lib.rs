@@ -9,7 +9,7 @@
 //!    first moved aside, and moved back if a later rename fails.
 //!
 //! Temporaries are removed on every error path (they are deleted when dropped, and the
-//! CLI returns from `main` instead of calling `process::exit`). A new file gets the usual
+//! command line returns from `main` instead of calling `process::exit`). A new file gets the usual
 //! mode (`0666` less the umask, so `0644` by default); a replaced file keeps its mode. A
 //! destination that is a symlink is followed: the file it points to is replaced and the
 //! link stays.
@@ -201,9 +201,14 @@ mod tests {
         let mut o = OutputSet::new();
         o.add(&link, b"new").unwrap();
         o.commit().unwrap();
-        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        assert!(std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
         assert_eq!(std::fs::read(&target).unwrap(), b"new");
-        let e = OutputSet::new().add(Path::new("/dev/null"), b"x").unwrap_err();
+        let e = OutputSet::new()
+            .add(Path::new("/dev/null"), b"x")
+            .unwrap_err();
         assert!(e.to_string().contains("not a regular file"), "{e}");
     }
 }
