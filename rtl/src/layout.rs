@@ -129,7 +129,7 @@ field_slices! {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use pixelproc_formats::regs::ProcState;
+    use pixelproc_formats::regs::SAMPLE_STATE;
     use pixelproc_formats::{Attr, SpanWord};
 
     #[test]
@@ -163,15 +163,7 @@ mod tests {
 
     #[test]
     fn readout_slices_match_pack_readout() {
-        let s = ProcState {
-            zb: 0xABCDEF,
-            rgb: 0x123456,
-            dsf: true,
-            fsf: false,
-            count: 200,
-            mask: 0x81,
-            nclass: 7,
-        };
+        let s = SAMPLE_STATE;
         let mut b: Bits<READOUT_W> = Bits::default();
         b.set_value_nclass(7u64.to_bits());
         b.set_value_mask(0x81u64.to_bits());
