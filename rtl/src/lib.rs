@@ -11,6 +11,7 @@
 
 #![warn(missing_docs)]
 
+pub mod colour_lane;
 pub mod layout;
 pub mod mask_search;
 pub mod opcodes;

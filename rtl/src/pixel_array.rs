@@ -56,7 +56,7 @@
 
 use crate::layout::{ReadoutFields, SpanFields, READOUT_W, SPAN_W};
 use crate::opcodes::*;
-use crate::pixel_processor::{PixelProcessor, IACC_W, REL_W, ZACC_W};
+use crate::pixel_processor::{PixelProcessor, DI3_W, I3_W, IACC_W, REL_W, ZACC_W};
 use pixelproc_formats::regs::{COUNT_BITS, MASK_BITS, RGB_BITS};
 use pixelproc_formats::{
     MAX_SCREEN, SPAN_DI_R, SPAN_DZ, SPAN_IL_R, SPAN_NCLASS, SPAN_XL, SPAN_ZL, Z_BITS,
@@ -224,6 +224,9 @@ pub struct PixelProcessorArray {
     l_dihi_b: Signal<Local, Bits<MUL_W>>,
     l_m44: Signal<Local, Bits<ZACC_W>>,
     l_m34: Signal<Local, Bits<IACC_W>>,
+    l_ir: Signal<Local, Bits<IACC_W>>,
+    l_ig: Signal<Local, Bits<IACC_W>>,
+    l_ib: Signal<Local, Bits<IACC_W>>,
 }
 
 impl PixelProcessorArray {
@@ -343,6 +346,9 @@ impl PixelProcessorArray {
             l_dihi_b: Default::default(),
             l_m44: Default::default(),
             l_m34: Default::default(),
+            l_ir: Default::default(),
+            l_ig: Default::default(),
+            l_ib: Default::default(),
         })
     }
 
@@ -568,12 +574,16 @@ impl Logic for PixelProcessorArray {
         self.procs[0].t_rel_r.next = self.e4_rel_r.q.val();
         self.procs[0].t_z.next = self.e4_za.q.val() + self.e4_zb.q.val();
         self.procs[0].t_dz.next = self.e4_dz.q.val();
-        self.procs[0].t_ir.next = self.e4_ra.q.val() + self.e4_rb.q.val();
-        self.procs[0].t_ig.next = self.e4_ga.q.val() + self.e4_gb.q.val();
-        self.procs[0].t_ib.next = self.e4_ba.q.val() + self.e4_bb.q.val();
-        self.procs[0].t_dir.next = self.e4_dir.q.val();
-        self.procs[0].t_dig.next = self.e4_dig.q.val();
-        self.procs[0].t_dib.next = self.e4_dib.q.val();
+        // The channels packed red first (`PixelProcessor::t_i`, `t_di`).
+        self.l_ir.next = self.e4_ra.q.val() + self.e4_rb.q.val();
+        self.l_ig.next = self.e4_ga.q.val() + self.e4_gb.q.val();
+        self.l_ib.next = self.e4_ba.q.val() + self.e4_bb.q.val();
+        self.procs[0].t_i.next = bit_cast::<I3_W, IACC_W>(self.l_ir.val())
+            | (bit_cast::<I3_W, IACC_W>(self.l_ig.val()) << 34)
+            | (bit_cast::<I3_W, IACC_W>(self.l_ib.val()) << 68);
+        self.procs[0].t_di.next = bit_cast::<DI3_W, DI_W>(self.e4_dir.q.val())
+            | (bit_cast::<DI3_W, DI_W>(self.e4_dig.q.val()) << 21)
+            | (bit_cast::<DI3_W, DI_W>(self.e4_dib.q.val()) << 42);
         for i in 1..self.procs.len() {
             self.procs[i].t_op.next = self.procs[i - 1].o_op.val();
             self.procs[i].t_attr.next = self.procs[i - 1].o_attr.val();
@@ -583,12 +593,8 @@ impl Logic for PixelProcessorArray {
             self.procs[i].t_rel_r.next = self.procs[i - 1].o_rel_r.val();
             self.procs[i].t_z.next = self.procs[i - 1].o_z.val();
             self.procs[i].t_dz.next = self.procs[i - 1].o_dz.val();
-            self.procs[i].t_ir.next = self.procs[i - 1].o_ir.val();
-            self.procs[i].t_ig.next = self.procs[i - 1].o_ig.val();
-            self.procs[i].t_ib.next = self.procs[i - 1].o_ib.val();
-            self.procs[i].t_dir.next = self.procs[i - 1].o_dir.val();
-            self.procs[i].t_dig.next = self.procs[i - 1].o_dig.val();
-            self.procs[i].t_dib.next = self.procs[i - 1].o_dib.val();
+            self.procs[i].t_i.next = self.procs[i - 1].o_i.val();
+            self.procs[i].t_di.next = self.procs[i - 1].o_di.val();
         }
         // ---- Readout: registered address (E1), per-processor select registered in the
         // processor, OR of the (one) selected processor's packed readout registers,

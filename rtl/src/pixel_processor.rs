@@ -44,13 +44,14 @@
 //!
 //! Latency: state registers update two rising edges after the token register is loaded.
 
+use crate::colour_lane::{ColourLane, CH_W, DI_W};
 use crate::layout::{ReadoutFields, READOUT_W};
 use crate::opcodes::*;
 use crate::span_parity::SpanParity;
 use pixelproc_formats::regs::{ProcState, COUNT_BITS, MASK_BITS, RGB_BITS};
 use pixelproc_formats::{
-    Attr, DEPTH_FRAC_BITS, INTENSITY_FRAC_BITS, SPAN_ATTR, SPAN_DI_R, SPAN_DZ, SPAN_NCLASS,
-    SPAN_XL, Z_BITS, Z_FAR,
+    Attr, DEPTH_FRAC_BITS, INTENSITY_FRAC_BITS, SPAN_ATTR, SPAN_DZ, SPAN_NCLASS, SPAN_XL, Z_BITS,
+    Z_FAR,
 };
 use rust_hdl::prelude::*;
 
@@ -67,25 +68,19 @@ pub const ZACC_W: usize = 32 + DEPTH_FRAC_BITS as usize;
 pub const IACC_W: usize = 22 + INTENSITY_FRAC_BITS as usize;
 /// Width of `dZ`.
 const DZ_W: usize = SPAN_DZ.width;
-/// Width of one `dI` channel.
-const DI_W: usize = SPAN_DI_R.width;
 /// Width of the span attribute.
 const ATTR_W: usize = SPAN_ATTR.width;
 /// Width of the normal class.
 const NCLASS_W: usize = SPAN_NCLASS.width;
 /// Width of a depth register.
 const ZB_W: usize = Z_BITS as usize;
-/// Width of one colour channel.
-const CH_W: usize = 8;
-/// Bits of an intensity accumulator above the 8-bit channel (`[IACC_W−2:20]`): any set
-/// bit means `>= 256.0`.
-const OVER_W: usize = IACC_W - CH_W - INTENSITY_FRAC_BITS as usize - 1;
-// A kernel can only take literal bit positions: the sign bits 37 (`dZ`), 20 (`dI`), 13
-// (range), 33 (intensity), the depth slice at 12 and the channel slices at 12 and 20
-// below are these widths.
-const _: () = assert!(
-    DZ_W == 38 && DI_W == 21 && REL_W == 14 && IACC_W == 34 && ZACC_W == 44 && OVER_W == 13
-);
+/// Width of the three packed intensity accumulators of a token.
+pub const I3_W: usize = 3 * IACC_W;
+/// Width of the three packed `dI` of a token.
+pub const DI3_W: usize = 3 * DI_W;
+// A kernel can only take literal bit positions: the sign bits 37 (`dZ`) and 13 (range),
+// the depth slice at 12 and the channel strides 34 and 21 below are these widths.
+const _: () = assert!(DZ_W == 38 && DI_W == 21 && REL_W == 14 && IACC_W == 34 && ZACC_W == 44);
 
 /// One pixel processor. `shadows = false` builds it without the parity block: DSF, FSF,
 /// COUNT and MASK then read 0 and shadow commands do nothing.
@@ -110,18 +105,11 @@ pub struct PixelProcessor {
     pub t_z: Signal<In, Bits<ZACC_W>>,
     /// Token in: `dZ`, Q26.12 two's complement.
     pub t_dz: Signal<In, Bits<DZ_W>>,
-    /// Token in: red accumulator, Q22.12 two's complement.
-    pub t_ir: Signal<In, Bits<IACC_W>>,
-    /// Token in: green accumulator.
-    pub t_ig: Signal<In, Bits<IACC_W>>,
-    /// Token in: blue accumulator.
-    pub t_ib: Signal<In, Bits<IACC_W>>,
-    /// Token in: `dI` red, Q9.12 two's complement.
-    pub t_dir: Signal<In, Bits<DI_W>>,
-    /// Token in: `dI` green.
-    pub t_dig: Signal<In, Bits<DI_W>>,
-    /// Token in: `dI` blue.
-    pub t_dib: Signal<In, Bits<DI_W>>,
+    /// Token in: the red, green and blue accumulators (Q22.12 two's complement), red in
+    /// the low [`IACC_W`] bits.
+    pub t_i: Signal<In, Bits<I3_W>>,
+    /// Token in: `dI` red, green, blue (Q9.12 two's complement), red in the low bits.
+    pub t_di: Signal<In, Bits<DI3_W>>,
     /// Readout select (this processor is addressed), registered here.
     pub rd_sel: Signal<In, Bit>,
     /// Readout registers, packed `{NCLASS, MASK, ZB, RGB, DSF, FSF, COUNT}` (74 bits), if
@@ -143,18 +131,10 @@ pub struct PixelProcessor {
     pub o_z: Signal<Out, Bits<ZACC_W>>,
     /// Token out: `dZ`.
     pub o_dz: Signal<Out, Bits<DZ_W>>,
-    /// Token out: red accumulator for the next column.
-    pub o_ir: Signal<Out, Bits<IACC_W>>,
-    /// Token out: green accumulator.
-    pub o_ig: Signal<Out, Bits<IACC_W>>,
-    /// Token out: blue accumulator.
-    pub o_ib: Signal<Out, Bits<IACC_W>>,
-    /// Token out: `dI` red.
-    pub o_dir: Signal<Out, Bits<DI_W>>,
-    /// Token out: `dI` green.
-    pub o_dig: Signal<Out, Bits<DI_W>>,
-    /// Token out: `dI` blue.
-    pub o_dib: Signal<Out, Bits<DI_W>>,
+    /// Token out: the three accumulators for the next column.
+    pub o_i: Signal<Out, Bits<I3_W>>,
+    /// Token out: `dI`, the three channels.
+    pub o_di: Signal<Out, Bits<DI3_W>>,
     /// The shadow logic: one element with shadows, none without.
     pub parity: Vec<SpanParity>,
     tok_op: DFF<Bits<OP_BITS>>,
@@ -165,12 +145,10 @@ pub struct PixelProcessor {
     tok_rel_r: DFF<Bits<REL_W>>,
     tok_z: DFF<Bits<ZACC_W>>,
     tok_dz: DFF<Bits<DZ_W>>,
-    tok_ir: DFF<Bits<IACC_W>>,
-    tok_ig: DFF<Bits<IACC_W>>,
-    tok_ib: DFF<Bits<IACC_W>>,
-    tok_dir: DFF<Bits<DI_W>>,
-    tok_dig: DFF<Bits<DI_W>>,
-    tok_dib: DFF<Bits<DI_W>>,
+    tok_i: DFF<Bits<I3_W>>,
+    tok_di: DFF<Bits<DI3_W>>,
+    /// Step and clamp of the red, green and blue channels.
+    lanes: [ColourLane; 3],
     b_op: DFF<Bits<OP_BITS>>,
     b_attr: DFF<Bits<ATTR_W>>,
     b_covered: DFF<Bit>,
@@ -197,16 +175,11 @@ pub struct PixelProcessor {
     k_attr_op: Constant<Bits<ATTR_W>>,
     k_zfar: Constant<Bits<ZB_W>>,
     k_zero8: Constant<Bits<CH_W>>,
-    k_zero13: Constant<Bits<OVER_W>>,
-    k_ff8: Constant<Bits<CH_W>>,
     k_zero24: Constant<Bits<RGB_BITS>>,
+    k_zero_i3: Constant<Bits<I3_W>>,
     k_one14: Constant<Bits<REL_W>>,
     k_sext_z: Constant<Bits<ZACC_W>>,
-    k_sext_i: Constant<Bits<IACC_W>>,
     dz_x: Signal<Local, Bits<ZACC_W>>,
-    dir_x: Signal<Local, Bits<IACC_W>>,
-    dig_x: Signal<Local, Bits<IACC_W>>,
-    dib_x: Signal<Local, Bits<IACC_W>>,
     right_of_xl: Signal<Local, Bit>,
     covered: Signal<Local, Bit>,
     zv: Signal<Local, Bits<ZB_W>>,
@@ -214,9 +187,10 @@ pub struct PixelProcessor {
     z_lt: Signal<Local, Bit>,
     z_pass: Signal<Local, Bit>,
     zb_next: Signal<Local, Bits<ZB_W>>,
-    ch_r: Signal<Local, Bits<CH_W>>,
-    ch_g: Signal<Local, Bits<CH_W>>,
-    ch_b: Signal<Local, Bits<CH_W>>,
+    l_i: Signal<Local, Bits<I3_W>>,
+    l_rgb: Signal<Local, Bits<RGB_BITS>>,
+    l_lane_i: Signal<Local, Bits<IACC_W>>,
+    l_lane_ch: Signal<Local, Bits<CH_W>>,
     dsf_now: Signal<Local, Bit>,
     fsf_now: Signal<Local, Bit>,
     count_now: Signal<Local, Bits<COUNT_BITS>>,
@@ -241,12 +215,8 @@ impl PixelProcessor {
             t_rel_r: Default::default(),
             t_z: Default::default(),
             t_dz: Default::default(),
-            t_ir: Default::default(),
-            t_ig: Default::default(),
-            t_ib: Default::default(),
-            t_dir: Default::default(),
-            t_dig: Default::default(),
-            t_dib: Default::default(),
+            t_i: Default::default(),
+            t_di: Default::default(),
             rd_sel: Default::default(),
             rdo: Default::default(),
             o_op: Default::default(),
@@ -257,12 +227,8 @@ impl PixelProcessor {
             o_rel_r: Default::default(),
             o_z: Default::default(),
             o_dz: Default::default(),
-            o_ir: Default::default(),
-            o_ig: Default::default(),
-            o_ib: Default::default(),
-            o_dir: Default::default(),
-            o_dig: Default::default(),
-            o_dib: Default::default(),
+            o_i: Default::default(),
+            o_di: Default::default(),
             parity,
             tok_op: Default::default(),
             tok_attr: Default::default(),
@@ -272,12 +238,9 @@ impl PixelProcessor {
             tok_rel_r: Default::default(),
             tok_z: Default::default(),
             tok_dz: Default::default(),
-            tok_ir: Default::default(),
-            tok_ig: Default::default(),
-            tok_ib: Default::default(),
-            tok_dir: Default::default(),
-            tok_dig: Default::default(),
-            tok_dib: Default::default(),
+            tok_i: Default::default(),
+            tok_di: Default::default(),
+            lanes: std::array::from_fn(|_| ColourLane::new()),
             b_op: Default::default(),
             b_attr: Default::default(),
             b_covered: Default::default(),
@@ -304,16 +267,11 @@ impl PixelProcessor {
             k_attr_op: Constant::new((Attr::Op.code() as u64).to_bits()),
             k_zfar: Constant::new((Z_FAR as u64).to_bits()),
             k_zero8: Constant::new(0u64.to_bits()),
-            k_zero13: Constant::new(0u64.to_bits()),
-            k_ff8: Constant::new(((1u64 << CH_W) - 1).to_bits()),
             k_zero24: Constant::new(0u64.to_bits()),
+            k_zero_i3: Constant::new(0u64.to_bits()),
             k_one14: Constant::new(1u64.to_bits()),
             k_sext_z: Constant::new((((1u64 << ZACC_W) - 1) ^ ((1u64 << DZ_W) - 1)).to_bits()),
-            k_sext_i: Constant::new((((1u64 << IACC_W) - 1) ^ ((1u64 << DI_W) - 1)).to_bits()),
             dz_x: Default::default(),
-            dir_x: Default::default(),
-            dig_x: Default::default(),
-            dib_x: Default::default(),
             right_of_xl: Default::default(),
             covered: Default::default(),
             zv: Default::default(),
@@ -321,9 +279,10 @@ impl PixelProcessor {
             z_lt: Default::default(),
             z_pass: Default::default(),
             zb_next: Default::default(),
-            ch_r: Default::default(),
-            ch_g: Default::default(),
-            ch_b: Default::default(),
+            l_i: Default::default(),
+            l_rgb: Default::default(),
+            l_lane_i: Default::default(),
+            l_lane_ch: Default::default(),
             dsf_now: Default::default(),
             fsf_now: Default::default(),
             count_now: Default::default(),
@@ -381,12 +340,8 @@ impl Logic for PixelProcessor {
             tok_rel_r,
             tok_z,
             tok_dz,
-            tok_ir,
-            tok_ig,
-            tok_ib,
-            tok_dir,
-            tok_dig,
-            tok_dib,
+            tok_i,
+            tok_di,
             b_op,
             b_attr,
             b_covered,
@@ -416,32 +371,33 @@ impl Logic for PixelProcessor {
         self.tok_rel_r.d.next = self.t_rel_r.val();
         self.tok_z.d.next = self.t_z.val();
         self.tok_dz.d.next = self.t_dz.val();
-        self.tok_ir.d.next = self.t_ir.val();
-        self.tok_ig.d.next = self.t_ig.val();
-        self.tok_ib.d.next = self.t_ib.val();
-        self.tok_dir.d.next = self.t_dir.val();
-        self.tok_dig.d.next = self.t_dig.val();
-        self.tok_dib.d.next = self.t_dib.val();
+        self.tok_i.d.next = self.t_i.val();
+        self.tok_di.d.next = self.t_di.val();
         // Sign-extended increments.
         self.dz_x.next = bit_cast::<ZACC_W, DZ_W>(self.tok_dz.q.val());
         if self.tok_dz.q.val().get_bit(37) {
             self.dz_x.next = self.dz_x.val() | self.k_sext_z.val();
         }
-        self.dir_x.next = bit_cast::<IACC_W, DI_W>(self.tok_dir.q.val());
-        if self.tok_dir.q.val().get_bit(20) {
-            self.dir_x.next = self.dir_x.val() | self.k_sext_i.val();
-        }
-        self.dig_x.next = bit_cast::<IACC_W, DI_W>(self.tok_dig.q.val());
-        if self.tok_dig.q.val().get_bit(20) {
-            self.dig_x.next = self.dig_x.val() | self.k_sext_i.val();
-        }
-        self.dib_x.next = bit_cast::<IACC_W, DI_W>(self.tok_dib.q.val());
-        if self.tok_dib.q.val().get_bit(20) {
-            self.dib_x.next = self.dib_x.val() | self.k_sext_i.val();
-        }
         // Range test: col >= XL iff XL − col − 1 < 0; col <= XR iff XR − col >= 0.
         self.right_of_xl.next = self.tok_rel_l.q.val().get_bit(13);
         self.covered.next = self.right_of_xl.val() & (!self.tok_rel_r.q.val().get_bit(13));
+        // Colour channels (red first): the next column's accumulators, packed back in
+        // channel order, and the clamped channel values as RGB888.
+        self.l_i.next = self.k_zero_i3.val();
+        self.l_rgb.next = self.k_zero24.val();
+        for c in 0..3 {
+            self.lanes[c].i.next = self.tok_i.q.val().get_bits::<IACC_W>(34 * c);
+            self.lanes[c].di.next = self.tok_di.q.val().get_bits::<DI_W>(21 * c);
+            self.lanes[c].step.next = self.right_of_xl.val();
+            // (`bit_cast` cannot take the loop index: go through locals.)
+            self.l_lane_i.next = self.lanes[c].o_i.val();
+            self.l_lane_ch.next = self.lanes[c].ch.val();
+            self.l_i.next =
+                (self.l_i.val() >> 34) | (bit_cast::<I3_W, IACC_W>(self.l_lane_i.val()) << 68);
+            self.l_rgb.next =
+                (self.l_rgb.val() << 8) | bit_cast::<RGB_BITS, CH_W>(self.l_lane_ch.val());
+        }
+        self.o_i.next = self.l_i.val();
         // Token for the next processor.
         self.o_op.next = self.tok_op.q.val();
         self.o_attr.next = self.tok_attr.q.val();
@@ -450,18 +406,10 @@ impl Logic for PixelProcessor {
         self.o_rel_l.next = self.tok_rel_l.q.val() - self.k_one14.val();
         self.o_rel_r.next = self.tok_rel_r.q.val() - self.k_one14.val();
         self.o_dz.next = self.tok_dz.q.val();
-        self.o_dir.next = self.tok_dir.q.val();
-        self.o_dig.next = self.tok_dig.q.val();
-        self.o_dib.next = self.tok_dib.q.val();
+        self.o_di.next = self.tok_di.q.val();
         self.o_z.next = self.tok_z.q.val();
-        self.o_ir.next = self.tok_ir.q.val();
-        self.o_ig.next = self.tok_ig.q.val();
-        self.o_ib.next = self.tok_ib.q.val();
         if self.right_of_xl.val() {
             self.o_z.next = self.tok_z.q.val() + self.dz_x.val();
-            self.o_ir.next = self.tok_ir.q.val() + self.dir_x.val();
-            self.o_ig.next = self.tok_ig.q.val() + self.dig_x.val();
-            self.o_ib.next = self.tok_ib.q.val() + self.dib_x.val();
         }
         // ---- Stage B: apply the decision registered at the last edge. `zb_next` is the
         // value ZB takes at the coming edge.
@@ -524,28 +472,6 @@ impl Logic for PixelProcessor {
         if self.tok_decal.q.val() {
             self.z_pass.next = self.zv.val() <= self.zb_next.val();
         }
-        // Intensity clamp: negative -> 0, >= 256.0 -> 255, else bits [19:12].
-        self.ch_r.next = self.tok_ir.q.val().get_bits::<CH_W>(12);
-        if self.tok_ir.q.val().get_bits::<OVER_W>(20) != self.k_zero13.val() {
-            self.ch_r.next = self.k_ff8.val();
-        }
-        if self.tok_ir.q.val().get_bit(33) {
-            self.ch_r.next = self.k_zero8.val();
-        }
-        self.ch_g.next = self.tok_ig.q.val().get_bits::<CH_W>(12);
-        if self.tok_ig.q.val().get_bits::<OVER_W>(20) != self.k_zero13.val() {
-            self.ch_g.next = self.k_ff8.val();
-        }
-        if self.tok_ig.q.val().get_bit(33) {
-            self.ch_g.next = self.k_zero8.val();
-        }
-        self.ch_b.next = self.tok_ib.q.val().get_bits::<CH_W>(12);
-        if self.tok_ib.q.val().get_bits::<OVER_W>(20) != self.k_zero13.val() {
-            self.ch_b.next = self.k_ff8.val();
-        }
-        if self.tok_ib.q.val().get_bit(33) {
-            self.ch_b.next = self.k_zero8.val();
-        }
         self.b_op.d.next = self.tok_op.q.val();
         self.b_attr.d.next = self.tok_attr.q.val();
         self.b_covered.d.next = self.covered.val();
@@ -557,9 +483,7 @@ impl Logic for PixelProcessor {
             & self.z_hi_ok.val();
         self.b_z.d.next = self.zv.val();
         self.b_nclass.d.next = self.tok_nclass.q.val();
-        self.b_rgb.d.next = (bit_cast::<RGB_BITS, CH_W>(self.ch_r.val()) << 16)
-            | (bit_cast::<RGB_BITS, CH_W>(self.ch_g.val()) << 8)
-            | bit_cast::<RGB_BITS, CH_W>(self.ch_b.val());
+        self.b_rgb.d.next = self.l_rgb.val();
         if self.tok_op.q.val() != self.k_span.val() {
             // CLEAR_LINE's background, LATCH_SHADOW's bit.
             self.b_rgb.d.next = self.tok_z.q.val().get_bits::<RGB_BITS>(0);
