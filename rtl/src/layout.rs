@@ -14,6 +14,7 @@
 use pixelproc_formats::regs::{
     RD_COUNT, RD_DSF, RD_FSF, RD_MASK, RD_NCLASS, RD_RGB, RD_ZB, READOUT_BITS,
 };
+use pixelproc_formats::Field;
 use pixelproc_formats::{
     SPAN_ATTR, SPAN_DECAL, SPAN_DI_B, SPAN_DI_G, SPAN_DI_R, SPAN_DZ, SPAN_IL_B, SPAN_IL_G,
     SPAN_IL_R, SPAN_NCLASS, SPAN_WORD_BITS, SPAN_XL, SPAN_XR, SPAN_ZL,
@@ -22,6 +23,12 @@ use rust_hdl::prelude::*;
 
 /// Width of the `cmd_word` port: one packed span word.
 pub const SPAN_W: usize = SPAN_WORD_BITS as usize;
+/// The three `IL` channels of the span word as one field (red in the low bits).
+pub const SPAN_IL3: Field = SPAN_DZ.then("IL", 3 * SPAN_IL_R.width);
+/// The three `dI` channels of the span word as one field (red in the low bits).
+pub const SPAN_DI3: Field = SPAN_IL3.then("dI", 3 * SPAN_DI_R.width);
+const _: () = assert!(SPAN_IL3.lsb == SPAN_IL_R.lsb && SPAN_DI3.lsb == SPAN_DI_R.lsb);
+
 /// Width of the readout bus and of each processor's `rdo` output.
 pub const READOUT_W: usize = READOUT_BITS;
 
@@ -104,6 +111,8 @@ field_slices! {
         get_value_di_g, set_value_di_g, get_my_width_di_g, get_my_offset_di_g: SPAN_DI_G;
         get_value_di_b, set_value_di_b, get_my_width_di_b, get_my_offset_di_b: SPAN_DI_B;
         get_value_nclass, set_value_nclass, get_my_width_nclass, get_my_offset_nclass: SPAN_NCLASS;
+        get_value_il, set_value_il, get_my_width_il, get_my_offset_il: SPAN_IL3;
+        get_value_di, set_value_di, get_my_width_di, get_my_offset_di: SPAN_DI3;
     }
     flags {
         get_value_decal, set_value_decal, get_my_width_decal, get_my_offset_decal: SPAN_DECAL;

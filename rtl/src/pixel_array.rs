@@ -54,13 +54,13 @@
 //! depend on `N`; the cost is one token register per processor and `N + 6` clocks of
 //! latency.
 
+use crate::colour_lane::DI_W;
+use crate::entry_channel::{EntryChannel, IL_W, MUL_W, PROD_W};
 use crate::layout::{ReadoutFields, SpanFields, READOUT_W, SPAN_W};
 use crate::opcodes::*;
 use crate::pixel_processor::{PixelProcessor, DI3_W, I3_W, IACC_W, REL_W, ZACC_W};
 use pixelproc_formats::regs::{COUNT_BITS, MASK_BITS, RGB_BITS};
-use pixelproc_formats::{
-    MAX_SCREEN, SPAN_DI_R, SPAN_DZ, SPAN_IL_R, SPAN_NCLASS, SPAN_XL, SPAN_ZL, Z_BITS,
-};
+use pixelproc_formats::{MAX_SCREEN, SPAN_DZ, SPAN_NCLASS, SPAN_XL, SPAN_ZL, Z_BITS};
 use rust_hdl::prelude::*;
 
 /// Width of a column number (`XL`, `XR`, `tile_base`, `rd_addr`).
@@ -69,27 +69,20 @@ const X_W: usize = SPAN_XL.width;
 const ZL_W: usize = SPAN_ZL.width;
 /// Width of `dZ`.
 const DZ_W: usize = SPAN_DZ.width;
-/// Width of one `IL` channel.
-const IL_W: usize = SPAN_IL_R.width;
-/// Width of one `dI` channel.
-const DI_W: usize = SPAN_DI_R.width;
+/// Width of the three packed `IL` of a span word.
+const IL3_W: usize = 3 * IL_W;
 /// Width of the span attribute.
 const ATTR_W: usize = pixelproc_formats::SPAN_ATTR.width;
 /// Width of the normal class.
 const NCLASS_W: usize = SPAN_NCLASS.width;
 /// Width of a depth register.
 const ZB_W: usize = Z_BITS as usize;
-/// Operand width of the entry multipliers (RustHDL multiplies 16 × 16 bits only).
-const MUL_W: usize = 16;
-/// Width of one 16 × 16 partial product.
-const PROD_W: usize = 2 * MUL_W;
 /// Bits of `dZ` above its two low multiplier operands.
 const DZ_HI_W: usize = DZ_W - PROD_W;
-/// Bits of `dI` above its low multiplier operand.
-const DI_HI_W: usize = DI_W - MUL_W;
 // A kernel can only take literal bit positions: the operand splits at 16 and 32, the sign
-// bits 37 (`dZ`) and 20 (`dI`) and the weights 2^38 and 2^21 below are these widths.
-const _: () = assert!(MUL_W == 16 && DZ_W == 38 && DI_W == 21 && REL_W == 14);
+// bit 37 and the weight 2^38 (`dZ`), and the channel strides 20 (`IL`), 21 (`dI`) and 34
+// (accumulators) below are these widths.
+const _: () = assert!(MUL_W == 16 && DZ_W == 38 && DI_W == 21 && IL_W == 20 && REL_W == 14);
 
 /// Rising edges from sampling a command to its effect on processor 0's registers.
 pub const LATENCY_PROC0: usize = 6;
@@ -145,12 +138,6 @@ pub struct PixelProcessorArray {
     e2_m: DFF<Bits<MUL_W>>,
     e2_zl: DFF<Bits<ZL_W>>,
     e2_dz: DFF<Bits<DZ_W>>,
-    e2_ilr: DFF<Bits<IL_W>>,
-    e2_ilg: DFF<Bits<IL_W>>,
-    e2_ilb: DFF<Bits<IL_W>>,
-    e2_dir: DFF<Bits<DI_W>>,
-    e2_dig: DFF<Bits<DI_W>>,
-    e2_dib: DFF<Bits<DI_W>>,
     // E3: partial products.
     e3_op: DFF<Bits<OP_BITS>>,
     e3_attr: DFF<Bits<ATTR_W>>,
@@ -161,21 +148,9 @@ pub struct PixelProcessorArray {
     e3_m: DFF<Bits<MUL_W>>,
     e3_zl: DFF<Bits<ZL_W>>,
     e3_dz: DFF<Bits<DZ_W>>,
-    e3_ilr: DFF<Bits<IL_W>>,
-    e3_ilg: DFF<Bits<IL_W>>,
-    e3_ilb: DFF<Bits<IL_W>>,
-    e3_dir: DFF<Bits<DI_W>>,
-    e3_dig: DFF<Bits<DI_W>>,
-    e3_dib: DFF<Bits<DI_W>>,
     e3_pz0: DFF<Bits<PROD_W>>,
     e3_pz1: DFF<Bits<PROD_W>>,
     e3_pz2: DFF<Bits<PROD_W>>,
-    e3_pr0: DFF<Bits<PROD_W>>,
-    e3_pr1: DFF<Bits<PROD_W>>,
-    e3_pg0: DFF<Bits<PROD_W>>,
-    e3_pg1: DFF<Bits<PROD_W>>,
-    e3_pb0: DFF<Bits<PROD_W>>,
-    e3_pb1: DFF<Bits<PROD_W>>,
     // E4: two partial sums per quantity.
     e4_op: DFF<Bits<OP_BITS>>,
     e4_attr: DFF<Bits<ATTR_W>>,
@@ -184,17 +159,8 @@ pub struct PixelProcessorArray {
     e4_rel_l: DFF<Bits<REL_W>>,
     e4_rel_r: DFF<Bits<REL_W>>,
     e4_dz: DFF<Bits<DZ_W>>,
-    e4_dir: DFF<Bits<DI_W>>,
-    e4_dig: DFF<Bits<DI_W>>,
-    e4_dib: DFF<Bits<DI_W>>,
     e4_za: DFF<Bits<ZACC_W>>,
     e4_zb: DFF<Bits<ZACC_W>>,
-    e4_ra: DFF<Bits<IACC_W>>,
-    e4_rb: DFF<Bits<IACC_W>>,
-    e4_ga: DFF<Bits<IACC_W>>,
-    e4_gb: DFF<Bits<IACC_W>>,
-    e4_ba: DFF<Bits<IACC_W>>,
-    e4_bb: DFF<Bits<IACC_W>>,
     // Readout output registers.
     rd_zb_r: DFF<Bits<ZB_W>>,
     rd_rgb_r: DFF<Bits<RGB_BITS>>,
@@ -210,7 +176,6 @@ pub struct PixelProcessorArray {
     k_span: Constant<Bits<OP_BITS>>,
     k_one14: Constant<Bits<REL_W>>,
     k_zero16: Constant<Bits<MUL_W>>,
-    k_zero21: Constant<Bits<DI_W>>,
     k_zero38: Constant<Bits<DZ_W>>,
     l_xl: Signal<Local, Bits<REL_W>>,
     l_xr: Signal<Local, Bits<REL_W>>,
@@ -219,14 +184,18 @@ pub struct PixelProcessorArray {
     l_dz: Signal<Local, Bits<DZ_W>>,
     l_dzmid: Signal<Local, Bits<MUL_W>>,
     l_dzhi: Signal<Local, Bits<MUL_W>>,
-    l_dihi_r: Signal<Local, Bits<MUL_W>>,
-    l_dihi_g: Signal<Local, Bits<MUL_W>>,
-    l_dihi_b: Signal<Local, Bits<MUL_W>>,
     l_m44: Signal<Local, Bits<ZACC_W>>,
-    l_m34: Signal<Local, Bits<IACC_W>>,
-    l_ir: Signal<Local, Bits<IACC_W>>,
-    l_ig: Signal<Local, Bits<IACC_W>>,
-    l_ib: Signal<Local, Bits<IACC_W>>,
+    /// E2..E4 of the red, green and blue channels.
+    chans: [EntryChannel; 3],
+    l_span: Signal<Local, Bit>,
+    l_il3: Signal<Local, Bits<IL3_W>>,
+    l_di3: Signal<Local, Bits<DI3_W>>,
+    l_ch_i: Signal<Local, Bits<IACC_W>>,
+    l_ch_di: Signal<Local, Bits<DI_W>>,
+    l_ti: Signal<Local, Bits<I3_W>>,
+    l_tdi: Signal<Local, Bits<DI3_W>>,
+    k_zero_i3: Constant<Bits<I3_W>>,
+    k_zero_di3: Constant<Bits<DI3_W>>,
 }
 
 impl PixelProcessorArray {
@@ -270,12 +239,6 @@ impl PixelProcessorArray {
             e2_m: Default::default(),
             e2_zl: Default::default(),
             e2_dz: Default::default(),
-            e2_ilr: Default::default(),
-            e2_ilg: Default::default(),
-            e2_ilb: Default::default(),
-            e2_dir: Default::default(),
-            e2_dig: Default::default(),
-            e2_dib: Default::default(),
             e3_op: Default::default(),
             e3_attr: Default::default(),
             e3_decal: Default::default(),
@@ -285,21 +248,9 @@ impl PixelProcessorArray {
             e3_m: Default::default(),
             e3_zl: Default::default(),
             e3_dz: Default::default(),
-            e3_ilr: Default::default(),
-            e3_ilg: Default::default(),
-            e3_ilb: Default::default(),
-            e3_dir: Default::default(),
-            e3_dig: Default::default(),
-            e3_dib: Default::default(),
             e3_pz0: Default::default(),
             e3_pz1: Default::default(),
             e3_pz2: Default::default(),
-            e3_pr0: Default::default(),
-            e3_pr1: Default::default(),
-            e3_pg0: Default::default(),
-            e3_pg1: Default::default(),
-            e3_pb0: Default::default(),
-            e3_pb1: Default::default(),
             e4_op: Default::default(),
             e4_attr: Default::default(),
             e4_decal: Default::default(),
@@ -307,17 +258,8 @@ impl PixelProcessorArray {
             e4_rel_l: Default::default(),
             e4_rel_r: Default::default(),
             e4_dz: Default::default(),
-            e4_dir: Default::default(),
-            e4_dig: Default::default(),
-            e4_dib: Default::default(),
             e4_za: Default::default(),
             e4_zb: Default::default(),
-            e4_ra: Default::default(),
-            e4_rb: Default::default(),
-            e4_ga: Default::default(),
-            e4_gb: Default::default(),
-            e4_ba: Default::default(),
-            e4_bb: Default::default(),
             rd_zb_r: Default::default(),
             rd_rgb_r: Default::default(),
             rd_dsf_r: Default::default(),
@@ -332,7 +274,6 @@ impl PixelProcessorArray {
             k_span: Constant::new(OP_SPAN.to_bits()),
             k_one14: k(1),
             k_zero16: k(0),
-            k_zero21: k(0),
             k_zero38: k(0),
             l_xl: Default::default(),
             l_xr: Default::default(),
@@ -341,14 +282,17 @@ impl PixelProcessorArray {
             l_dz: Default::default(),
             l_dzmid: Default::default(),
             l_dzhi: Default::default(),
-            l_dihi_r: Default::default(),
-            l_dihi_g: Default::default(),
-            l_dihi_b: Default::default(),
             l_m44: Default::default(),
-            l_m34: Default::default(),
-            l_ir: Default::default(),
-            l_ig: Default::default(),
-            l_ib: Default::default(),
+            chans: std::array::from_fn(|_| EntryChannel::new()),
+            l_span: Default::default(),
+            l_il3: Default::default(),
+            l_di3: Default::default(),
+            l_ch_i: Default::default(),
+            l_ch_di: Default::default(),
+            l_ti: Default::default(),
+            l_tdi: Default::default(),
+            k_zero_i3: k(0),
+            k_zero_di3: k(0),
         })
     }
 
@@ -383,12 +327,6 @@ impl Logic for PixelProcessorArray {
             e2_m,
             e2_zl,
             e2_dz,
-            e2_ilr,
-            e2_ilg,
-            e2_ilb,
-            e2_dir,
-            e2_dig,
-            e2_dib,
             e3_op,
             e3_attr,
             e3_decal,
@@ -398,21 +336,9 @@ impl Logic for PixelProcessorArray {
             e3_m,
             e3_zl,
             e3_dz,
-            e3_ilr,
-            e3_ilg,
-            e3_ilb,
-            e3_dir,
-            e3_dig,
-            e3_dib,
             e3_pz0,
             e3_pz1,
             e3_pz2,
-            e3_pr0,
-            e3_pr1,
-            e3_pg0,
-            e3_pg1,
-            e3_pb0,
-            e3_pb1,
             e4_op,
             e4_attr,
             e4_decal,
@@ -420,17 +346,8 @@ impl Logic for PixelProcessorArray {
             e4_rel_l,
             e4_rel_r,
             e4_dz,
-            e4_dir,
-            e4_dig,
-            e4_dib,
             e4_za,
             e4_zb,
-            e4_ra,
-            e4_rb,
-            e4_ga,
-            e4_gb,
-            e4_ba,
-            e4_bb,
             rd_zb_r,
             rd_rgb_r,
             rd_dsf_r,
@@ -465,12 +382,6 @@ impl Logic for PixelProcessorArray {
         self.e2_rel_r.d.next = self.l_xr.val() - self.l_base.val();
         self.e2_zl.d.next = self.e1_word.q.val().get_value_zl();
         self.e2_dz.d.next = self.e1_word.q.val().get_value_dz();
-        self.e2_ilr.d.next = self.e1_word.q.val().get_value_il_r();
-        self.e2_ilg.d.next = self.e1_word.q.val().get_value_il_g();
-        self.e2_ilb.d.next = self.e1_word.q.val().get_value_il_b();
-        self.e2_dir.d.next = self.e1_word.q.val().get_value_di_r();
-        self.e2_dig.d.next = self.e1_word.q.val().get_value_di_g();
-        self.e2_dib.d.next = self.e1_word.q.val().get_value_di_b();
         // Tile offset: the span started `base − XL` columns before this tile.
         self.e2_m.d.next = self.k_zero16.val();
         if !self.l_d.val().get_bit(13) {
@@ -480,12 +391,30 @@ impl Logic for PixelProcessorArray {
             // No increments; CLEAR_LINE carries the background in the Z accumulator.
             self.e2_m.d.next = self.k_zero16.val();
             self.e2_dz.d.next = self.k_zero38.val();
-            self.e2_dir.d.next = self.k_zero21.val();
-            self.e2_dig.d.next = self.k_zero21.val();
-            self.e2_dib.d.next = self.k_zero21.val();
             self.e2_zl.d.next = bit_cast::<ZL_W, RGB_BITS>(self.e1_bg.q.val());
         }
-        // ---- E3: partial products m·dZ (3) and m·dI_c (2 each), 16×16 unsigned.
+        // ---- E2..E4 of the colour channels, one block each; their results packed red
+        // first for processor 0 (`bit_cast` cannot take the loop index: go through locals).
+        self.l_span.next = self.e1_op.q.val() == self.k_span.val();
+        self.l_il3.next = self.e1_word.q.val().get_value_il();
+        self.l_di3.next = self.e1_word.q.val().get_value_di();
+        self.l_ti.next = self.k_zero_i3.val();
+        self.l_tdi.next = self.k_zero_di3.val();
+        for c in 0..3 {
+            self.chans[c].clock.next = self.clock.val();
+            self.chans[c].il.next = self.l_il3.val().get_bits::<IL_W>(20 * c);
+            self.chans[c].di.next = self.l_di3.val().get_bits::<DI_W>(21 * c);
+            self.chans[c].span.next = self.l_span.val();
+            self.chans[c].m2.next = self.e2_m.q.val();
+            self.chans[c].m3.next = self.e3_m.q.val();
+            self.l_ch_i.next = self.chans[c].i.val();
+            self.l_ch_di.next = self.chans[c].o_di.val();
+            self.l_ti.next =
+                (self.l_ti.val() >> 34) | (bit_cast::<I3_W, IACC_W>(self.l_ch_i.val()) << 68);
+            self.l_tdi.next =
+                (self.l_tdi.val() >> 21) | (bit_cast::<DI3_W, DI_W>(self.l_ch_di.val()) << 42);
+        }
+        // ---- E3: partial products m·dZ (3), 16×16 unsigned.
         self.e3_op.d.next = self.e2_op.q.val();
         self.e3_attr.d.next = self.e2_attr.q.val();
         self.e3_decal.d.next = self.e2_decal.q.val();
@@ -495,31 +424,13 @@ impl Logic for PixelProcessorArray {
         self.e3_m.d.next = self.e2_m.q.val();
         self.e3_zl.d.next = self.e2_zl.q.val();
         self.e3_dz.d.next = self.e2_dz.q.val();
-        self.e3_ilr.d.next = self.e2_ilr.q.val();
-        self.e3_ilg.d.next = self.e2_ilg.q.val();
-        self.e3_ilb.d.next = self.e2_ilb.q.val();
-        self.e3_dir.d.next = self.e2_dir.q.val();
-        self.e3_dig.d.next = self.e2_dig.q.val();
-        self.e3_dib.d.next = self.e2_dib.q.val();
         self.l_dz.next = self.e2_dz.q.val();
         self.l_dzmid.next = self.l_dz.val().get_bits::<MUL_W>(16);
         self.l_dzhi.next = bit_cast::<MUL_W, DZ_HI_W>(self.l_dz.val().get_bits::<DZ_HI_W>(32));
-        self.l_dihi_r.next =
-            bit_cast::<MUL_W, DI_HI_W>(self.e2_dir.q.val().get_bits::<DI_HI_W>(16));
-        self.l_dihi_g.next =
-            bit_cast::<MUL_W, DI_HI_W>(self.e2_dig.q.val().get_bits::<DI_HI_W>(16));
-        self.l_dihi_b.next =
-            bit_cast::<MUL_W, DI_HI_W>(self.e2_dib.q.val().get_bits::<DI_HI_W>(16));
         self.e3_pz0.d.next = self.e2_m.q.val() * self.l_dz.val().get_bits::<MUL_W>(0);
         self.e3_pz1.d.next = self.e2_m.q.val() * self.l_dzmid.val();
         self.e3_pz2.d.next = self.e2_m.q.val() * self.l_dzhi.val();
-        self.e3_pr0.d.next = self.e2_m.q.val() * self.e2_dir.q.val().get_bits::<MUL_W>(0);
-        self.e3_pr1.d.next = self.e2_m.q.val() * self.l_dihi_r.val();
-        self.e3_pg0.d.next = self.e2_m.q.val() * self.e2_dig.q.val().get_bits::<MUL_W>(0);
-        self.e3_pg1.d.next = self.e2_m.q.val() * self.l_dihi_g.val();
-        self.e3_pb0.d.next = self.e2_m.q.val() * self.e2_dib.q.val().get_bits::<MUL_W>(0);
-        self.e3_pb1.d.next = self.e2_m.q.val() * self.l_dihi_b.val();
-        // ---- E4: m·dZ = m·u38 − s·m·2^38 (u38 = dZ as unsigned), likewise for dI (2^21).
+        // ---- E4: m·dZ = m·u38 − s·m·2^38 (u38 = dZ as unsigned).
         self.e4_op.d.next = self.e3_op.q.val();
         self.e4_attr.d.next = self.e3_attr.q.val();
         self.e4_decal.d.next = self.e3_decal.q.val();
@@ -527,11 +438,7 @@ impl Logic for PixelProcessorArray {
         self.e4_rel_l.d.next = self.e3_rel_l.q.val();
         self.e4_rel_r.d.next = self.e3_rel_r.q.val();
         self.e4_dz.d.next = self.e3_dz.q.val();
-        self.e4_dir.d.next = self.e3_dir.q.val();
-        self.e4_dig.d.next = self.e3_dig.q.val();
-        self.e4_dib.d.next = self.e3_dib.q.val();
         self.l_m44.next = bit_cast::<ZACC_W, MUL_W>(self.e3_m.q.val());
-        self.l_m34.next = bit_cast::<IACC_W, MUL_W>(self.e3_m.q.val());
         self.e4_za.d.next = bit_cast::<ZACC_W, ZL_W>(self.e3_zl.q.val())
             + bit_cast::<ZACC_W, PROD_W>(self.e3_pz0.q.val());
         self.e4_zb.d.next = (bit_cast::<ZACC_W, PROD_W>(self.e3_pz1.q.val()) << 16)
@@ -540,27 +447,6 @@ impl Logic for PixelProcessorArray {
             self.e4_zb.d.next = ((bit_cast::<ZACC_W, PROD_W>(self.e3_pz1.q.val()) << 16)
                 + (bit_cast::<ZACC_W, PROD_W>(self.e3_pz2.q.val()) << 32))
                 - (self.l_m44.val() << 38);
-        }
-        self.e4_ra.d.next = bit_cast::<IACC_W, IL_W>(self.e3_ilr.q.val())
-            + bit_cast::<IACC_W, PROD_W>(self.e3_pr0.q.val());
-        self.e4_rb.d.next = bit_cast::<IACC_W, PROD_W>(self.e3_pr1.q.val()) << 16;
-        if self.e3_dir.q.val().get_bit(20) {
-            self.e4_rb.d.next =
-                (bit_cast::<IACC_W, PROD_W>(self.e3_pr1.q.val()) << 16) - (self.l_m34.val() << 21);
-        }
-        self.e4_ga.d.next = bit_cast::<IACC_W, IL_W>(self.e3_ilg.q.val())
-            + bit_cast::<IACC_W, PROD_W>(self.e3_pg0.q.val());
-        self.e4_gb.d.next = bit_cast::<IACC_W, PROD_W>(self.e3_pg1.q.val()) << 16;
-        if self.e3_dig.q.val().get_bit(20) {
-            self.e4_gb.d.next =
-                (bit_cast::<IACC_W, PROD_W>(self.e3_pg1.q.val()) << 16) - (self.l_m34.val() << 21);
-        }
-        self.e4_ba.d.next = bit_cast::<IACC_W, IL_W>(self.e3_ilb.q.val())
-            + bit_cast::<IACC_W, PROD_W>(self.e3_pb0.q.val());
-        self.e4_bb.d.next = bit_cast::<IACC_W, PROD_W>(self.e3_pb1.q.val()) << 16;
-        if self.e3_dib.q.val().get_bit(20) {
-            self.e4_bb.d.next =
-                (bit_cast::<IACC_W, PROD_W>(self.e3_pb1.q.val()) << 16) - (self.l_m34.val() << 21);
         }
         // ---- The systolic chain: E4 feeds processor 0, processor p feeds p + 1.
         for i in 0..self.procs.len() {
@@ -574,16 +460,8 @@ impl Logic for PixelProcessorArray {
         self.procs[0].t_rel_r.next = self.e4_rel_r.q.val();
         self.procs[0].t_z.next = self.e4_za.q.val() + self.e4_zb.q.val();
         self.procs[0].t_dz.next = self.e4_dz.q.val();
-        // The channels packed red first (`PixelProcessor::t_i`, `t_di`).
-        self.l_ir.next = self.e4_ra.q.val() + self.e4_rb.q.val();
-        self.l_ig.next = self.e4_ga.q.val() + self.e4_gb.q.val();
-        self.l_ib.next = self.e4_ba.q.val() + self.e4_bb.q.val();
-        self.procs[0].t_i.next = bit_cast::<I3_W, IACC_W>(self.l_ir.val())
-            | (bit_cast::<I3_W, IACC_W>(self.l_ig.val()) << 34)
-            | (bit_cast::<I3_W, IACC_W>(self.l_ib.val()) << 68);
-        self.procs[0].t_di.next = bit_cast::<DI3_W, DI_W>(self.e4_dir.q.val())
-            | (bit_cast::<DI3_W, DI_W>(self.e4_dig.q.val()) << 21)
-            | (bit_cast::<DI3_W, DI_W>(self.e4_dib.q.val()) << 42);
+        self.procs[0].t_i.next = self.l_ti.val();
+        self.procs[0].t_di.next = self.l_tdi.val();
         for i in 1..self.procs.len() {
             self.procs[i].t_op.next = self.procs[i - 1].o_op.val();
             self.procs[i].t_attr.next = self.procs[i - 1].o_attr.val();
