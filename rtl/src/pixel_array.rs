@@ -162,13 +162,7 @@ pub struct PixelProcessorArray {
     e4_za: DFF<Bits<ZACC_W>>,
     e4_zb: DFF<Bits<ZACC_W>>,
     // Readout output registers.
-    rd_zb_r: DFF<Bits<ZB_W>>,
-    rd_rgb_r: DFF<Bits<RGB_BITS>>,
-    rd_dsf_r: DFF<Bit>,
-    rd_fsf_r: DFF<Bit>,
-    rd_count_r: DFF<Bits<COUNT_BITS>>,
-    rd_mask_r: DFF<Bits<MASK_BITS>>,
-    rd_nclass_r: DFF<Bits<NCLASS_W>>,
+    rd_r: DFF<Bits<READOUT_W>>,
     k_reset: Constant<Bits<OP_BITS>>,
     k_zero74: Constant<Bits<READOUT_W>>,
     l_rd: Signal<Local, Bits<READOUT_W>>,
@@ -260,13 +254,7 @@ impl PixelProcessorArray {
             e4_dz: Default::default(),
             e4_za: Default::default(),
             e4_zb: Default::default(),
-            rd_zb_r: Default::default(),
-            rd_rgb_r: Default::default(),
-            rd_dsf_r: Default::default(),
-            rd_fsf_r: Default::default(),
-            rd_count_r: Default::default(),
-            rd_mask_r: Default::default(),
-            rd_nclass_r: Default::default(),
+            rd_r: Default::default(),
             k_reset: Constant::new(OP_RESET.to_bits()),
             k_zero74: Constant::new(0u64.to_bits()),
             l_rd: Default::default(),
@@ -311,50 +299,10 @@ impl Logic for PixelProcessorArray {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self,
-            clock,
-            e1_op,
-            e1_bg,
-            e1_word,
-            e1_base,
-            e1_rd,
-            e2_op,
-            e2_attr,
-            e2_decal,
-            e2_nclass,
-            e2_rel_l,
-            e2_rel_r,
-            e2_m,
-            e2_zl,
-            e2_dz,
-            e3_op,
-            e3_attr,
-            e3_decal,
-            e3_nclass,
-            e3_rel_l,
-            e3_rel_r,
-            e3_m,
-            e3_zl,
-            e3_dz,
-            e3_pz0,
-            e3_pz1,
-            e3_pz2,
-            e4_op,
-            e4_attr,
-            e4_decal,
-            e4_nclass,
-            e4_rel_l,
-            e4_rel_r,
-            e4_dz,
-            e4_za,
-            e4_zb,
-            rd_zb_r,
-            rd_rgb_r,
-            rd_dsf_r,
-            rd_fsf_r,
-            rd_count_r,
-            rd_mask_r,
-            rd_nclass_r
+            self, clock, e1_op, e1_bg, e1_word, e1_base, e1_rd, e2_op, e2_attr, e2_decal,
+            e2_nclass, e2_rel_l, e2_rel_r, e2_m, e2_zl, e2_dz, e3_op, e3_attr, e3_decal, e3_nclass,
+            e3_rel_l, e3_rel_r, e3_m, e3_zl, e3_dz, e3_pz0, e3_pz1, e3_pz2, e4_op, e4_attr,
+            e4_decal, e4_nclass, e4_rel_l, e4_rel_r, e4_dz, e4_za, e4_zb, rd_r
         );
         // ---- E1: register every input.
         self.e1_op.d.next = self.k_nop.val();
@@ -482,19 +430,13 @@ impl Logic for PixelProcessorArray {
             self.procs[i].rd_sel.next = self.e1_rd.q.val().index() == i;
             self.l_rd.next = self.l_rd.val() | self.procs[i].rdo.val();
         }
-        self.rd_count_r.d.next = self.l_rd.val().get_value_count();
-        self.rd_fsf_r.d.next = self.l_rd.val().get_value_fsf();
-        self.rd_dsf_r.d.next = self.l_rd.val().get_value_dsf();
-        self.rd_rgb_r.d.next = self.l_rd.val().get_value_rgb();
-        self.rd_zb_r.d.next = self.l_rd.val().get_value_zb();
-        self.rd_mask_r.d.next = self.l_rd.val().get_value_mask();
-        self.rd_nclass_r.d.next = self.l_rd.val().get_value_nclass();
-        self.rd_zb.next = self.rd_zb_r.q.val();
-        self.rd_rgb.next = self.rd_rgb_r.q.val();
-        self.rd_dsf.next = self.rd_dsf_r.q.val();
-        self.rd_fsf.next = self.rd_fsf_r.q.val();
-        self.rd_count.next = self.rd_count_r.q.val();
-        self.rd_mask.next = self.rd_mask_r.q.val();
-        self.rd_nclass.next = self.rd_nclass_r.q.val();
+        self.rd_r.d.next = self.l_rd.val();
+        self.rd_zb.next = self.rd_r.q.val().get_value_zb();
+        self.rd_rgb.next = self.rd_r.q.val().get_value_rgb();
+        self.rd_dsf.next = self.rd_r.q.val().get_value_dsf();
+        self.rd_fsf.next = self.rd_r.q.val().get_value_fsf();
+        self.rd_count.next = self.rd_r.q.val().get_value_count();
+        self.rd_mask.next = self.rd_r.q.val().get_value_mask();
+        self.rd_nclass.next = self.rd_r.q.val().get_value_nclass();
     }
 }

@@ -160,13 +160,10 @@ pub struct PixelProcessor {
     zb_r: DFF<Bits<ZB_W>>,
     rgb_r: DFF<Bits<RGB_BITS>>,
     nclass_r: DFF<Bits<NCLASS_W>>,
-    capzb_r: DFF<Bits<ZB_W>>,
-    caprgb_r: DFF<Bits<RGB_BITS>>,
-    capdsf_r: DFF<Bit>,
-    capfsf_r: DFF<Bit>,
-    capcount_r: DFF<Bits<COUNT_BITS>>,
-    capmask_r: DFF<Bits<MASK_BITS>>,
-    capnclass_r: DFF<Bits<NCLASS_W>>,
+    /// The readout registers, as the packed readout word.
+    cap_r: DFF<Bits<READOUT_W>>,
+    l_cap: Signal<Local, Bits<READOUT_W>>,
+    k_cap_reset: Constant<Bits<READOUT_W>>,
     rdsel_r: DFF<Bit>,
     k_zero74: Constant<Bits<READOUT_W>>,
     k_clear_line: Constant<Bits<OP_BITS>>,
@@ -252,13 +249,16 @@ impl PixelProcessor {
             zb_r: Default::default(),
             rgb_r: Default::default(),
             nclass_r: Default::default(),
-            capzb_r: Default::default(),
-            caprgb_r: Default::default(),
-            capdsf_r: Default::default(),
-            capfsf_r: Default::default(),
-            capcount_r: Default::default(),
-            capmask_r: Default::default(),
-            capnclass_r: Default::default(),
+            cap_r: Default::default(),
+            l_cap: Default::default(),
+            k_cap_reset: Constant::new(
+                ProcState {
+                    zb: Z_FAR,
+                    ..Default::default()
+                }
+                .pack_readout()
+                .to_bits(),
+            ),
             rdsel_r: Default::default(),
             k_zero74: Constant::new(0u64.to_bits()),
             k_clear_line: Constant::new(OP_CLEAR_LINE.to_bits()),
@@ -314,15 +314,10 @@ impl PixelProcessor {
 
     /// Current readout registers (for testbenches).
     pub fn probe_capture(&self) -> ProcRegs {
-        ProcRegs {
-            zb: self.capzb_r.q.val().to_u32(),
-            rgb: self.caprgb_r.q.val().to_u32(),
-            dsf: self.capdsf_r.q.val(),
-            fsf: self.capfsf_r.q.val(),
-            count: self.capcount_r.q.val().to_u8(),
-            mask: self.capmask_r.q.val().to_u8(),
-            nclass: self.capnclass_r.q.val().to_u8(),
-        }
+        let w = self.cap_r.q.val();
+        let lo = w.get_bits::<64>(0).to_u64() as u128;
+        let hi = w.get_bits::<{ READOUT_W - 64 }>(64).to_u64() as u128;
+        ProcState::unpack_readout((hi << 64) | lo)
     }
 }
 
@@ -330,37 +325,9 @@ impl Logic for PixelProcessor {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self,
-            clock,
-            tok_op,
-            tok_attr,
-            tok_decal,
-            tok_nclass,
-            tok_rel_l,
-            tok_rel_r,
-            tok_z,
-            tok_dz,
-            tok_i,
-            tok_di,
-            b_op,
-            b_attr,
-            b_covered,
-            b_zlt,
-            b_write,
-            b_z,
-            b_rgb,
-            b_nclass,
-            zb_r,
-            rgb_r,
-            nclass_r,
-            capzb_r,
-            caprgb_r,
-            capdsf_r,
-            capfsf_r,
-            capcount_r,
-            capmask_r,
-            capnclass_r,
-            rdsel_r
+            self, clock, tok_op, tok_attr, tok_decal, tok_nclass, tok_rel_l, tok_rel_r, tok_z,
+            tok_dz, tok_i, tok_di, b_op, b_attr, b_covered, b_zlt, b_write, b_z, b_rgb, b_nclass,
+            zb_r, rgb_r, nclass_r, cap_r, rdsel_r
         );
         // ---- Stage A: the token register, loaded every clock.
         self.tok_op.d.next = self.t_op.val();
@@ -437,15 +404,18 @@ impl Logic for PixelProcessor {
             self.count_now.next = self.parity[i].count.val();
             self.mask_now.next = self.parity[i].mask.val();
         }
-        // New scanline: copy the finished line into the readout registers, then clear.
+        // New scanline: copy the finished line into the readout registers (the fields of
+        // `pixelproc_formats::regs::READOUT_FIELDS`), then clear.
+        self.l_cap.next = self.k_zero74.val();
+        self.l_cap.next.set_value_nclass(self.nclass_r.q.val());
+        self.l_cap.next.set_value_mask(self.mask_now.val());
+        self.l_cap.next.set_value_zb(self.zb_r.q.val());
+        self.l_cap.next.set_value_rgb(self.rgb_r.q.val());
+        self.l_cap.next.set_value_dsf(self.dsf_now.val());
+        self.l_cap.next.set_value_fsf(self.fsf_now.val());
+        self.l_cap.next.set_value_count(self.count_now.val());
         if self.b_op.q.val() == self.k_clear_line.val() {
-            self.capzb_r.d.next = self.zb_r.q.val();
-            self.caprgb_r.d.next = self.rgb_r.q.val();
-            self.capdsf_r.d.next = self.dsf_now.val();
-            self.capfsf_r.d.next = self.fsf_now.val();
-            self.capcount_r.d.next = self.count_now.val();
-            self.capmask_r.d.next = self.mask_now.val();
-            self.capnclass_r.d.next = self.nclass_r.q.val();
+            self.cap_r.d.next = self.l_cap.val();
             self.zb_next.next = self.k_zfar.val();
             self.rgb_r.d.next = self.b_rgb.q.val();
             self.nclass_r.d.next = self.k_zero8.val();
@@ -454,13 +424,7 @@ impl Logic for PixelProcessor {
             self.zb_next.next = self.k_zfar.val();
             self.rgb_r.d.next = self.k_zero24.val();
             self.nclass_r.d.next = self.k_zero8.val();
-            self.capzb_r.d.next = self.k_zfar.val();
-            self.caprgb_r.d.next = self.k_zero24.val();
-            self.capdsf_r.d.next = false;
-            self.capfsf_r.d.next = false;
-            self.capcount_r.d.next = self.k_zero8.val();
-            self.capmask_r.d.next = self.k_zero8.val();
-            self.capnclass_r.d.next = self.k_zero8.val();
+            self.cap_r.d.next = self.k_cap_reset.val();
         }
         self.zb_r.d.next = self.zb_next.val();
         // ---- Stage A, decision: depth test against the next-state ZB (bypass), golden
@@ -492,14 +456,7 @@ impl Logic for PixelProcessor {
         self.rdsel_r.d.next = self.rd_sel.val();
         self.rdo.next = self.k_zero74.val();
         if self.rdsel_r.q.val() {
-            // The fields of `pixelproc_formats::regs::READOUT_FIELDS`.
-            self.rdo.next.set_value_nclass(self.capnclass_r.q.val());
-            self.rdo.next.set_value_mask(self.capmask_r.q.val());
-            self.rdo.next.set_value_zb(self.capzb_r.q.val());
-            self.rdo.next.set_value_rgb(self.caprgb_r.q.val());
-            self.rdo.next.set_value_dsf(self.capdsf_r.q.val());
-            self.rdo.next.set_value_fsf(self.capfsf_r.q.val());
-            self.rdo.next.set_value_count(self.capcount_r.q.val());
+            self.rdo.next = self.cap_r.q.val();
         }
     }
 }
