@@ -56,7 +56,7 @@
 
 use crate::colour_lane::DI_W;
 use crate::entry_channel::{EntryChannel, IL_W, MUL_W, PROD_W};
-use crate::layout::{ReadoutFields, SpanFields, READOUT_W, SPAN_W};
+use crate::layout::{HeadFields, ReadoutFields, SpanFields, HEAD_W, READOUT_W, SPAN_W};
 use crate::opcodes::*;
 use crate::pixel_processor::{PixelProcessor, DI3_W, I3_W, IACC_W, REL_W, ZACC_W};
 use pixelproc_formats::regs::{COUNT_BITS, MASK_BITS, RGB_BITS};
@@ -71,8 +71,6 @@ const ZL_W: usize = SPAN_ZL.width;
 const DZ_W: usize = SPAN_DZ.width;
 /// Width of the three packed `IL` of a span word.
 const IL3_W: usize = 3 * IL_W;
-/// Width of the span attribute.
-const ATTR_W: usize = pixelproc_formats::SPAN_ATTR.width;
 /// Width of the normal class.
 const NCLASS_W: usize = SPAN_NCLASS.width;
 /// Width of a depth register.
@@ -129,22 +127,12 @@ pub struct PixelProcessorArray {
     e1_base: DFF<Bits<X_W>>,
     e1_rd: DFF<Bits<X_W>>,
     // E2: decoded word, tile offset m = max(0, base − XL).
-    e2_op: DFF<Bits<OP_BITS>>,
-    e2_attr: DFF<Bits<ATTR_W>>,
-    e2_decal: DFF<Bit>,
-    e2_nclass: DFF<Bits<NCLASS_W>>,
-    e2_rel_l: DFF<Bits<REL_W>>,
-    e2_rel_r: DFF<Bits<REL_W>>,
+    e2_head: DFF<Bits<HEAD_W>>,
     e2_m: DFF<Bits<MUL_W>>,
     e2_zl: DFF<Bits<ZL_W>>,
     e2_dz: DFF<Bits<DZ_W>>,
     // E3: partial products.
-    e3_op: DFF<Bits<OP_BITS>>,
-    e3_attr: DFF<Bits<ATTR_W>>,
-    e3_decal: DFF<Bit>,
-    e3_nclass: DFF<Bits<NCLASS_W>>,
-    e3_rel_l: DFF<Bits<REL_W>>,
-    e3_rel_r: DFF<Bits<REL_W>>,
+    e3_head: DFF<Bits<HEAD_W>>,
     e3_m: DFF<Bits<MUL_W>>,
     e3_zl: DFF<Bits<ZL_W>>,
     e3_dz: DFF<Bits<DZ_W>>,
@@ -152,12 +140,7 @@ pub struct PixelProcessorArray {
     e3_pz1: DFF<Bits<PROD_W>>,
     e3_pz2: DFF<Bits<PROD_W>>,
     // E4: two partial sums per quantity.
-    e4_op: DFF<Bits<OP_BITS>>,
-    e4_attr: DFF<Bits<ATTR_W>>,
-    e4_decal: DFF<Bit>,
-    e4_nclass: DFF<Bits<NCLASS_W>>,
-    e4_rel_l: DFF<Bits<REL_W>>,
-    e4_rel_r: DFF<Bits<REL_W>>,
+    e4_head: DFF<Bits<HEAD_W>>,
     e4_dz: DFF<Bits<DZ_W>>,
     e4_za: DFF<Bits<ZACC_W>>,
     e4_zb: DFF<Bits<ZACC_W>>,
@@ -179,6 +162,8 @@ pub struct PixelProcessorArray {
     l_dzmid: Signal<Local, Bits<MUL_W>>,
     l_dzhi: Signal<Local, Bits<MUL_W>>,
     l_m44: Signal<Local, Bits<ZACC_W>>,
+    l_head: Signal<Local, Bits<HEAD_W>>,
+    k_zero_head: Constant<Bits<HEAD_W>>,
     /// E2..E4 of the red, green and blue channels.
     chans: [EntryChannel; 3],
     l_span: Signal<Local, Bit>,
@@ -224,33 +209,18 @@ impl PixelProcessorArray {
             e1_word: Default::default(),
             e1_base: Default::default(),
             e1_rd: Default::default(),
-            e2_op: Default::default(),
-            e2_attr: Default::default(),
-            e2_decal: Default::default(),
-            e2_nclass: Default::default(),
-            e2_rel_l: Default::default(),
-            e2_rel_r: Default::default(),
+            e2_head: Default::default(),
             e2_m: Default::default(),
             e2_zl: Default::default(),
             e2_dz: Default::default(),
-            e3_op: Default::default(),
-            e3_attr: Default::default(),
-            e3_decal: Default::default(),
-            e3_nclass: Default::default(),
-            e3_rel_l: Default::default(),
-            e3_rel_r: Default::default(),
+            e3_head: Default::default(),
             e3_m: Default::default(),
             e3_zl: Default::default(),
             e3_dz: Default::default(),
             e3_pz0: Default::default(),
             e3_pz1: Default::default(),
             e3_pz2: Default::default(),
-            e4_op: Default::default(),
-            e4_attr: Default::default(),
-            e4_decal: Default::default(),
-            e4_nclass: Default::default(),
-            e4_rel_l: Default::default(),
-            e4_rel_r: Default::default(),
+            e4_head: Default::default(),
             e4_dz: Default::default(),
             e4_za: Default::default(),
             e4_zb: Default::default(),
@@ -271,6 +241,8 @@ impl PixelProcessorArray {
             l_dzmid: Default::default(),
             l_dzhi: Default::default(),
             l_m44: Default::default(),
+            l_head: Default::default(),
+            k_zero_head: k(0),
             chans: std::array::from_fn(|_| EntryChannel::new()),
             l_span: Default::default(),
             l_il3: Default::default(),
@@ -299,10 +271,9 @@ impl Logic for PixelProcessorArray {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, e1_op, e1_bg, e1_word, e1_base, e1_rd, e2_op, e2_attr, e2_decal,
-            e2_nclass, e2_rel_l, e2_rel_r, e2_m, e2_zl, e2_dz, e3_op, e3_attr, e3_decal, e3_nclass,
-            e3_rel_l, e3_rel_r, e3_m, e3_zl, e3_dz, e3_pz0, e3_pz1, e3_pz2, e4_op, e4_attr,
-            e4_decal, e4_nclass, e4_rel_l, e4_rel_r, e4_dz, e4_za, e4_zb, rd_r
+            self, clock, e1_op, e1_bg, e1_word, e1_base, e1_rd, e2_head, e2_m, e2_zl, e2_dz,
+            e3_head, e3_m, e3_zl, e3_dz, e3_pz0, e3_pz1, e3_pz2, e4_head, e4_dz, e4_za, e4_zb,
+            rd_r
         );
         // ---- E1: register every input.
         self.e1_op.d.next = self.k_nop.val();
@@ -322,12 +293,24 @@ impl Logic for PixelProcessorArray {
         self.l_xr.next = bit_cast::<REL_W, X_W>(self.e1_word.q.val().get_value_xr());
         self.l_base.next = bit_cast::<REL_W, X_W>(self.e1_base.q.val());
         self.l_d.next = self.l_base.val() - self.l_xl.val();
-        self.e2_op.d.next = self.e1_op.q.val();
-        self.e2_attr.d.next = self.e1_word.q.val().get_value_attr();
-        self.e2_decal.d.next = self.e1_word.q.val().get_value_decal();
-        self.e2_nclass.d.next = self.e1_word.q.val().get_value_nclass();
-        self.e2_rel_l.d.next = (self.l_xl.val() - self.l_base.val()) - self.k_one14.val();
-        self.e2_rel_r.d.next = self.l_xr.val() - self.l_base.val();
+        self.l_head.next = self.k_zero_head.val();
+        self.l_head.next.set_value_op(self.e1_op.q.val());
+        self.l_head
+            .next
+            .set_value_attr(self.e1_word.q.val().get_value_attr());
+        self.l_head
+            .next
+            .set_value_decal(self.e1_word.q.val().get_value_decal());
+        self.l_head
+            .next
+            .set_value_nclass(self.e1_word.q.val().get_value_nclass());
+        self.l_head
+            .next
+            .set_value_rel_l((self.l_xl.val() - self.l_base.val()) - self.k_one14.val());
+        self.l_head
+            .next
+            .set_value_rel_r(self.l_xr.val() - self.l_base.val());
+        self.e2_head.d.next = self.l_head.val();
         self.e2_zl.d.next = self.e1_word.q.val().get_value_zl();
         self.e2_dz.d.next = self.e1_word.q.val().get_value_dz();
         // Tile offset: the span started `base − XL` columns before this tile.
@@ -363,12 +346,7 @@ impl Logic for PixelProcessorArray {
                 (self.l_tdi.val() >> 21) | (bit_cast::<DI3_W, DI_W>(self.l_ch_di.val()) << 42);
         }
         // ---- E3: partial products m·dZ (3), 16×16 unsigned.
-        self.e3_op.d.next = self.e2_op.q.val();
-        self.e3_attr.d.next = self.e2_attr.q.val();
-        self.e3_decal.d.next = self.e2_decal.q.val();
-        self.e3_nclass.d.next = self.e2_nclass.q.val();
-        self.e3_rel_l.d.next = self.e2_rel_l.q.val();
-        self.e3_rel_r.d.next = self.e2_rel_r.q.val();
+        self.e3_head.d.next = self.e2_head.q.val();
         self.e3_m.d.next = self.e2_m.q.val();
         self.e3_zl.d.next = self.e2_zl.q.val();
         self.e3_dz.d.next = self.e2_dz.q.val();
@@ -379,12 +357,7 @@ impl Logic for PixelProcessorArray {
         self.e3_pz1.d.next = self.e2_m.q.val() * self.l_dzmid.val();
         self.e3_pz2.d.next = self.e2_m.q.val() * self.l_dzhi.val();
         // ---- E4: m·dZ = m·u38 − s·m·2^38 (u38 = dZ as unsigned).
-        self.e4_op.d.next = self.e3_op.q.val();
-        self.e4_attr.d.next = self.e3_attr.q.val();
-        self.e4_decal.d.next = self.e3_decal.q.val();
-        self.e4_nclass.d.next = self.e3_nclass.q.val();
-        self.e4_rel_l.d.next = self.e3_rel_l.q.val();
-        self.e4_rel_r.d.next = self.e3_rel_r.q.val();
+        self.e4_head.d.next = self.e3_head.q.val();
         self.e4_dz.d.next = self.e3_dz.q.val();
         self.l_m44.next = bit_cast::<ZACC_W, MUL_W>(self.e3_m.q.val());
         self.e4_za.d.next = bit_cast::<ZACC_W, ZL_W>(self.e3_zl.q.val())
@@ -400,23 +373,13 @@ impl Logic for PixelProcessorArray {
         for i in 0..self.procs.len() {
             self.procs[i].clock.next = self.clock.val();
         }
-        self.procs[0].t_op.next = self.e4_op.q.val();
-        self.procs[0].t_attr.next = self.e4_attr.q.val();
-        self.procs[0].t_decal.next = self.e4_decal.q.val();
-        self.procs[0].t_nclass.next = self.e4_nclass.q.val();
-        self.procs[0].t_rel_l.next = self.e4_rel_l.q.val();
-        self.procs[0].t_rel_r.next = self.e4_rel_r.q.val();
+        self.procs[0].t_head.next = self.e4_head.q.val();
         self.procs[0].t_z.next = self.e4_za.q.val() + self.e4_zb.q.val();
         self.procs[0].t_dz.next = self.e4_dz.q.val();
         self.procs[0].t_i.next = self.l_ti.val();
         self.procs[0].t_di.next = self.l_tdi.val();
         for i in 1..self.procs.len() {
-            self.procs[i].t_op.next = self.procs[i - 1].o_op.val();
-            self.procs[i].t_attr.next = self.procs[i - 1].o_attr.val();
-            self.procs[i].t_decal.next = self.procs[i - 1].o_decal.val();
-            self.procs[i].t_nclass.next = self.procs[i - 1].o_nclass.val();
-            self.procs[i].t_rel_l.next = self.procs[i - 1].o_rel_l.val();
-            self.procs[i].t_rel_r.next = self.procs[i - 1].o_rel_r.val();
+            self.procs[i].t_head.next = self.procs[i - 1].o_head.val();
             self.procs[i].t_z.next = self.procs[i - 1].o_z.val();
             self.procs[i].t_dz.next = self.procs[i - 1].o_dz.val();
             self.procs[i].t_i.next = self.procs[i - 1].o_i.val();

@@ -45,7 +45,7 @@
 //! Latency: state registers update two rising edges after the token register is loaded.
 
 use crate::colour_lane::{ColourLane, CH_W, DI_W};
-use crate::layout::{ReadoutFields, READOUT_W};
+use crate::layout::{HeadFields, ReadoutFields, HEAD_W, READOUT_W};
 use crate::opcodes::*;
 use crate::span_parity::SpanParity;
 use pixelproc_formats::regs::{ProcState, COUNT_BITS, MASK_BITS, RGB_BITS};
@@ -88,18 +88,9 @@ const _: () = assert!(DZ_W == 38 && DI_W == 21 && REL_W == 14 && IACC_W == 34 &&
 pub struct PixelProcessor {
     /// Clock.
     pub clock: Signal<In, Clock>,
-    /// Token in: opcode (RESET included).
-    pub t_op: Signal<In, Bits<OP_BITS>>,
-    /// Token in: span attribute.
-    pub t_attr: Signal<In, Bits<ATTR_W>>,
-    /// Token in: decal flag (depth test passes on equality).
-    pub t_decal: Signal<In, Bit>,
-    /// Token in: normal class of the span's surface.
-    pub t_nclass: Signal<In, Bits<NCLASS_W>>,
-    /// Token in: `XL − col − 1` (14-bit two's complement).
-    pub t_rel_l: Signal<In, Bits<REL_W>>,
-    /// Token in: `XR − col` (14-bit two's complement).
-    pub t_rel_r: Signal<In, Bits<REL_W>>,
+    /// Token in: the header ([`HeadFields`]: opcode, RESET included; attribute; decal
+    /// flag; normal class; `XL − col − 1`; `XR − col`).
+    pub t_head: Signal<In, Bits<HEAD_W>>,
     /// Token in: depth accumulator, Q32.12 mod 2^44 (the argument of CLEAR_LINE and
     /// LATCH_SHADOW in bits 23:0).
     pub t_z: Signal<In, Bits<ZACC_W>>,
@@ -115,18 +106,8 @@ pub struct PixelProcessor {
     /// Readout registers, packed `{NCLASS, MASK, ZB, RGB, DSF, FSF, COUNT}` (74 bits), if
     /// selected at the last edge, else 0 (the array ORs all processors' values).
     pub rdo: Signal<Out, Bits<READOUT_W>>,
-    /// Token out (for processor `p + 1`): opcode.
-    pub o_op: Signal<Out, Bits<OP_BITS>>,
-    /// Token out: attribute.
-    pub o_attr: Signal<Out, Bits<ATTR_W>>,
-    /// Token out: decal.
-    pub o_decal: Signal<Out, Bit>,
-    /// Token out: normal class.
-    pub o_nclass: Signal<Out, Bits<NCLASS_W>>,
-    /// Token out: `rel_l − 1`.
-    pub o_rel_l: Signal<Out, Bits<REL_W>>,
-    /// Token out: `rel_r − 1`.
-    pub o_rel_r: Signal<Out, Bits<REL_W>>,
+    /// Token out (for processor `p + 1`): the header with `rel_l − 1`, `rel_r − 1`.
+    pub o_head: Signal<Out, Bits<HEAD_W>>,
     /// Token out: depth accumulator for the next column.
     pub o_z: Signal<Out, Bits<ZACC_W>>,
     /// Token out: `dZ`.
@@ -137,12 +118,9 @@ pub struct PixelProcessor {
     pub o_di: Signal<Out, Bits<DI3_W>>,
     /// The shadow logic: one element with shadows, none without.
     pub parity: Vec<SpanParity>,
-    tok_op: DFF<Bits<OP_BITS>>,
-    tok_attr: DFF<Bits<ATTR_W>>,
-    tok_decal: DFF<Bit>,
-    tok_nclass: DFF<Bits<NCLASS_W>>,
-    tok_rel_l: DFF<Bits<REL_W>>,
-    tok_rel_r: DFF<Bits<REL_W>>,
+    tok_head: DFF<Bits<HEAD_W>>,
+    l_rel_l: Signal<Local, Bits<REL_W>>,
+    l_rel_r: Signal<Local, Bits<REL_W>>,
     tok_z: DFF<Bits<ZACC_W>>,
     tok_dz: DFF<Bits<DZ_W>>,
     tok_i: DFF<Bits<I3_W>>,
@@ -204,35 +182,22 @@ impl PixelProcessor {
         };
         PixelProcessor {
             clock: Default::default(),
-            t_op: Default::default(),
-            t_attr: Default::default(),
-            t_decal: Default::default(),
-            t_nclass: Default::default(),
-            t_rel_l: Default::default(),
-            t_rel_r: Default::default(),
+            t_head: Default::default(),
             t_z: Default::default(),
             t_dz: Default::default(),
             t_i: Default::default(),
             t_di: Default::default(),
             rd_sel: Default::default(),
             rdo: Default::default(),
-            o_op: Default::default(),
-            o_attr: Default::default(),
-            o_decal: Default::default(),
-            o_nclass: Default::default(),
-            o_rel_l: Default::default(),
-            o_rel_r: Default::default(),
+            o_head: Default::default(),
             o_z: Default::default(),
             o_dz: Default::default(),
             o_i: Default::default(),
             o_di: Default::default(),
             parity,
-            tok_op: Default::default(),
-            tok_attr: Default::default(),
-            tok_decal: Default::default(),
-            tok_nclass: Default::default(),
-            tok_rel_l: Default::default(),
-            tok_rel_r: Default::default(),
+            tok_head: Default::default(),
+            l_rel_l: Default::default(),
+            l_rel_r: Default::default(),
             tok_z: Default::default(),
             tok_dz: Default::default(),
             tok_i: Default::default(),
@@ -325,17 +290,13 @@ impl Logic for PixelProcessor {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, tok_op, tok_attr, tok_decal, tok_nclass, tok_rel_l, tok_rel_r, tok_z,
-            tok_dz, tok_i, tok_di, b_op, b_attr, b_covered, b_zlt, b_write, b_z, b_rgb, b_nclass,
-            zb_r, rgb_r, nclass_r, cap_r, rdsel_r
+            self, clock, tok_head, tok_z, tok_dz, tok_i, tok_di, b_op, b_attr, b_covered, b_zlt,
+            b_write, b_z, b_rgb, b_nclass, zb_r, rgb_r, nclass_r, cap_r, rdsel_r
         );
         // ---- Stage A: the token register, loaded every clock.
-        self.tok_op.d.next = self.t_op.val();
-        self.tok_attr.d.next = self.t_attr.val();
-        self.tok_decal.d.next = self.t_decal.val();
-        self.tok_nclass.d.next = self.t_nclass.val();
-        self.tok_rel_l.d.next = self.t_rel_l.val();
-        self.tok_rel_r.d.next = self.t_rel_r.val();
+        self.tok_head.d.next = self.t_head.val();
+        self.l_rel_l.next = self.tok_head.q.val().get_value_rel_l();
+        self.l_rel_r.next = self.tok_head.q.val().get_value_rel_r();
         self.tok_z.d.next = self.t_z.val();
         self.tok_dz.d.next = self.t_dz.val();
         self.tok_i.d.next = self.t_i.val();
@@ -346,8 +307,8 @@ impl Logic for PixelProcessor {
             self.dz_x.next = self.dz_x.val() | self.k_sext_z.val();
         }
         // Range test: col >= XL iff XL − col − 1 < 0; col <= XR iff XR − col >= 0.
-        self.right_of_xl.next = self.tok_rel_l.q.val().get_bit(13);
-        self.covered.next = self.right_of_xl.val() & (!self.tok_rel_r.q.val().get_bit(13));
+        self.right_of_xl.next = self.l_rel_l.val().get_bit(13);
+        self.covered.next = self.right_of_xl.val() & (!self.l_rel_r.val().get_bit(13));
         // Colour channels (red first): the next column's accumulators, packed back in
         // channel order, and the clamped channel values as RGB888.
         self.l_i.next = self.k_zero_i3.val();
@@ -366,12 +327,13 @@ impl Logic for PixelProcessor {
         }
         self.o_i.next = self.l_i.val();
         // Token for the next processor.
-        self.o_op.next = self.tok_op.q.val();
-        self.o_attr.next = self.tok_attr.q.val();
-        self.o_decal.next = self.tok_decal.q.val();
-        self.o_nclass.next = self.tok_nclass.q.val();
-        self.o_rel_l.next = self.tok_rel_l.q.val() - self.k_one14.val();
-        self.o_rel_r.next = self.tok_rel_r.q.val() - self.k_one14.val();
+        self.o_head.next = self.tok_head.q.val();
+        self.o_head
+            .next
+            .set_value_rel_l(self.l_rel_l.val() - self.k_one14.val());
+        self.o_head
+            .next
+            .set_value_rel_r(self.l_rel_r.val() - self.k_one14.val());
         self.o_dz.next = self.tok_dz.q.val();
         self.o_di.next = self.tok_di.q.val();
         self.o_z.next = self.tok_z.q.val();
@@ -433,22 +395,22 @@ impl Logic for PixelProcessor {
         self.z_hi_ok.next = self.tok_z.q.val().get_bits::<CH_W>(36) == self.k_zero8.val();
         self.z_lt.next = self.zv.val() < self.zb_next.val();
         self.z_pass.next = self.z_lt.val();
-        if self.tok_decal.q.val() {
+        if self.tok_head.q.val().get_value_decal() {
             self.z_pass.next = self.zv.val() <= self.zb_next.val();
         }
-        self.b_op.d.next = self.tok_op.q.val();
-        self.b_attr.d.next = self.tok_attr.q.val();
+        self.b_op.d.next = self.tok_head.q.val().get_value_op();
+        self.b_attr.d.next = self.tok_head.q.val().get_value_attr();
         self.b_covered.d.next = self.covered.val();
         self.b_zlt.d.next = self.z_lt.val() & self.z_hi_ok.val();
-        self.b_write.d.next = (self.tok_op.q.val() == self.k_span.val())
-            & (self.tok_attr.q.val() == self.k_attr_op.val())
+        self.b_write.d.next = (self.tok_head.q.val().get_value_op() == self.k_span.val())
+            & (self.tok_head.q.val().get_value_attr() == self.k_attr_op.val())
             & self.covered.val()
             & self.z_pass.val()
             & self.z_hi_ok.val();
         self.b_z.d.next = self.zv.val();
-        self.b_nclass.d.next = self.tok_nclass.q.val();
+        self.b_nclass.d.next = self.tok_head.q.val().get_value_nclass();
         self.b_rgb.d.next = self.l_rgb.val();
-        if self.tok_op.q.val() != self.k_span.val() {
+        if self.tok_head.q.val().get_value_op() != self.k_span.val() {
             // CLEAR_LINE's background, LATCH_SHADOW's bit.
             self.b_rgb.d.next = self.tok_z.q.val().get_bits::<RGB_BITS>(0);
         }
