@@ -32,6 +32,9 @@
 //! 32-bit numbers and const generics by name, which Verilator's WIDTH lint (or the
 //! compiler) rejects.
 
+#[macro_use]
+mod ports;
+
 pub mod back_end;
 pub mod depth_calc;
 pub mod iter;
