@@ -107,7 +107,8 @@ impl<const B: usize> MaskSearchIter<B> {
     }
 }
 
-impl<const B: usize> Logic for MaskSearchIter<B> {
+search_unit_logic! {
+    MaskSearchIter,
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, clock, running_r, line_r, mask_r, corner_r, zc_r, sx_r, sy_r);
@@ -169,15 +170,7 @@ impl<const B: usize> Logic for MaskSearchIter<B> {
         self.back.i_zc.next = self.zc_r.q.val();
         self.back.i_sx.next = self.sx_r.q.val();
         self.back.i_sy.next = self.sy_r.q.val();
-        self.out_valid.next = self.back.out_valid.val();
-        self.out_hit.next = self.back.out_hit.val();
-        self.out_steps.next = self.back.out_steps.val();
-        self.out_and.next = self.back.out_and.val();
-        self.out_rom.next = self.back.out_rom.val();
-        self.out_z1.next = self.back.out_z1.val();
-        self.out_z2.next = self.back.out_z2.val();
-        self.out_zmin.next = self.back.out_zmin.val();
-        self.out_zmax.next = self.back.out_zmax.val();
+        // `search_unit_logic!` then forwards the back end's results to `out_*`.
     }
 }
 

@@ -66,7 +66,8 @@ impl<const B: usize> MaskSearchPipe<B> {
     }
 }
 
-impl<const B: usize> Logic for MaskSearchPipe<B> {
+search_unit_logic! {
+    MaskSearchPipe,
     #[hdl_gen]
     fn update(&mut self) {
         for i in 0..self.stages.len() {
@@ -120,15 +121,7 @@ impl<const B: usize> Logic for MaskSearchPipe<B> {
         self.back.i_zc.next = self.l_zc.val();
         self.back.i_sx.next = self.l_sx.val();
         self.back.i_sy.next = self.l_sy.val();
-        self.out_valid.next = self.back.out_valid.val();
-        self.out_hit.next = self.back.out_hit.val();
-        self.out_steps.next = self.back.out_steps.val();
-        self.out_and.next = self.back.out_and.val();
-        self.out_rom.next = self.back.out_rom.val();
-        self.out_z1.next = self.back.out_z1.val();
-        self.out_z2.next = self.back.out_z2.val();
-        self.out_zmin.next = self.back.out_zmin.val();
-        self.out_zmax.next = self.back.out_zmax.val();
+        // `search_unit_logic!` then forwards the back end's results to `out_*`.
     }
 }
 

@@ -110,3 +110,32 @@ macro_rules! search_unit_new {
         })
     };
 }
+
+/// Implements `Logic` for a search unit: the unit's own kernel (an `update` written as
+/// usual, with its `#[hdl_gen]`), followed by the back end's result ports forwarded to the
+/// unit's `out_*` ports. The attribute, `fn` and receiver are passed through as the
+/// caller's tokens: the kernel generator names its receiver after them, so the body's
+/// `self` must come from the same place.
+macro_rules! search_unit_logic {
+    (
+        $name:ident,
+        $hash:tt $gen:tt
+        $fn:ident $update:ident(&mut $s:ident) { $($body:tt)* }
+    ) => {
+        impl<const B: usize> Logic for $name<B> {
+            $hash $gen
+            $fn $update(&mut $s) {
+                $($body)*
+                $s.out_valid.next = $s.back.out_valid.val();
+                $s.out_hit.next = $s.back.out_hit.val();
+                $s.out_steps.next = $s.back.out_steps.val();
+                $s.out_and.next = $s.back.out_and.val();
+                $s.out_rom.next = $s.back.out_rom.val();
+                $s.out_z1.next = $s.back.out_z1.val();
+                $s.out_z2.next = $s.back.out_z2.val();
+                $s.out_zmin.next = $s.back.out_zmin.val();
+                $s.out_zmax.next = $s.back.out_zmax.val();
+            }
+        }
+    };
+}
