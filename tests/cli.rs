@@ -305,47 +305,40 @@ fn parameter_errors_name_the_flag_or_the_scene_key() {
         a.extend(extra);
         a
     };
-    expect_error(
-        p,
-        &render(&["--aa", "multiscan", "--subscanlines", "99"]),
-        "--subscanlines 99 is outside 1..=16",
-    );
-    expect_error(
-        p,
-        &render(&["--aa", "ssaa", "--ssaa", "0"]),
-        "--ssaa 0 is outside 1..=64",
-    );
-    expect_error(
-        p,
-        &render(&["--aa", "postfx", "--postfx-window", "4"]),
-        "--postfx-window 4: expected 5 or 3",
-    );
     let err = expect_error(
         p,
         &render(&["--aa", "abuffer", "--mask", "abc"]),
         "--mask abc: expected NxM",
     );
     assert!(!err.contains("0x0"), "{err}");
-    expect_error(
-        p,
-        &render(&["--aa", "abuffer", "--mask", "9x9"]),
-        "--mask 9x9: mask size 9x9 is not supported",
-    );
-    expect_error(
-        p,
-        &render(&["--aa", "multiscan", "--filter", "blur"]),
-        "--filter: unknown filter 'blur' (known: box, gauss, cone)",
-    );
-    expect_error(
-        p,
-        &render(&["--aa", "corner", "--filter", "box"]),
-        "--filter applies to --aa multiscan, not --aa corner",
-    );
-    expect_error(
-        p,
-        &render(&["--aa", "abuffer", "--depth", "deep"]),
-        "unknown depth selection 'deep'",
-    );
+    for (extra, want) in [
+        (
+            "multiscan --subscanlines 99",
+            "--subscanlines 99 is outside 1..=16",
+        ),
+        ("ssaa --ssaa 0", "--ssaa 0 is outside 1..=64"),
+        (
+            "postfx --postfx-window 4",
+            "--postfx-window 4: expected 5 or 3",
+        ),
+        (
+            "abuffer --mask 9x9",
+            "--mask 9x9: mask size 9x9 is not supported",
+        ),
+        (
+            "multiscan --filter blur",
+            "--filter: unknown filter 'blur' (known: box, gauss, cone)",
+        ),
+        (
+            "corner --filter box",
+            "--filter applies to --aa multiscan, not --aa corner",
+        ),
+        ("abuffer --depth deep", "unknown depth selection 'deep'"),
+    ] {
+        // `extra` is the method after `--aa`, then its flags.
+        let args: Vec<&'static str> = ["--aa"].into_iter().chain(extra.split(' ')).collect();
+        expect_error(p, &render(&args), want);
+    }
     let scene = |name: &str, aa: &str| {
         write(
             p,

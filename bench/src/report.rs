@@ -9,7 +9,7 @@ use pixelproc_sim::mask_search::DepthSelect;
 
 use crate::chart::{chart, heat_montage, png_rgb};
 use crate::judge::pareto_frontier;
-use crate::sweep::Sweep;
+use crate::sweep::{Row, Sweep};
 use crate::TradeoffError;
 
 /// Files written by [`write_outputs`].
@@ -38,6 +38,24 @@ pub(crate) fn points(sw: &Sweep) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// A setting's figures, in the column order of the CSV and the Markdown table: method,
+/// setting, the four costs with `cost` decimals, RMSE with `rmse` decimals, max error with
+/// `max` decimals, then the two wrong-visibility counts.
+fn figures(r: &Row, cost: usize, rmse: usize, max: usize) -> [String; 10] {
+    [
+        r.setting.method.to_string(),
+        r.setting.setting.to_string(),
+        format!("{:.*}", cost, r.ms_per_frame()),
+        format!("{:.*}", cost, r.wall_ms_per_frame()),
+        format!("{:.*}", cost, r.evals_per_pixel()),
+        format!("{:.*}", cost, r.reads_per_pixel()),
+        format!("{:.*}", rmse, r.rmse()),
+        format!("{:.*}", max, r.max_err()),
+        r.wrong_visible().to_string(),
+        r.wrong_visible_clear().to_string(),
+    ]
+}
+
 /// The per-setting CSV text.
 pub fn csv(sw: &Sweep) -> String {
     let front = pareto_frontier(&points(sw));
@@ -46,17 +64,8 @@ pub fn csv(sw: &Sweep) -> String {
     for (k, r) in sw.rows.iter().enumerate() {
         let _ = writeln!(
             s,
-            "{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.2},{},{},{},{},{}",
-            r.setting.method,
-            r.setting.setting,
-            r.ms_per_frame(),
-            r.wall_ms_per_frame(),
-            r.evals_per_pixel(),
-            r.reads_per_pixel(),
-            r.rmse(),
-            r.max_err(),
-            r.wrong_visible(),
-            r.wrong_visible_clear(),
+            "{},{},{},{}",
+            figures(r, 4, 4, 2).join(","),
             r.shade_levels.0,
             r.shade_levels.1,
             front.contains(&k) as u8
@@ -153,17 +162,8 @@ fn md_settings(s: &mut String, sw: &Sweep, front: &[usize]) {
     for (k, r) in sw.rows.iter().enumerate() {
         let _ = writeln!(
             s,
-            "| {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.3} | {:.1} | {} | {} | {}/{} | {} |",
-            r.setting.method,
-            r.setting.setting,
-            r.ms_per_frame(),
-            r.wall_ms_per_frame(),
-            r.evals_per_pixel(),
-            r.reads_per_pixel(),
-            r.rmse(),
-            r.max_err(),
-            r.wrong_visible(),
-            r.wrong_visible_clear(),
+            "| {} | {}/{} | {} |",
+            figures(r, 2, 3, 1).join(" | "),
             r.shade_levels.0,
             r.shade_levels.1,
             if front.contains(&k) { "●" } else { "" }

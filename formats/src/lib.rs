@@ -359,47 +359,28 @@ mod tests {
 
     #[test]
     fn field_positions_match_docs() {
-        // One bit set in each field lands where docs/formats.md says.
-        let mut w = SpanWord {
-            xl: 1,
-            ..Default::default()
-        };
-        assert_eq!(w.pack().unwrap()[0], 1 << 2);
-        w = SpanWord {
-            xr: 1,
-            ..Default::default()
-        };
-        assert_eq!(w.pack().unwrap()[0], 1 << 14);
-        w = SpanWord {
-            zl: 1,
-            ..Default::default()
-        };
-        assert_eq!(w.pack().unwrap()[0], 1 << 26);
-        w = SpanWord {
-            dz: 1,
-            ..Default::default()
-        };
-        assert_eq!(w.pack().unwrap()[0], 1 << 62);
-        w = SpanWord {
-            tag: 1,
-            ..Default::default()
-        };
-        assert_eq!(w.pack().unwrap()[3], 1 << (223 - 192));
-        w = SpanWord {
-            nclass: 1,
-            ..Default::default()
-        };
-        assert_eq!(w.pack().unwrap()[3], 1 << (239 - 192));
-        w = SpanWord {
-            decal: true,
-            ..Default::default()
-        };
-        assert_eq!(w.pack().unwrap()[3], 1 << (247 - 192));
-        w = SpanWord {
-            il: [0, 0, 1],
-            ..Default::default()
-        };
-        assert_eq!(w.pack().unwrap()[2], 1 << (140 - 128));
+        // One bit set in each field lands where docs/formats.md says: (word, limb, bit).
+        let d = SpanWord::default;
+        let cases = [
+            (SpanWord { xl: 1, ..d() }, 0, 2),
+            (SpanWord { xr: 1, ..d() }, 0, 14),
+            (SpanWord { zl: 1, ..d() }, 0, 26),
+            (SpanWord { dz: 1, ..d() }, 0, 62),
+            (SpanWord { tag: 1, ..d() }, 3, 223 - 192),
+            (SpanWord { nclass: 1, ..d() }, 3, 239 - 192),
+            (SpanWord { decal: true, ..d() }, 3, 247 - 192),
+            (
+                SpanWord {
+                    il: [0, 0, 1],
+                    ..d()
+                },
+                2,
+                140 - 128,
+            ),
+        ];
+        for (w, limb, bit) in cases {
+            assert_eq!(w.pack().unwrap()[limb], 1 << bit, "{w:?}");
+        }
     }
 
     #[test]

@@ -60,17 +60,34 @@ pub const READOUT_FIELDS: &[Field] = &[RD_COUNT, RD_FSF, RD_DSF, RD_RGB, RD_ZB, 
 /// Width of the readout word.
 pub const READOUT_BITS: usize = table_end(READOUT_FIELDS);
 
+/// A state whose fields all differ (`ZB` 0xABCDEF, RGB 0x123456, DSF set, COUNT 200, MASK
+/// 0x81, NCLASS 7), for round-trip checks of the readout layout.
+pub const SAMPLE_STATE: ProcState = ProcState {
+    zb: 0xABCDEF,
+    rgb: 0x123456,
+    dsf: true,
+    fsf: false,
+    count: 200,
+    mask: 0x81,
+    nclass: 7,
+};
+
 impl ProcState {
     /// The readout word of these registers (fields wider than their slot are truncated).
     pub fn pack_readout(&self) -> u128 {
+        let values = [
+            self.count as u64,
+            self.fsf as u64,
+            self.dsf as u64,
+            self.rgb as u64,
+            self.zb as u64,
+            self.mask as u64,
+            self.nclass as u64,
+        ];
         let mut w = 0u128;
-        RD_COUNT.put_u128(&mut w, self.count as u64);
-        RD_FSF.put_u128(&mut w, self.fsf as u64);
-        RD_DSF.put_u128(&mut w, self.dsf as u64);
-        RD_RGB.put_u128(&mut w, self.rgb as u64);
-        RD_ZB.put_u128(&mut w, self.zb as u64);
-        RD_MASK.put_u128(&mut w, self.mask as u64);
-        RD_NCLASS.put_u128(&mut w, self.nclass as u64);
+        for (f, v) in READOUT_FIELDS.iter().zip(values) {
+            f.put_u128(&mut w, v);
+        }
         w
     }
 
@@ -106,15 +123,7 @@ mod tests {
     #[test]
     fn readout_is_74_bits_and_round_trips() {
         assert_eq!(READOUT_BITS, 74);
-        let s = ProcState {
-            zb: 0xABCDEF,
-            rgb: 0x123456,
-            dsf: true,
-            fsf: false,
-            count: 200,
-            mask: 0x81,
-            nclass: 7,
-        };
+        let s = SAMPLE_STATE;
         assert_eq!(ProcState::unpack_readout(s.pack_readout()), s);
         // The historical layout `{NCLASS, MASK, ZB, RGB, DSF, FSF, COUNT}`.
         let old = (7u128 << 66)

@@ -11,9 +11,13 @@
 //! as literals. The traits below give `Bits<256>` and `Bits<74>` these methods, every
 //! offset and width taken from the field tables in `pixelproc-formats`.
 
+use crate::opcodes::OP_BITS;
+use crate::pixel_processor::REL_W;
+use pixelproc_formats::fields::table_end;
 use pixelproc_formats::regs::{
     RD_COUNT, RD_DSF, RD_FSF, RD_MASK, RD_NCLASS, RD_RGB, RD_ZB, READOUT_BITS,
 };
+use pixelproc_formats::Field;
 use pixelproc_formats::{
     SPAN_ATTR, SPAN_DECAL, SPAN_DI_B, SPAN_DI_G, SPAN_DI_R, SPAN_DZ, SPAN_IL_B, SPAN_IL_G,
     SPAN_IL_R, SPAN_NCLASS, SPAN_WORD_BITS, SPAN_XL, SPAN_XR, SPAN_ZL,
@@ -22,6 +26,34 @@ use rust_hdl::prelude::*;
 
 /// Width of the `cmd_word` port: one packed span word.
 pub const SPAN_W: usize = SPAN_WORD_BITS as usize;
+/// The three `IL` channels of the span word as one field (red in the low bits).
+pub const SPAN_IL3: Field = SPAN_DZ.then("IL", 3 * SPAN_IL_R.width);
+/// The three `dI` channels of the span word as one field (red in the low bits).
+pub const SPAN_DI3: Field = SPAN_IL3.then("dI", 3 * SPAN_DI_R.width);
+const _: () = assert!(SPAN_IL3.lsb == SPAN_IL_R.lsb && SPAN_DI3.lsb == SPAN_DI_R.lsb);
+
+/// Token header field: opcode.
+pub const HEAD_OP: Field = Field::first("op", OP_BITS);
+/// Token header field: span attribute.
+pub const HEAD_ATTR: Field = HEAD_OP.then("attr", SPAN_ATTR.width);
+/// Token header field: decal flag.
+pub const HEAD_DECAL: Field = HEAD_ATTR.then("decal", 1);
+/// Token header field: normal class.
+pub const HEAD_NCLASS: Field = HEAD_DECAL.then("nclass", SPAN_NCLASS.width);
+/// Token header field: `XL − col − 1` (two's complement).
+pub const HEAD_REL_L: Field = HEAD_NCLASS.then("rel_l", REL_W);
+/// Token header field: `XR − col` (two's complement).
+pub const HEAD_REL_R: Field = HEAD_REL_L.then("rel_r", REL_W);
+/// Width of a token header: the part of the token that is not interpolated.
+pub const HEAD_W: usize = table_end(&[
+    HEAD_OP,
+    HEAD_ATTR,
+    HEAD_DECAL,
+    HEAD_NCLASS,
+    HEAD_REL_L,
+    HEAD_REL_R,
+]);
+
 /// Width of the readout bus and of each processor's `rdo` output.
 pub const READOUT_W: usize = READOUT_BITS;
 
@@ -104,9 +136,27 @@ field_slices! {
         get_value_di_g, set_value_di_g, get_my_width_di_g, get_my_offset_di_g: SPAN_DI_G;
         get_value_di_b, set_value_di_b, get_my_width_di_b, get_my_offset_di_b: SPAN_DI_B;
         get_value_nclass, set_value_nclass, get_my_width_nclass, get_my_offset_nclass: SPAN_NCLASS;
+        get_value_il, set_value_il, get_my_width_il, get_my_offset_il: SPAN_IL3;
+        get_value_di, set_value_di, get_my_width_di, get_my_offset_di: SPAN_DI3;
     }
     flags {
         get_value_decal, set_value_decal, get_my_width_decal, get_my_offset_decal: SPAN_DECAL;
+    }
+}
+
+field_slices! {
+    /// The token header's fields, as carried from the entry pipeline down the processor
+    /// chain (one bus instead of six ports per processor).
+    HeadFields for HEAD_W;
+    bits {
+        get_value_op, set_value_op, get_my_width_op, get_my_offset_op: HEAD_OP;
+        get_value_attr, set_value_attr, get_my_width_attr, get_my_offset_attr: HEAD_ATTR;
+        get_value_nclass, set_value_nclass, get_my_width_nclass, get_my_offset_nclass: HEAD_NCLASS;
+        get_value_rel_l, set_value_rel_l, get_my_width_rel_l, get_my_offset_rel_l: HEAD_REL_L;
+        get_value_rel_r, set_value_rel_r, get_my_width_rel_r, get_my_offset_rel_r: HEAD_REL_R;
+    }
+    flags {
+        get_value_decal, set_value_decal, get_my_width_decal, get_my_offset_decal: HEAD_DECAL;
     }
 }
 
@@ -129,7 +179,7 @@ field_slices! {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use pixelproc_formats::regs::ProcState;
+    use pixelproc_formats::regs::SAMPLE_STATE;
     use pixelproc_formats::{Attr, SpanWord};
 
     #[test]
@@ -163,15 +213,7 @@ mod tests {
 
     #[test]
     fn readout_slices_match_pack_readout() {
-        let s = ProcState {
-            zb: 0xABCDEF,
-            rgb: 0x123456,
-            dsf: true,
-            fsf: false,
-            count: 200,
-            mask: 0x81,
-            nclass: 7,
-        };
+        let s = SAMPLE_STATE;
         let mut b: Bits<READOUT_W> = Bits::default();
         b.set_value_nclass(7u64.to_bits());
         b.set_value_mask(0x81u64.to_bits());

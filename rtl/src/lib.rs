@@ -15,6 +15,8 @@
 
 #![warn(missing_docs)]
 
+pub mod colour_lane;
+pub mod entry_channel;
 pub mod layout;
 pub mod mask_search;
 pub mod opcodes;

@@ -54,13 +54,13 @@
 //! depend on `N`; the cost is one token register per processor and `N + 6` clocks of
 //! latency.
 
-use crate::layout::{ReadoutFields, SpanFields, READOUT_W, SPAN_W};
+use crate::colour_lane::DI_W;
+use crate::entry_channel::{EntryChannel, IL_W, MUL_W, PROD_W};
+use crate::layout::{HeadFields, ReadoutFields, SpanFields, HEAD_W, READOUT_W, SPAN_W};
 use crate::opcodes::*;
-use crate::pixel_processor::{PixelProcessor, IACC_W, REL_W, ZACC_W};
+use crate::pixel_processor::{PixelProcessor, DI3_W, I3_W, IACC_W, REL_W, ZACC_W};
 use pixelproc_formats::regs::{COUNT_BITS, MASK_BITS, RGB_BITS};
-use pixelproc_formats::{
-    MAX_SCREEN, SPAN_DI_R, SPAN_DZ, SPAN_IL_R, SPAN_NCLASS, SPAN_XL, SPAN_ZL, Z_BITS,
-};
+use pixelproc_formats::{MAX_SCREEN, SPAN_DZ, SPAN_NCLASS, SPAN_XL, SPAN_ZL, Z_BITS};
 use rust_hdl::prelude::*;
 
 /// Width of a column number (`XL`, `XR`, `tile_base`, `rd_addr`).
@@ -69,27 +69,18 @@ const X_W: usize = SPAN_XL.width;
 const ZL_W: usize = SPAN_ZL.width;
 /// Width of `dZ`.
 const DZ_W: usize = SPAN_DZ.width;
-/// Width of one `IL` channel.
-const IL_W: usize = SPAN_IL_R.width;
-/// Width of one `dI` channel.
-const DI_W: usize = SPAN_DI_R.width;
-/// Width of the span attribute.
-const ATTR_W: usize = pixelproc_formats::SPAN_ATTR.width;
+/// Width of the three packed `IL` of a span word.
+const IL3_W: usize = 3 * IL_W;
 /// Width of the normal class.
 const NCLASS_W: usize = SPAN_NCLASS.width;
 /// Width of a depth register.
 const ZB_W: usize = Z_BITS as usize;
-/// Operand width of the entry multipliers (RustHDL multiplies 16 × 16 bits only).
-const MUL_W: usize = 16;
-/// Width of one 16 × 16 partial product.
-const PROD_W: usize = 2 * MUL_W;
 /// Bits of `dZ` above its two low multiplier operands.
 const DZ_HI_W: usize = DZ_W - PROD_W;
-/// Bits of `dI` above its low multiplier operand.
-const DI_HI_W: usize = DI_W - MUL_W;
 // A kernel can only take literal bit positions: the operand splits at 16 and 32, the sign
-// bits 37 (`dZ`) and 20 (`dI`) and the weights 2^38 and 2^21 below are these widths.
-const _: () = assert!(MUL_W == 16 && DZ_W == 38 && DI_W == 21 && REL_W == 14);
+// bit 37 and the weight 2^38 (`dZ`), and the channel strides 20 (`IL`), 21 (`dI`) and 34
+// (accumulators) below are these widths.
+const _: () = assert!(MUL_W == 16 && DZ_W == 38 && DI_W == 21 && IL_W == 20 && REL_W == 14);
 
 /// Rising edges from sampling a command to its effect on processor 0's registers.
 pub const LATENCY_PROC0: usize = 6;
@@ -136,73 +127,25 @@ pub struct PixelProcessorArray {
     e1_base: DFF<Bits<X_W>>,
     e1_rd: DFF<Bits<X_W>>,
     // E2: decoded word, tile offset m = max(0, base − XL).
-    e2_op: DFF<Bits<OP_BITS>>,
-    e2_attr: DFF<Bits<ATTR_W>>,
-    e2_decal: DFF<Bit>,
-    e2_nclass: DFF<Bits<NCLASS_W>>,
-    e2_rel_l: DFF<Bits<REL_W>>,
-    e2_rel_r: DFF<Bits<REL_W>>,
+    e2_head: DFF<Bits<HEAD_W>>,
     e2_m: DFF<Bits<MUL_W>>,
     e2_zl: DFF<Bits<ZL_W>>,
     e2_dz: DFF<Bits<DZ_W>>,
-    e2_ilr: DFF<Bits<IL_W>>,
-    e2_ilg: DFF<Bits<IL_W>>,
-    e2_ilb: DFF<Bits<IL_W>>,
-    e2_dir: DFF<Bits<DI_W>>,
-    e2_dig: DFF<Bits<DI_W>>,
-    e2_dib: DFF<Bits<DI_W>>,
     // E3: partial products.
-    e3_op: DFF<Bits<OP_BITS>>,
-    e3_attr: DFF<Bits<ATTR_W>>,
-    e3_decal: DFF<Bit>,
-    e3_nclass: DFF<Bits<NCLASS_W>>,
-    e3_rel_l: DFF<Bits<REL_W>>,
-    e3_rel_r: DFF<Bits<REL_W>>,
+    e3_head: DFF<Bits<HEAD_W>>,
     e3_m: DFF<Bits<MUL_W>>,
     e3_zl: DFF<Bits<ZL_W>>,
     e3_dz: DFF<Bits<DZ_W>>,
-    e3_ilr: DFF<Bits<IL_W>>,
-    e3_ilg: DFF<Bits<IL_W>>,
-    e3_ilb: DFF<Bits<IL_W>>,
-    e3_dir: DFF<Bits<DI_W>>,
-    e3_dig: DFF<Bits<DI_W>>,
-    e3_dib: DFF<Bits<DI_W>>,
     e3_pz0: DFF<Bits<PROD_W>>,
     e3_pz1: DFF<Bits<PROD_W>>,
     e3_pz2: DFF<Bits<PROD_W>>,
-    e3_pr0: DFF<Bits<PROD_W>>,
-    e3_pr1: DFF<Bits<PROD_W>>,
-    e3_pg0: DFF<Bits<PROD_W>>,
-    e3_pg1: DFF<Bits<PROD_W>>,
-    e3_pb0: DFF<Bits<PROD_W>>,
-    e3_pb1: DFF<Bits<PROD_W>>,
     // E4: two partial sums per quantity.
-    e4_op: DFF<Bits<OP_BITS>>,
-    e4_attr: DFF<Bits<ATTR_W>>,
-    e4_decal: DFF<Bit>,
-    e4_nclass: DFF<Bits<NCLASS_W>>,
-    e4_rel_l: DFF<Bits<REL_W>>,
-    e4_rel_r: DFF<Bits<REL_W>>,
+    e4_head: DFF<Bits<HEAD_W>>,
     e4_dz: DFF<Bits<DZ_W>>,
-    e4_dir: DFF<Bits<DI_W>>,
-    e4_dig: DFF<Bits<DI_W>>,
-    e4_dib: DFF<Bits<DI_W>>,
     e4_za: DFF<Bits<ZACC_W>>,
     e4_zb: DFF<Bits<ZACC_W>>,
-    e4_ra: DFF<Bits<IACC_W>>,
-    e4_rb: DFF<Bits<IACC_W>>,
-    e4_ga: DFF<Bits<IACC_W>>,
-    e4_gb: DFF<Bits<IACC_W>>,
-    e4_ba: DFF<Bits<IACC_W>>,
-    e4_bb: DFF<Bits<IACC_W>>,
     // Readout output registers.
-    rd_zb_r: DFF<Bits<ZB_W>>,
-    rd_rgb_r: DFF<Bits<RGB_BITS>>,
-    rd_dsf_r: DFF<Bit>,
-    rd_fsf_r: DFF<Bit>,
-    rd_count_r: DFF<Bits<COUNT_BITS>>,
-    rd_mask_r: DFF<Bits<MASK_BITS>>,
-    rd_nclass_r: DFF<Bits<NCLASS_W>>,
+    rd_r: DFF<Bits<READOUT_W>>,
     k_reset: Constant<Bits<OP_BITS>>,
     k_zero74: Constant<Bits<READOUT_W>>,
     l_rd: Signal<Local, Bits<READOUT_W>>,
@@ -210,7 +153,6 @@ pub struct PixelProcessorArray {
     k_span: Constant<Bits<OP_BITS>>,
     k_one14: Constant<Bits<REL_W>>,
     k_zero16: Constant<Bits<MUL_W>>,
-    k_zero21: Constant<Bits<DI_W>>,
     k_zero38: Constant<Bits<DZ_W>>,
     l_xl: Signal<Local, Bits<REL_W>>,
     l_xr: Signal<Local, Bits<REL_W>>,
@@ -219,11 +161,20 @@ pub struct PixelProcessorArray {
     l_dz: Signal<Local, Bits<DZ_W>>,
     l_dzmid: Signal<Local, Bits<MUL_W>>,
     l_dzhi: Signal<Local, Bits<MUL_W>>,
-    l_dihi_r: Signal<Local, Bits<MUL_W>>,
-    l_dihi_g: Signal<Local, Bits<MUL_W>>,
-    l_dihi_b: Signal<Local, Bits<MUL_W>>,
     l_m44: Signal<Local, Bits<ZACC_W>>,
-    l_m34: Signal<Local, Bits<IACC_W>>,
+    l_head: Signal<Local, Bits<HEAD_W>>,
+    k_zero_head: Constant<Bits<HEAD_W>>,
+    /// E2..E4 of the red, green and blue channels.
+    chans: [EntryChannel; 3],
+    l_span: Signal<Local, Bit>,
+    l_il3: Signal<Local, Bits<IL3_W>>,
+    l_di3: Signal<Local, Bits<DI3_W>>,
+    l_ch_i: Signal<Local, Bits<IACC_W>>,
+    l_ch_di: Signal<Local, Bits<DI_W>>,
+    l_ti: Signal<Local, Bits<I3_W>>,
+    l_tdi: Signal<Local, Bits<DI3_W>>,
+    k_zero_i3: Constant<Bits<I3_W>>,
+    k_zero_di3: Constant<Bits<DI3_W>>,
 }
 
 impl PixelProcessorArray {
@@ -258,70 +209,22 @@ impl PixelProcessorArray {
             e1_word: Default::default(),
             e1_base: Default::default(),
             e1_rd: Default::default(),
-            e2_op: Default::default(),
-            e2_attr: Default::default(),
-            e2_decal: Default::default(),
-            e2_nclass: Default::default(),
-            e2_rel_l: Default::default(),
-            e2_rel_r: Default::default(),
+            e2_head: Default::default(),
             e2_m: Default::default(),
             e2_zl: Default::default(),
             e2_dz: Default::default(),
-            e2_ilr: Default::default(),
-            e2_ilg: Default::default(),
-            e2_ilb: Default::default(),
-            e2_dir: Default::default(),
-            e2_dig: Default::default(),
-            e2_dib: Default::default(),
-            e3_op: Default::default(),
-            e3_attr: Default::default(),
-            e3_decal: Default::default(),
-            e3_nclass: Default::default(),
-            e3_rel_l: Default::default(),
-            e3_rel_r: Default::default(),
+            e3_head: Default::default(),
             e3_m: Default::default(),
             e3_zl: Default::default(),
             e3_dz: Default::default(),
-            e3_ilr: Default::default(),
-            e3_ilg: Default::default(),
-            e3_ilb: Default::default(),
-            e3_dir: Default::default(),
-            e3_dig: Default::default(),
-            e3_dib: Default::default(),
             e3_pz0: Default::default(),
             e3_pz1: Default::default(),
             e3_pz2: Default::default(),
-            e3_pr0: Default::default(),
-            e3_pr1: Default::default(),
-            e3_pg0: Default::default(),
-            e3_pg1: Default::default(),
-            e3_pb0: Default::default(),
-            e3_pb1: Default::default(),
-            e4_op: Default::default(),
-            e4_attr: Default::default(),
-            e4_decal: Default::default(),
-            e4_nclass: Default::default(),
-            e4_rel_l: Default::default(),
-            e4_rel_r: Default::default(),
+            e4_head: Default::default(),
             e4_dz: Default::default(),
-            e4_dir: Default::default(),
-            e4_dig: Default::default(),
-            e4_dib: Default::default(),
             e4_za: Default::default(),
             e4_zb: Default::default(),
-            e4_ra: Default::default(),
-            e4_rb: Default::default(),
-            e4_ga: Default::default(),
-            e4_gb: Default::default(),
-            e4_ba: Default::default(),
-            e4_bb: Default::default(),
-            rd_zb_r: Default::default(),
-            rd_rgb_r: Default::default(),
-            rd_dsf_r: Default::default(),
-            rd_fsf_r: Default::default(),
-            rd_count_r: Default::default(),
-            rd_mask_r: Default::default(),
-            rd_nclass_r: Default::default(),
+            rd_r: Default::default(),
             k_reset: Constant::new(OP_RESET.to_bits()),
             k_zero74: Constant::new(0u64.to_bits()),
             l_rd: Default::default(),
@@ -329,7 +232,6 @@ impl PixelProcessorArray {
             k_span: Constant::new(OP_SPAN.to_bits()),
             k_one14: k(1),
             k_zero16: k(0),
-            k_zero21: k(0),
             k_zero38: k(0),
             l_xl: Default::default(),
             l_xr: Default::default(),
@@ -338,11 +240,19 @@ impl PixelProcessorArray {
             l_dz: Default::default(),
             l_dzmid: Default::default(),
             l_dzhi: Default::default(),
-            l_dihi_r: Default::default(),
-            l_dihi_g: Default::default(),
-            l_dihi_b: Default::default(),
             l_m44: Default::default(),
-            l_m34: Default::default(),
+            l_head: Default::default(),
+            k_zero_head: k(0),
+            chans: std::array::from_fn(|_| EntryChannel::new()),
+            l_span: Default::default(),
+            l_il3: Default::default(),
+            l_di3: Default::default(),
+            l_ch_i: Default::default(),
+            l_ch_di: Default::default(),
+            l_ti: Default::default(),
+            l_tdi: Default::default(),
+            k_zero_i3: k(0),
+            k_zero_di3: k(0),
         })
     }
 
@@ -361,77 +271,9 @@ impl Logic for PixelProcessorArray {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self,
-            clock,
-            e1_op,
-            e1_bg,
-            e1_word,
-            e1_base,
-            e1_rd,
-            e2_op,
-            e2_attr,
-            e2_decal,
-            e2_nclass,
-            e2_rel_l,
-            e2_rel_r,
-            e2_m,
-            e2_zl,
-            e2_dz,
-            e2_ilr,
-            e2_ilg,
-            e2_ilb,
-            e2_dir,
-            e2_dig,
-            e2_dib,
-            e3_op,
-            e3_attr,
-            e3_decal,
-            e3_nclass,
-            e3_rel_l,
-            e3_rel_r,
-            e3_m,
-            e3_zl,
-            e3_dz,
-            e3_ilr,
-            e3_ilg,
-            e3_ilb,
-            e3_dir,
-            e3_dig,
-            e3_dib,
-            e3_pz0,
-            e3_pz1,
-            e3_pz2,
-            e3_pr0,
-            e3_pr1,
-            e3_pg0,
-            e3_pg1,
-            e3_pb0,
-            e3_pb1,
-            e4_op,
-            e4_attr,
-            e4_decal,
-            e4_nclass,
-            e4_rel_l,
-            e4_rel_r,
-            e4_dz,
-            e4_dir,
-            e4_dig,
-            e4_dib,
-            e4_za,
-            e4_zb,
-            e4_ra,
-            e4_rb,
-            e4_ga,
-            e4_gb,
-            e4_ba,
-            e4_bb,
-            rd_zb_r,
-            rd_rgb_r,
-            rd_dsf_r,
-            rd_fsf_r,
-            rd_count_r,
-            rd_mask_r,
-            rd_nclass_r
+            self, clock, e1_op, e1_bg, e1_word, e1_base, e1_rd, e2_head, e2_m, e2_zl, e2_dz,
+            e3_head, e3_m, e3_zl, e3_dz, e3_pz0, e3_pz1, e3_pz2, e4_head, e4_dz, e4_za, e4_zb,
+            rd_r
         );
         // ---- E1: register every input.
         self.e1_op.d.next = self.k_nop.val();
@@ -451,20 +293,26 @@ impl Logic for PixelProcessorArray {
         self.l_xr.next = bit_cast::<REL_W, X_W>(self.e1_word.q.val().get_value_xr());
         self.l_base.next = bit_cast::<REL_W, X_W>(self.e1_base.q.val());
         self.l_d.next = self.l_base.val() - self.l_xl.val();
-        self.e2_op.d.next = self.e1_op.q.val();
-        self.e2_attr.d.next = self.e1_word.q.val().get_value_attr();
-        self.e2_decal.d.next = self.e1_word.q.val().get_value_decal();
-        self.e2_nclass.d.next = self.e1_word.q.val().get_value_nclass();
-        self.e2_rel_l.d.next = (self.l_xl.val() - self.l_base.val()) - self.k_one14.val();
-        self.e2_rel_r.d.next = self.l_xr.val() - self.l_base.val();
+        self.l_head.next = self.k_zero_head.val();
+        self.l_head.next.set_value_op(self.e1_op.q.val());
+        self.l_head
+            .next
+            .set_value_attr(self.e1_word.q.val().get_value_attr());
+        self.l_head
+            .next
+            .set_value_decal(self.e1_word.q.val().get_value_decal());
+        self.l_head
+            .next
+            .set_value_nclass(self.e1_word.q.val().get_value_nclass());
+        self.l_head
+            .next
+            .set_value_rel_l((self.l_xl.val() - self.l_base.val()) - self.k_one14.val());
+        self.l_head
+            .next
+            .set_value_rel_r(self.l_xr.val() - self.l_base.val());
+        self.e2_head.d.next = self.l_head.val();
         self.e2_zl.d.next = self.e1_word.q.val().get_value_zl();
         self.e2_dz.d.next = self.e1_word.q.val().get_value_dz();
-        self.e2_ilr.d.next = self.e1_word.q.val().get_value_il_r();
-        self.e2_ilg.d.next = self.e1_word.q.val().get_value_il_g();
-        self.e2_ilb.d.next = self.e1_word.q.val().get_value_il_b();
-        self.e2_dir.d.next = self.e1_word.q.val().get_value_di_r();
-        self.e2_dig.d.next = self.e1_word.q.val().get_value_di_g();
-        self.e2_dib.d.next = self.e1_word.q.val().get_value_di_b();
         // Tile offset: the span started `base − XL` columns before this tile.
         self.e2_m.d.next = self.k_zero16.val();
         if !self.l_d.val().get_bit(13) {
@@ -474,58 +322,44 @@ impl Logic for PixelProcessorArray {
             // No increments; CLEAR_LINE carries the background in the Z accumulator.
             self.e2_m.d.next = self.k_zero16.val();
             self.e2_dz.d.next = self.k_zero38.val();
-            self.e2_dir.d.next = self.k_zero21.val();
-            self.e2_dig.d.next = self.k_zero21.val();
-            self.e2_dib.d.next = self.k_zero21.val();
             self.e2_zl.d.next = bit_cast::<ZL_W, RGB_BITS>(self.e1_bg.q.val());
         }
-        // ---- E3: partial products m·dZ (3) and m·dI_c (2 each), 16×16 unsigned.
-        self.e3_op.d.next = self.e2_op.q.val();
-        self.e3_attr.d.next = self.e2_attr.q.val();
-        self.e3_decal.d.next = self.e2_decal.q.val();
-        self.e3_nclass.d.next = self.e2_nclass.q.val();
-        self.e3_rel_l.d.next = self.e2_rel_l.q.val();
-        self.e3_rel_r.d.next = self.e2_rel_r.q.val();
+        // ---- E2..E4 of the colour channels, one block each; their results packed red
+        // first for processor 0 (`bit_cast` cannot take the loop index: go through locals).
+        self.l_span.next = self.e1_op.q.val() == self.k_span.val();
+        self.l_il3.next = self.e1_word.q.val().get_value_il();
+        self.l_di3.next = self.e1_word.q.val().get_value_di();
+        self.l_ti.next = self.k_zero_i3.val();
+        self.l_tdi.next = self.k_zero_di3.val();
+        for c in 0..3 {
+            self.chans[c].clock.next = self.clock.val();
+            self.chans[c].il.next = self.l_il3.val().get_bits::<IL_W>(20 * c);
+            self.chans[c].di.next = self.l_di3.val().get_bits::<DI_W>(21 * c);
+            self.chans[c].span.next = self.l_span.val();
+            self.chans[c].m2.next = self.e2_m.q.val();
+            self.chans[c].m3.next = self.e3_m.q.val();
+            self.l_ch_i.next = self.chans[c].i.val();
+            self.l_ch_di.next = self.chans[c].o_di.val();
+            self.l_ti.next =
+                (self.l_ti.val() >> 34) | (bit_cast::<I3_W, IACC_W>(self.l_ch_i.val()) << 68);
+            self.l_tdi.next =
+                (self.l_tdi.val() >> 21) | (bit_cast::<DI3_W, DI_W>(self.l_ch_di.val()) << 42);
+        }
+        // ---- E3: partial products m·dZ (3), 16×16 unsigned.
+        self.e3_head.d.next = self.e2_head.q.val();
         self.e3_m.d.next = self.e2_m.q.val();
         self.e3_zl.d.next = self.e2_zl.q.val();
         self.e3_dz.d.next = self.e2_dz.q.val();
-        self.e3_ilr.d.next = self.e2_ilr.q.val();
-        self.e3_ilg.d.next = self.e2_ilg.q.val();
-        self.e3_ilb.d.next = self.e2_ilb.q.val();
-        self.e3_dir.d.next = self.e2_dir.q.val();
-        self.e3_dig.d.next = self.e2_dig.q.val();
-        self.e3_dib.d.next = self.e2_dib.q.val();
         self.l_dz.next = self.e2_dz.q.val();
         self.l_dzmid.next = self.l_dz.val().get_bits::<MUL_W>(16);
         self.l_dzhi.next = bit_cast::<MUL_W, DZ_HI_W>(self.l_dz.val().get_bits::<DZ_HI_W>(32));
-        self.l_dihi_r.next =
-            bit_cast::<MUL_W, DI_HI_W>(self.e2_dir.q.val().get_bits::<DI_HI_W>(16));
-        self.l_dihi_g.next =
-            bit_cast::<MUL_W, DI_HI_W>(self.e2_dig.q.val().get_bits::<DI_HI_W>(16));
-        self.l_dihi_b.next =
-            bit_cast::<MUL_W, DI_HI_W>(self.e2_dib.q.val().get_bits::<DI_HI_W>(16));
         self.e3_pz0.d.next = self.e2_m.q.val() * self.l_dz.val().get_bits::<MUL_W>(0);
         self.e3_pz1.d.next = self.e2_m.q.val() * self.l_dzmid.val();
         self.e3_pz2.d.next = self.e2_m.q.val() * self.l_dzhi.val();
-        self.e3_pr0.d.next = self.e2_m.q.val() * self.e2_dir.q.val().get_bits::<MUL_W>(0);
-        self.e3_pr1.d.next = self.e2_m.q.val() * self.l_dihi_r.val();
-        self.e3_pg0.d.next = self.e2_m.q.val() * self.e2_dig.q.val().get_bits::<MUL_W>(0);
-        self.e3_pg1.d.next = self.e2_m.q.val() * self.l_dihi_g.val();
-        self.e3_pb0.d.next = self.e2_m.q.val() * self.e2_dib.q.val().get_bits::<MUL_W>(0);
-        self.e3_pb1.d.next = self.e2_m.q.val() * self.l_dihi_b.val();
-        // ---- E4: m·dZ = m·u38 − s·m·2^38 (u38 = dZ as unsigned), likewise for dI (2^21).
-        self.e4_op.d.next = self.e3_op.q.val();
-        self.e4_attr.d.next = self.e3_attr.q.val();
-        self.e4_decal.d.next = self.e3_decal.q.val();
-        self.e4_nclass.d.next = self.e3_nclass.q.val();
-        self.e4_rel_l.d.next = self.e3_rel_l.q.val();
-        self.e4_rel_r.d.next = self.e3_rel_r.q.val();
+        // ---- E4: m·dZ = m·u38 − s·m·2^38 (u38 = dZ as unsigned).
+        self.e4_head.d.next = self.e3_head.q.val();
         self.e4_dz.d.next = self.e3_dz.q.val();
-        self.e4_dir.d.next = self.e3_dir.q.val();
-        self.e4_dig.d.next = self.e3_dig.q.val();
-        self.e4_dib.d.next = self.e3_dib.q.val();
         self.l_m44.next = bit_cast::<ZACC_W, MUL_W>(self.e3_m.q.val());
-        self.l_m34.next = bit_cast::<IACC_W, MUL_W>(self.e3_m.q.val());
         self.e4_za.d.next = bit_cast::<ZACC_W, ZL_W>(self.e3_zl.q.val())
             + bit_cast::<ZACC_W, PROD_W>(self.e3_pz0.q.val());
         self.e4_zb.d.next = (bit_cast::<ZACC_W, PROD_W>(self.e3_pz1.q.val()) << 16)
@@ -535,60 +369,21 @@ impl Logic for PixelProcessorArray {
                 + (bit_cast::<ZACC_W, PROD_W>(self.e3_pz2.q.val()) << 32))
                 - (self.l_m44.val() << 38);
         }
-        self.e4_ra.d.next = bit_cast::<IACC_W, IL_W>(self.e3_ilr.q.val())
-            + bit_cast::<IACC_W, PROD_W>(self.e3_pr0.q.val());
-        self.e4_rb.d.next = bit_cast::<IACC_W, PROD_W>(self.e3_pr1.q.val()) << 16;
-        if self.e3_dir.q.val().get_bit(20) {
-            self.e4_rb.d.next =
-                (bit_cast::<IACC_W, PROD_W>(self.e3_pr1.q.val()) << 16) - (self.l_m34.val() << 21);
-        }
-        self.e4_ga.d.next = bit_cast::<IACC_W, IL_W>(self.e3_ilg.q.val())
-            + bit_cast::<IACC_W, PROD_W>(self.e3_pg0.q.val());
-        self.e4_gb.d.next = bit_cast::<IACC_W, PROD_W>(self.e3_pg1.q.val()) << 16;
-        if self.e3_dig.q.val().get_bit(20) {
-            self.e4_gb.d.next =
-                (bit_cast::<IACC_W, PROD_W>(self.e3_pg1.q.val()) << 16) - (self.l_m34.val() << 21);
-        }
-        self.e4_ba.d.next = bit_cast::<IACC_W, IL_W>(self.e3_ilb.q.val())
-            + bit_cast::<IACC_W, PROD_W>(self.e3_pb0.q.val());
-        self.e4_bb.d.next = bit_cast::<IACC_W, PROD_W>(self.e3_pb1.q.val()) << 16;
-        if self.e3_dib.q.val().get_bit(20) {
-            self.e4_bb.d.next =
-                (bit_cast::<IACC_W, PROD_W>(self.e3_pb1.q.val()) << 16) - (self.l_m34.val() << 21);
-        }
         // ---- The systolic chain: E4 feeds processor 0, processor p feeds p + 1.
         for i in 0..self.procs.len() {
             self.procs[i].clock.next = self.clock.val();
         }
-        self.procs[0].t_op.next = self.e4_op.q.val();
-        self.procs[0].t_attr.next = self.e4_attr.q.val();
-        self.procs[0].t_decal.next = self.e4_decal.q.val();
-        self.procs[0].t_nclass.next = self.e4_nclass.q.val();
-        self.procs[0].t_rel_l.next = self.e4_rel_l.q.val();
-        self.procs[0].t_rel_r.next = self.e4_rel_r.q.val();
+        self.procs[0].t_head.next = self.e4_head.q.val();
         self.procs[0].t_z.next = self.e4_za.q.val() + self.e4_zb.q.val();
         self.procs[0].t_dz.next = self.e4_dz.q.val();
-        self.procs[0].t_ir.next = self.e4_ra.q.val() + self.e4_rb.q.val();
-        self.procs[0].t_ig.next = self.e4_ga.q.val() + self.e4_gb.q.val();
-        self.procs[0].t_ib.next = self.e4_ba.q.val() + self.e4_bb.q.val();
-        self.procs[0].t_dir.next = self.e4_dir.q.val();
-        self.procs[0].t_dig.next = self.e4_dig.q.val();
-        self.procs[0].t_dib.next = self.e4_dib.q.val();
+        self.procs[0].t_i.next = self.l_ti.val();
+        self.procs[0].t_di.next = self.l_tdi.val();
         for i in 1..self.procs.len() {
-            self.procs[i].t_op.next = self.procs[i - 1].o_op.val();
-            self.procs[i].t_attr.next = self.procs[i - 1].o_attr.val();
-            self.procs[i].t_decal.next = self.procs[i - 1].o_decal.val();
-            self.procs[i].t_nclass.next = self.procs[i - 1].o_nclass.val();
-            self.procs[i].t_rel_l.next = self.procs[i - 1].o_rel_l.val();
-            self.procs[i].t_rel_r.next = self.procs[i - 1].o_rel_r.val();
+            self.procs[i].t_head.next = self.procs[i - 1].o_head.val();
             self.procs[i].t_z.next = self.procs[i - 1].o_z.val();
             self.procs[i].t_dz.next = self.procs[i - 1].o_dz.val();
-            self.procs[i].t_ir.next = self.procs[i - 1].o_ir.val();
-            self.procs[i].t_ig.next = self.procs[i - 1].o_ig.val();
-            self.procs[i].t_ib.next = self.procs[i - 1].o_ib.val();
-            self.procs[i].t_dir.next = self.procs[i - 1].o_dir.val();
-            self.procs[i].t_dig.next = self.procs[i - 1].o_dig.val();
-            self.procs[i].t_dib.next = self.procs[i - 1].o_dib.val();
+            self.procs[i].t_i.next = self.procs[i - 1].o_i.val();
+            self.procs[i].t_di.next = self.procs[i - 1].o_di.val();
         }
         // ---- Readout: registered address (E1), per-processor select registered in the
         // processor, OR of the (one) selected processor's packed readout registers,
@@ -598,19 +393,13 @@ impl Logic for PixelProcessorArray {
             self.procs[i].rd_sel.next = self.e1_rd.q.val().index() == i;
             self.l_rd.next = self.l_rd.val() | self.procs[i].rdo.val();
         }
-        self.rd_count_r.d.next = self.l_rd.val().get_value_count();
-        self.rd_fsf_r.d.next = self.l_rd.val().get_value_fsf();
-        self.rd_dsf_r.d.next = self.l_rd.val().get_value_dsf();
-        self.rd_rgb_r.d.next = self.l_rd.val().get_value_rgb();
-        self.rd_zb_r.d.next = self.l_rd.val().get_value_zb();
-        self.rd_mask_r.d.next = self.l_rd.val().get_value_mask();
-        self.rd_nclass_r.d.next = self.l_rd.val().get_value_nclass();
-        self.rd_zb.next = self.rd_zb_r.q.val();
-        self.rd_rgb.next = self.rd_rgb_r.q.val();
-        self.rd_dsf.next = self.rd_dsf_r.q.val();
-        self.rd_fsf.next = self.rd_fsf_r.q.val();
-        self.rd_count.next = self.rd_count_r.q.val();
-        self.rd_mask.next = self.rd_mask_r.q.val();
-        self.rd_nclass.next = self.rd_nclass_r.q.val();
+        self.rd_r.d.next = self.l_rd.val();
+        self.rd_zb.next = self.rd_r.q.val().get_value_zb();
+        self.rd_rgb.next = self.rd_r.q.val().get_value_rgb();
+        self.rd_dsf.next = self.rd_r.q.val().get_value_dsf();
+        self.rd_fsf.next = self.rd_r.q.val().get_value_fsf();
+        self.rd_count.next = self.rd_r.q.val().get_value_count();
+        self.rd_mask.next = self.rd_r.q.val().get_value_mask();
+        self.rd_nclass.next = self.rd_r.q.val().get_value_nclass();
     }
 }

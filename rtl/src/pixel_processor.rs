@@ -44,13 +44,14 @@
 //!
 //! Latency: state registers update two rising edges after the token register is loaded.
 
-use crate::layout::{ReadoutFields, READOUT_W};
+use crate::colour_lane::{ColourLane, CH_W, DI_W};
+use crate::layout::{HeadFields, ReadoutFields, HEAD_W, READOUT_W};
 use crate::opcodes::*;
 use crate::span_parity::SpanParity;
 use pixelproc_formats::regs::{ProcState, COUNT_BITS, MASK_BITS, RGB_BITS};
 use pixelproc_formats::{
-    Attr, DEPTH_FRAC_BITS, INTENSITY_FRAC_BITS, SPAN_ATTR, SPAN_DI_R, SPAN_DZ, SPAN_NCLASS,
-    SPAN_XL, Z_BITS, Z_FAR,
+    Attr, DEPTH_FRAC_BITS, INTENSITY_FRAC_BITS, SPAN_ATTR, SPAN_DZ, SPAN_NCLASS, SPAN_XL, Z_BITS,
+    Z_FAR,
 };
 use rust_hdl::prelude::*;
 
@@ -67,25 +68,19 @@ pub const ZACC_W: usize = 32 + DEPTH_FRAC_BITS as usize;
 pub const IACC_W: usize = 22 + INTENSITY_FRAC_BITS as usize;
 /// Width of `dZ`.
 const DZ_W: usize = SPAN_DZ.width;
-/// Width of one `dI` channel.
-const DI_W: usize = SPAN_DI_R.width;
 /// Width of the span attribute.
 const ATTR_W: usize = SPAN_ATTR.width;
 /// Width of the normal class.
 const NCLASS_W: usize = SPAN_NCLASS.width;
 /// Width of a depth register.
 const ZB_W: usize = Z_BITS as usize;
-/// Width of one colour channel.
-const CH_W: usize = 8;
-/// Bits of an intensity accumulator above the 8-bit channel (`[IACC_W−2:20]`): any set
-/// bit means `>= 256.0`.
-const OVER_W: usize = IACC_W - CH_W - INTENSITY_FRAC_BITS as usize - 1;
-// A kernel can only take literal bit positions: the sign bits 37 (`dZ`), 20 (`dI`), 13
-// (range), 33 (intensity), the depth slice at 12 and the channel slices at 12 and 20
-// below are these widths.
-const _: () = assert!(
-    DZ_W == 38 && DI_W == 21 && REL_W == 14 && IACC_W == 34 && ZACC_W == 44 && OVER_W == 13
-);
+/// Width of the three packed intensity accumulators of a token.
+pub const I3_W: usize = 3 * IACC_W;
+/// Width of the three packed `dI` of a token.
+pub const DI3_W: usize = 3 * DI_W;
+// A kernel can only take literal bit positions: the sign bits 37 (`dZ`) and 13 (range),
+// the depth slice at 12 and the channel strides 34 and 21 below are these widths.
+const _: () = assert!(DZ_W == 38 && DI_W == 21 && REL_W == 14 && IACC_W == 34 && ZACC_W == 44);
 
 /// One pixel processor. `shadows = false` builds it without the parity block: DSF, FSF,
 /// COUNT and MASK then read 0 and shadow commands do nothing.
@@ -93,84 +88,45 @@ const _: () = assert!(
 pub struct PixelProcessor {
     /// Clock.
     pub clock: Signal<In, Clock>,
-    /// Token in: opcode (RESET included).
-    pub t_op: Signal<In, Bits<OP_BITS>>,
-    /// Token in: span attribute.
-    pub t_attr: Signal<In, Bits<ATTR_W>>,
-    /// Token in: decal flag (depth test passes on equality).
-    pub t_decal: Signal<In, Bit>,
-    /// Token in: normal class of the span's surface.
-    pub t_nclass: Signal<In, Bits<NCLASS_W>>,
-    /// Token in: `XL − col − 1` (14-bit two's complement).
-    pub t_rel_l: Signal<In, Bits<REL_W>>,
-    /// Token in: `XR − col` (14-bit two's complement).
-    pub t_rel_r: Signal<In, Bits<REL_W>>,
+    /// Token in: the header ([`HeadFields`]: opcode, RESET included; attribute; decal
+    /// flag; normal class; `XL − col − 1`; `XR − col`).
+    pub t_head: Signal<In, Bits<HEAD_W>>,
     /// Token in: depth accumulator, Q32.12 mod 2^44 (the argument of CLEAR_LINE and
     /// LATCH_SHADOW in bits 23:0).
     pub t_z: Signal<In, Bits<ZACC_W>>,
     /// Token in: `dZ`, Q26.12 two's complement.
     pub t_dz: Signal<In, Bits<DZ_W>>,
-    /// Token in: red accumulator, Q22.12 two's complement.
-    pub t_ir: Signal<In, Bits<IACC_W>>,
-    /// Token in: green accumulator.
-    pub t_ig: Signal<In, Bits<IACC_W>>,
-    /// Token in: blue accumulator.
-    pub t_ib: Signal<In, Bits<IACC_W>>,
-    /// Token in: `dI` red, Q9.12 two's complement.
-    pub t_dir: Signal<In, Bits<DI_W>>,
-    /// Token in: `dI` green.
-    pub t_dig: Signal<In, Bits<DI_W>>,
-    /// Token in: `dI` blue.
-    pub t_dib: Signal<In, Bits<DI_W>>,
+    /// Token in: the red, green and blue accumulators (Q22.12 two's complement), red in
+    /// the low [`IACC_W`] bits.
+    pub t_i: Signal<In, Bits<I3_W>>,
+    /// Token in: `dI` red, green, blue (Q9.12 two's complement), red in the low bits.
+    pub t_di: Signal<In, Bits<DI3_W>>,
     /// Readout select (this processor is addressed), registered here.
     pub rd_sel: Signal<In, Bit>,
     /// Readout registers, packed `{NCLASS, MASK, ZB, RGB, DSF, FSF, COUNT}` (74 bits), if
     /// selected at the last edge, else 0 (the array ORs all processors' values).
     pub rdo: Signal<Out, Bits<READOUT_W>>,
-    /// Token out (for processor `p + 1`): opcode.
-    pub o_op: Signal<Out, Bits<OP_BITS>>,
-    /// Token out: attribute.
-    pub o_attr: Signal<Out, Bits<ATTR_W>>,
-    /// Token out: decal.
-    pub o_decal: Signal<Out, Bit>,
-    /// Token out: normal class.
-    pub o_nclass: Signal<Out, Bits<NCLASS_W>>,
-    /// Token out: `rel_l − 1`.
-    pub o_rel_l: Signal<Out, Bits<REL_W>>,
-    /// Token out: `rel_r − 1`.
-    pub o_rel_r: Signal<Out, Bits<REL_W>>,
+    /// Token out (for processor `p + 1`): the header with `rel_l − 1`, `rel_r − 1`.
+    pub o_head: Signal<Out, Bits<HEAD_W>>,
     /// Token out: depth accumulator for the next column.
     pub o_z: Signal<Out, Bits<ZACC_W>>,
     /// Token out: `dZ`.
     pub o_dz: Signal<Out, Bits<DZ_W>>,
-    /// Token out: red accumulator for the next column.
-    pub o_ir: Signal<Out, Bits<IACC_W>>,
-    /// Token out: green accumulator.
-    pub o_ig: Signal<Out, Bits<IACC_W>>,
-    /// Token out: blue accumulator.
-    pub o_ib: Signal<Out, Bits<IACC_W>>,
-    /// Token out: `dI` red.
-    pub o_dir: Signal<Out, Bits<DI_W>>,
-    /// Token out: `dI` green.
-    pub o_dig: Signal<Out, Bits<DI_W>>,
-    /// Token out: `dI` blue.
-    pub o_dib: Signal<Out, Bits<DI_W>>,
+    /// Token out: the three accumulators for the next column.
+    pub o_i: Signal<Out, Bits<I3_W>>,
+    /// Token out: `dI`, the three channels.
+    pub o_di: Signal<Out, Bits<DI3_W>>,
     /// The shadow logic: one element with shadows, none without.
     pub parity: Vec<SpanParity>,
-    tok_op: DFF<Bits<OP_BITS>>,
-    tok_attr: DFF<Bits<ATTR_W>>,
-    tok_decal: DFF<Bit>,
-    tok_nclass: DFF<Bits<NCLASS_W>>,
-    tok_rel_l: DFF<Bits<REL_W>>,
-    tok_rel_r: DFF<Bits<REL_W>>,
+    tok_head: DFF<Bits<HEAD_W>>,
+    l_rel_l: Signal<Local, Bits<REL_W>>,
+    l_rel_r: Signal<Local, Bits<REL_W>>,
     tok_z: DFF<Bits<ZACC_W>>,
     tok_dz: DFF<Bits<DZ_W>>,
-    tok_ir: DFF<Bits<IACC_W>>,
-    tok_ig: DFF<Bits<IACC_W>>,
-    tok_ib: DFF<Bits<IACC_W>>,
-    tok_dir: DFF<Bits<DI_W>>,
-    tok_dig: DFF<Bits<DI_W>>,
-    tok_dib: DFF<Bits<DI_W>>,
+    tok_i: DFF<Bits<I3_W>>,
+    tok_di: DFF<Bits<DI3_W>>,
+    /// Step and clamp of the red, green and blue channels.
+    lanes: [ColourLane; 3],
     b_op: DFF<Bits<OP_BITS>>,
     b_attr: DFF<Bits<ATTR_W>>,
     b_covered: DFF<Bit>,
@@ -182,13 +138,10 @@ pub struct PixelProcessor {
     zb_r: DFF<Bits<ZB_W>>,
     rgb_r: DFF<Bits<RGB_BITS>>,
     nclass_r: DFF<Bits<NCLASS_W>>,
-    capzb_r: DFF<Bits<ZB_W>>,
-    caprgb_r: DFF<Bits<RGB_BITS>>,
-    capdsf_r: DFF<Bit>,
-    capfsf_r: DFF<Bit>,
-    capcount_r: DFF<Bits<COUNT_BITS>>,
-    capmask_r: DFF<Bits<MASK_BITS>>,
-    capnclass_r: DFF<Bits<NCLASS_W>>,
+    /// The readout registers, as the packed readout word.
+    cap_r: DFF<Bits<READOUT_W>>,
+    l_cap: Signal<Local, Bits<READOUT_W>>,
+    k_cap_reset: Constant<Bits<READOUT_W>>,
     rdsel_r: DFF<Bit>,
     k_zero74: Constant<Bits<READOUT_W>>,
     k_clear_line: Constant<Bits<OP_BITS>>,
@@ -197,16 +150,11 @@ pub struct PixelProcessor {
     k_attr_op: Constant<Bits<ATTR_W>>,
     k_zfar: Constant<Bits<ZB_W>>,
     k_zero8: Constant<Bits<CH_W>>,
-    k_zero13: Constant<Bits<OVER_W>>,
-    k_ff8: Constant<Bits<CH_W>>,
     k_zero24: Constant<Bits<RGB_BITS>>,
+    k_zero_i3: Constant<Bits<I3_W>>,
     k_one14: Constant<Bits<REL_W>>,
     k_sext_z: Constant<Bits<ZACC_W>>,
-    k_sext_i: Constant<Bits<IACC_W>>,
     dz_x: Signal<Local, Bits<ZACC_W>>,
-    dir_x: Signal<Local, Bits<IACC_W>>,
-    dig_x: Signal<Local, Bits<IACC_W>>,
-    dib_x: Signal<Local, Bits<IACC_W>>,
     right_of_xl: Signal<Local, Bit>,
     covered: Signal<Local, Bit>,
     zv: Signal<Local, Bits<ZB_W>>,
@@ -214,9 +162,10 @@ pub struct PixelProcessor {
     z_lt: Signal<Local, Bit>,
     z_pass: Signal<Local, Bit>,
     zb_next: Signal<Local, Bits<ZB_W>>,
-    ch_r: Signal<Local, Bits<CH_W>>,
-    ch_g: Signal<Local, Bits<CH_W>>,
-    ch_b: Signal<Local, Bits<CH_W>>,
+    l_i: Signal<Local, Bits<I3_W>>,
+    l_rgb: Signal<Local, Bits<RGB_BITS>>,
+    l_lane_i: Signal<Local, Bits<IACC_W>>,
+    l_lane_ch: Signal<Local, Bits<CH_W>>,
     dsf_now: Signal<Local, Bit>,
     fsf_now: Signal<Local, Bit>,
     count_now: Signal<Local, Bits<COUNT_BITS>>,
@@ -233,51 +182,27 @@ impl PixelProcessor {
         };
         PixelProcessor {
             clock: Default::default(),
-            t_op: Default::default(),
-            t_attr: Default::default(),
-            t_decal: Default::default(),
-            t_nclass: Default::default(),
-            t_rel_l: Default::default(),
-            t_rel_r: Default::default(),
+            t_head: Default::default(),
             t_z: Default::default(),
             t_dz: Default::default(),
-            t_ir: Default::default(),
-            t_ig: Default::default(),
-            t_ib: Default::default(),
-            t_dir: Default::default(),
-            t_dig: Default::default(),
-            t_dib: Default::default(),
+            t_i: Default::default(),
+            t_di: Default::default(),
             rd_sel: Default::default(),
             rdo: Default::default(),
-            o_op: Default::default(),
-            o_attr: Default::default(),
-            o_decal: Default::default(),
-            o_nclass: Default::default(),
-            o_rel_l: Default::default(),
-            o_rel_r: Default::default(),
+            o_head: Default::default(),
             o_z: Default::default(),
             o_dz: Default::default(),
-            o_ir: Default::default(),
-            o_ig: Default::default(),
-            o_ib: Default::default(),
-            o_dir: Default::default(),
-            o_dig: Default::default(),
-            o_dib: Default::default(),
+            o_i: Default::default(),
+            o_di: Default::default(),
             parity,
-            tok_op: Default::default(),
-            tok_attr: Default::default(),
-            tok_decal: Default::default(),
-            tok_nclass: Default::default(),
-            tok_rel_l: Default::default(),
-            tok_rel_r: Default::default(),
+            tok_head: Default::default(),
+            l_rel_l: Default::default(),
+            l_rel_r: Default::default(),
             tok_z: Default::default(),
             tok_dz: Default::default(),
-            tok_ir: Default::default(),
-            tok_ig: Default::default(),
-            tok_ib: Default::default(),
-            tok_dir: Default::default(),
-            tok_dig: Default::default(),
-            tok_dib: Default::default(),
+            tok_i: Default::default(),
+            tok_di: Default::default(),
+            lanes: std::array::from_fn(|_| ColourLane::new()),
             b_op: Default::default(),
             b_attr: Default::default(),
             b_covered: Default::default(),
@@ -289,13 +214,16 @@ impl PixelProcessor {
             zb_r: Default::default(),
             rgb_r: Default::default(),
             nclass_r: Default::default(),
-            capzb_r: Default::default(),
-            caprgb_r: Default::default(),
-            capdsf_r: Default::default(),
-            capfsf_r: Default::default(),
-            capcount_r: Default::default(),
-            capmask_r: Default::default(),
-            capnclass_r: Default::default(),
+            cap_r: Default::default(),
+            l_cap: Default::default(),
+            k_cap_reset: Constant::new(
+                ProcState {
+                    zb: Z_FAR,
+                    ..Default::default()
+                }
+                .pack_readout()
+                .to_bits(),
+            ),
             rdsel_r: Default::default(),
             k_zero74: Constant::new(0u64.to_bits()),
             k_clear_line: Constant::new(OP_CLEAR_LINE.to_bits()),
@@ -304,16 +232,11 @@ impl PixelProcessor {
             k_attr_op: Constant::new((Attr::Op.code() as u64).to_bits()),
             k_zfar: Constant::new((Z_FAR as u64).to_bits()),
             k_zero8: Constant::new(0u64.to_bits()),
-            k_zero13: Constant::new(0u64.to_bits()),
-            k_ff8: Constant::new(((1u64 << CH_W) - 1).to_bits()),
             k_zero24: Constant::new(0u64.to_bits()),
+            k_zero_i3: Constant::new(0u64.to_bits()),
             k_one14: Constant::new(1u64.to_bits()),
             k_sext_z: Constant::new((((1u64 << ZACC_W) - 1) ^ ((1u64 << DZ_W) - 1)).to_bits()),
-            k_sext_i: Constant::new((((1u64 << IACC_W) - 1) ^ ((1u64 << DI_W) - 1)).to_bits()),
             dz_x: Default::default(),
-            dir_x: Default::default(),
-            dig_x: Default::default(),
-            dib_x: Default::default(),
             right_of_xl: Default::default(),
             covered: Default::default(),
             zv: Default::default(),
@@ -321,9 +244,10 @@ impl PixelProcessor {
             z_lt: Default::default(),
             z_pass: Default::default(),
             zb_next: Default::default(),
-            ch_r: Default::default(),
-            ch_g: Default::default(),
-            ch_b: Default::default(),
+            l_i: Default::default(),
+            l_rgb: Default::default(),
+            l_lane_i: Default::default(),
+            l_lane_ch: Default::default(),
             dsf_now: Default::default(),
             fsf_now: Default::default(),
             count_now: Default::default(),
@@ -355,15 +279,10 @@ impl PixelProcessor {
 
     /// Current readout registers (for testbenches).
     pub fn probe_capture(&self) -> ProcRegs {
-        ProcRegs {
-            zb: self.capzb_r.q.val().to_u32(),
-            rgb: self.caprgb_r.q.val().to_u32(),
-            dsf: self.capdsf_r.q.val(),
-            fsf: self.capfsf_r.q.val(),
-            count: self.capcount_r.q.val().to_u8(),
-            mask: self.capmask_r.q.val().to_u8(),
-            nclass: self.capnclass_r.q.val().to_u8(),
-        }
+        let w = self.cap_r.q.val();
+        let lo = w.get_bits::<64>(0).to_u64() as u128;
+        let hi = w.get_bits::<{ READOUT_W - 64 }>(64).to_u64() as u128;
+        ProcState::unpack_readout((hi << 64) | lo)
     }
 }
 
@@ -371,97 +290,55 @@ impl Logic for PixelProcessor {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self,
-            clock,
-            tok_op,
-            tok_attr,
-            tok_decal,
-            tok_nclass,
-            tok_rel_l,
-            tok_rel_r,
-            tok_z,
-            tok_dz,
-            tok_ir,
-            tok_ig,
-            tok_ib,
-            tok_dir,
-            tok_dig,
-            tok_dib,
-            b_op,
-            b_attr,
-            b_covered,
-            b_zlt,
-            b_write,
-            b_z,
-            b_rgb,
-            b_nclass,
-            zb_r,
-            rgb_r,
-            nclass_r,
-            capzb_r,
-            caprgb_r,
-            capdsf_r,
-            capfsf_r,
-            capcount_r,
-            capmask_r,
-            capnclass_r,
-            rdsel_r
+            self, clock, tok_head, tok_z, tok_dz, tok_i, tok_di, b_op, b_attr, b_covered, b_zlt,
+            b_write, b_z, b_rgb, b_nclass, zb_r, rgb_r, nclass_r, cap_r, rdsel_r
         );
         // ---- Stage A: the token register, loaded every clock.
-        self.tok_op.d.next = self.t_op.val();
-        self.tok_attr.d.next = self.t_attr.val();
-        self.tok_decal.d.next = self.t_decal.val();
-        self.tok_nclass.d.next = self.t_nclass.val();
-        self.tok_rel_l.d.next = self.t_rel_l.val();
-        self.tok_rel_r.d.next = self.t_rel_r.val();
+        self.tok_head.d.next = self.t_head.val();
+        self.l_rel_l.next = self.tok_head.q.val().get_value_rel_l();
+        self.l_rel_r.next = self.tok_head.q.val().get_value_rel_r();
         self.tok_z.d.next = self.t_z.val();
         self.tok_dz.d.next = self.t_dz.val();
-        self.tok_ir.d.next = self.t_ir.val();
-        self.tok_ig.d.next = self.t_ig.val();
-        self.tok_ib.d.next = self.t_ib.val();
-        self.tok_dir.d.next = self.t_dir.val();
-        self.tok_dig.d.next = self.t_dig.val();
-        self.tok_dib.d.next = self.t_dib.val();
+        self.tok_i.d.next = self.t_i.val();
+        self.tok_di.d.next = self.t_di.val();
         // Sign-extended increments.
         self.dz_x.next = bit_cast::<ZACC_W, DZ_W>(self.tok_dz.q.val());
         if self.tok_dz.q.val().get_bit(37) {
             self.dz_x.next = self.dz_x.val() | self.k_sext_z.val();
         }
-        self.dir_x.next = bit_cast::<IACC_W, DI_W>(self.tok_dir.q.val());
-        if self.tok_dir.q.val().get_bit(20) {
-            self.dir_x.next = self.dir_x.val() | self.k_sext_i.val();
-        }
-        self.dig_x.next = bit_cast::<IACC_W, DI_W>(self.tok_dig.q.val());
-        if self.tok_dig.q.val().get_bit(20) {
-            self.dig_x.next = self.dig_x.val() | self.k_sext_i.val();
-        }
-        self.dib_x.next = bit_cast::<IACC_W, DI_W>(self.tok_dib.q.val());
-        if self.tok_dib.q.val().get_bit(20) {
-            self.dib_x.next = self.dib_x.val() | self.k_sext_i.val();
-        }
         // Range test: col >= XL iff XL − col − 1 < 0; col <= XR iff XR − col >= 0.
-        self.right_of_xl.next = self.tok_rel_l.q.val().get_bit(13);
-        self.covered.next = self.right_of_xl.val() & (!self.tok_rel_r.q.val().get_bit(13));
+        self.right_of_xl.next = self.l_rel_l.val().get_bit(13);
+        self.covered.next = self.right_of_xl.val() & (!self.l_rel_r.val().get_bit(13));
+        // Colour channels (red first): the next column's accumulators, packed back in
+        // channel order, and the clamped channel values as RGB888.
+        self.l_i.next = self.k_zero_i3.val();
+        self.l_rgb.next = self.k_zero24.val();
+        for c in 0..3 {
+            self.lanes[c].i.next = self.tok_i.q.val().get_bits::<IACC_W>(34 * c);
+            self.lanes[c].di.next = self.tok_di.q.val().get_bits::<DI_W>(21 * c);
+            self.lanes[c].step.next = self.right_of_xl.val();
+            // (`bit_cast` cannot take the loop index: go through locals.)
+            self.l_lane_i.next = self.lanes[c].o_i.val();
+            self.l_lane_ch.next = self.lanes[c].ch.val();
+            self.l_i.next =
+                (self.l_i.val() >> 34) | (bit_cast::<I3_W, IACC_W>(self.l_lane_i.val()) << 68);
+            self.l_rgb.next =
+                (self.l_rgb.val() << 8) | bit_cast::<RGB_BITS, CH_W>(self.l_lane_ch.val());
+        }
+        self.o_i.next = self.l_i.val();
         // Token for the next processor.
-        self.o_op.next = self.tok_op.q.val();
-        self.o_attr.next = self.tok_attr.q.val();
-        self.o_decal.next = self.tok_decal.q.val();
-        self.o_nclass.next = self.tok_nclass.q.val();
-        self.o_rel_l.next = self.tok_rel_l.q.val() - self.k_one14.val();
-        self.o_rel_r.next = self.tok_rel_r.q.val() - self.k_one14.val();
+        self.o_head.next = self.tok_head.q.val();
+        self.o_head
+            .next
+            .set_value_rel_l(self.l_rel_l.val() - self.k_one14.val());
+        self.o_head
+            .next
+            .set_value_rel_r(self.l_rel_r.val() - self.k_one14.val());
         self.o_dz.next = self.tok_dz.q.val();
-        self.o_dir.next = self.tok_dir.q.val();
-        self.o_dig.next = self.tok_dig.q.val();
-        self.o_dib.next = self.tok_dib.q.val();
+        self.o_di.next = self.tok_di.q.val();
         self.o_z.next = self.tok_z.q.val();
-        self.o_ir.next = self.tok_ir.q.val();
-        self.o_ig.next = self.tok_ig.q.val();
-        self.o_ib.next = self.tok_ib.q.val();
         if self.right_of_xl.val() {
             self.o_z.next = self.tok_z.q.val() + self.dz_x.val();
-            self.o_ir.next = self.tok_ir.q.val() + self.dir_x.val();
-            self.o_ig.next = self.tok_ig.q.val() + self.dig_x.val();
-            self.o_ib.next = self.tok_ib.q.val() + self.dib_x.val();
         }
         // ---- Stage B: apply the decision registered at the last edge. `zb_next` is the
         // value ZB takes at the coming edge.
@@ -489,15 +366,18 @@ impl Logic for PixelProcessor {
             self.count_now.next = self.parity[i].count.val();
             self.mask_now.next = self.parity[i].mask.val();
         }
-        // New scanline: copy the finished line into the readout registers, then clear.
+        // New scanline: copy the finished line into the readout registers (the fields of
+        // `pixelproc_formats::regs::READOUT_FIELDS`), then clear.
+        self.l_cap.next = self.k_zero74.val();
+        self.l_cap.next.set_value_nclass(self.nclass_r.q.val());
+        self.l_cap.next.set_value_mask(self.mask_now.val());
+        self.l_cap.next.set_value_zb(self.zb_r.q.val());
+        self.l_cap.next.set_value_rgb(self.rgb_r.q.val());
+        self.l_cap.next.set_value_dsf(self.dsf_now.val());
+        self.l_cap.next.set_value_fsf(self.fsf_now.val());
+        self.l_cap.next.set_value_count(self.count_now.val());
         if self.b_op.q.val() == self.k_clear_line.val() {
-            self.capzb_r.d.next = self.zb_r.q.val();
-            self.caprgb_r.d.next = self.rgb_r.q.val();
-            self.capdsf_r.d.next = self.dsf_now.val();
-            self.capfsf_r.d.next = self.fsf_now.val();
-            self.capcount_r.d.next = self.count_now.val();
-            self.capmask_r.d.next = self.mask_now.val();
-            self.capnclass_r.d.next = self.nclass_r.q.val();
+            self.cap_r.d.next = self.l_cap.val();
             self.zb_next.next = self.k_zfar.val();
             self.rgb_r.d.next = self.b_rgb.q.val();
             self.nclass_r.d.next = self.k_zero8.val();
@@ -506,13 +386,7 @@ impl Logic for PixelProcessor {
             self.zb_next.next = self.k_zfar.val();
             self.rgb_r.d.next = self.k_zero24.val();
             self.nclass_r.d.next = self.k_zero8.val();
-            self.capzb_r.d.next = self.k_zfar.val();
-            self.caprgb_r.d.next = self.k_zero24.val();
-            self.capdsf_r.d.next = false;
-            self.capfsf_r.d.next = false;
-            self.capcount_r.d.next = self.k_zero8.val();
-            self.capmask_r.d.next = self.k_zero8.val();
-            self.capnclass_r.d.next = self.k_zero8.val();
+            self.cap_r.d.next = self.k_cap_reset.val();
         }
         self.zb_r.d.next = self.zb_next.val();
         // ---- Stage A, decision: depth test against the next-state ZB (bypass), golden
@@ -521,46 +395,22 @@ impl Logic for PixelProcessor {
         self.z_hi_ok.next = self.tok_z.q.val().get_bits::<CH_W>(36) == self.k_zero8.val();
         self.z_lt.next = self.zv.val() < self.zb_next.val();
         self.z_pass.next = self.z_lt.val();
-        if self.tok_decal.q.val() {
+        if self.tok_head.q.val().get_value_decal() {
             self.z_pass.next = self.zv.val() <= self.zb_next.val();
         }
-        // Intensity clamp: negative -> 0, >= 256.0 -> 255, else bits [19:12].
-        self.ch_r.next = self.tok_ir.q.val().get_bits::<CH_W>(12);
-        if self.tok_ir.q.val().get_bits::<OVER_W>(20) != self.k_zero13.val() {
-            self.ch_r.next = self.k_ff8.val();
-        }
-        if self.tok_ir.q.val().get_bit(33) {
-            self.ch_r.next = self.k_zero8.val();
-        }
-        self.ch_g.next = self.tok_ig.q.val().get_bits::<CH_W>(12);
-        if self.tok_ig.q.val().get_bits::<OVER_W>(20) != self.k_zero13.val() {
-            self.ch_g.next = self.k_ff8.val();
-        }
-        if self.tok_ig.q.val().get_bit(33) {
-            self.ch_g.next = self.k_zero8.val();
-        }
-        self.ch_b.next = self.tok_ib.q.val().get_bits::<CH_W>(12);
-        if self.tok_ib.q.val().get_bits::<OVER_W>(20) != self.k_zero13.val() {
-            self.ch_b.next = self.k_ff8.val();
-        }
-        if self.tok_ib.q.val().get_bit(33) {
-            self.ch_b.next = self.k_zero8.val();
-        }
-        self.b_op.d.next = self.tok_op.q.val();
-        self.b_attr.d.next = self.tok_attr.q.val();
+        self.b_op.d.next = self.tok_head.q.val().get_value_op();
+        self.b_attr.d.next = self.tok_head.q.val().get_value_attr();
         self.b_covered.d.next = self.covered.val();
         self.b_zlt.d.next = self.z_lt.val() & self.z_hi_ok.val();
-        self.b_write.d.next = (self.tok_op.q.val() == self.k_span.val())
-            & (self.tok_attr.q.val() == self.k_attr_op.val())
+        self.b_write.d.next = (self.tok_head.q.val().get_value_op() == self.k_span.val())
+            & (self.tok_head.q.val().get_value_attr() == self.k_attr_op.val())
             & self.covered.val()
             & self.z_pass.val()
             & self.z_hi_ok.val();
         self.b_z.d.next = self.zv.val();
-        self.b_nclass.d.next = self.tok_nclass.q.val();
-        self.b_rgb.d.next = (bit_cast::<RGB_BITS, CH_W>(self.ch_r.val()) << 16)
-            | (bit_cast::<RGB_BITS, CH_W>(self.ch_g.val()) << 8)
-            | bit_cast::<RGB_BITS, CH_W>(self.ch_b.val());
-        if self.tok_op.q.val() != self.k_span.val() {
+        self.b_nclass.d.next = self.tok_head.q.val().get_value_nclass();
+        self.b_rgb.d.next = self.l_rgb.val();
+        if self.tok_head.q.val().get_value_op() != self.k_span.val() {
             // CLEAR_LINE's background, LATCH_SHADOW's bit.
             self.b_rgb.d.next = self.tok_z.q.val().get_bits::<RGB_BITS>(0);
         }
@@ -568,14 +418,7 @@ impl Logic for PixelProcessor {
         self.rdsel_r.d.next = self.rd_sel.val();
         self.rdo.next = self.k_zero74.val();
         if self.rdsel_r.q.val() {
-            // The fields of `pixelproc_formats::regs::READOUT_FIELDS`.
-            self.rdo.next.set_value_nclass(self.capnclass_r.q.val());
-            self.rdo.next.set_value_mask(self.capmask_r.q.val());
-            self.rdo.next.set_value_zb(self.capzb_r.q.val());
-            self.rdo.next.set_value_rgb(self.caprgb_r.q.val());
-            self.rdo.next.set_value_dsf(self.capdsf_r.q.val());
-            self.rdo.next.set_value_fsf(self.capfsf_r.q.val());
-            self.rdo.next.set_value_count(self.capcount_r.q.val());
+            self.rdo.next = self.cap_r.q.val();
         }
     }
 }

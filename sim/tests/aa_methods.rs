@@ -33,19 +33,17 @@ fn rmse_edges(t: &[SnappedTri], r: &RefImage, m: AaMethod) -> f64 {
     r.rmse_masked(&render_aa(t, W, H, BG, &m).unwrap().rgb, |k| e[k])
 }
 
+/// Full-image RMSE of multiscan with each subscanline count of `ns` and filter `f`.
+fn multiscan_errors(t: &[SnappedTri], r: &RefImage, ns: &[u32], f: Filter) -> Vec<f64> {
+    ns.iter()
+        .map(|&n| rmse(t, r, AaMethod::Multiscan(MultiscanParams::new(n, f))))
+        .collect()
+}
+
 #[test]
 fn multiscan_box_error_falls_from_1_to_8_subscanlines() {
     for (k, (t, r)) in scenes().iter().enumerate() {
-        let e: Vec<f64> = [1, 2, 4, 8]
-            .iter()
-            .map(|&n| {
-                rmse(
-                    t,
-                    r,
-                    AaMethod::Multiscan(MultiscanParams::new(n, Filter::Box)),
-                )
-            })
-            .collect();
+        let e = multiscan_errors(t, r, &[1, 2, 4, 8], Filter::Box);
         assert!(e.windows(2).all(|w| w[1] < w[0]), "scene {k}: {e:?}");
         assert!(e[3] < 1.0, "scene {k}: n=8 RMSE {}", e[3]);
     }
@@ -54,16 +52,7 @@ fn multiscan_box_error_falls_from_1_to_8_subscanlines() {
 #[test]
 fn multiscan_gauss_error_falls_from_1_to_4_subscanlines() {
     for (k, (t, r)) in scenes().iter().enumerate() {
-        let e: Vec<f64> = [1, 2, 4]
-            .iter()
-            .map(|&n| {
-                rmse(
-                    t,
-                    r,
-                    AaMethod::Multiscan(MultiscanParams::new(n, Filter::Gauss)),
-                )
-            })
-            .collect();
+        let e = multiscan_errors(t, r, &[1, 2, 4], Filter::Gauss);
         assert!(e.windows(2).all(|w| w[1] < w[0]), "scene {k}: {e:?}");
     }
 }

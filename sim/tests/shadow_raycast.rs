@@ -210,9 +210,10 @@ fn check(json: &str, form: ShadowForm) -> (usize, usize) {
     (compared, shadowed)
 }
 
-fn scene(camera: &str, lights: &str, meshes: &str) -> String {
+/// A 160×120 scene: the ground mesh, then `casters` (JSON mesh objects, comma-separated).
+fn scene(camera: &str, lights: &str, casters: &str) -> String {
     format!(
-        r#"{{"width":160,"height":120,"background":[0.2,0.2,0.2],"camera":{camera},"lights":[{lights}],"meshes":[{meshes}]}}"#
+        r#"{{"width":160,"height":120,"background":[0.2,0.2,0.2],"camera":{camera},"lights":[{lights}],"meshes":[{GROUND_MESH},{casters}]}}"#
     )
 }
 
@@ -231,9 +232,7 @@ fn box_over_plane() {
     let j = scene(
         CAM,
         r#"{"position":[2,8,3]}"#,
-        &format!(
-            r#"{GROUND_MESH},{{"obj":"box.obj","color":[1,0,0],"translate":[0,1.5,0],"scale":[2,1,2]}}"#
-        ),
+        r#"{"obj":"box.obj","color":[1,0,0],"translate":[0,1.5,0],"scale":[2,1,2]}"#,
     );
     let (n, s) = both_forms(&j);
     assert!(n > 10000 && s > 150, "compared {n}, shadowed {s}");
@@ -245,9 +244,7 @@ fn non_convex_u_caster() {
     let j = scene(
         CAM,
         r#"{"position":[-6,5,1]}"#,
-        &format!(
-            r#"{GROUND_MESH},{{"obj":"u.obj","color":[0.9,0.8,0.2],"translate":[-1,0.4,0],"rotate_y_deg":60}}"#
-        ),
+        r#"{"obj":"u.obj","color":[0.9,0.8,0.2],"translate":[-1,0.4,0],"rotate_y_deg":60}"#,
     );
     let (n, s) = both_forms(&j);
     assert!(n > 10000 && s > 500, "compared {n}, shadowed {s}");
@@ -258,9 +255,7 @@ fn two_lights() {
     let j = scene(
         CAM,
         r#"{"position":[4,7,2.6],"intensity":0.5},{"position":[-4,6,3],"intensity":0.5}"#,
-        &format!(
-            r#"{GROUND_MESH},{{"obj":"box.obj","color":[1,0,0],"translate":[0,1,0]}},{{"obj":"box.obj","color":[0,0,1],"translate":[1.5,0.5,1.5]}}"#
-        ),
+        r#"{"obj":"box.obj","color":[1,0,0],"translate":[0,1,0]},{"obj":"box.obj","color":[0,0,1],"translate":[1.5,0.5,1.5]}"#,
     );
     let (n, s) = both_forms(&j);
     assert!(n > 10000 && s > 250, "compared {n}, shadowed {s}");
@@ -274,9 +269,7 @@ fn camera_inside_a_shadow_volume() {
     let j = scene(
         cam,
         r#"{"position":[0.5,12,1]}"#,
-        &format!(
-            r#"{GROUND_MESH},{{"obj":"box.obj","color":[0.5,0.5,0.9],"translate":[0,5,0],"scale":[3,0.2,3]}},{{"obj":"box.obj","color":[1,0,0],"translate":[0.8,0.5,0.5]}}"#
-        ),
+        r#"{"obj":"box.obj","color":[0.5,0.5,0.9],"translate":[0,5,0],"scale":[3,0.2,3]},{"obj":"box.obj","color":[1,0,0],"translate":[0.8,0.5,0.5]}"#,
     );
     let ls = load(&j);
     let fx = Effects::resolve(&ls, &Overrides::default()).unwrap();
@@ -294,7 +287,7 @@ fn shadows_off_runs_no_shadow_stage_and_leaves_flags_clear() {
     let j = scene(
         CAM,
         r#"{"position":[2,8,3],"shadows":false}"#,
-        &format!(r#"{GROUND_MESH},{{"obj":"box.obj","color":[1,0,0],"translate":[0,1.5,0]}}"#),
+        r#"{"obj":"box.obj","color":[1,0,0],"translate":[0,1.5,0]}"#,
     );
     let ls = load(&j);
     let fx = Effects::resolve(&ls, &Overrides::default()).unwrap();
@@ -314,9 +307,7 @@ fn area_light_counter_counts_shadowing_samples() {
     let j = scene(
         CAM,
         r#"{"position":[1,6,2],"radius":3.0,"samples":8}"#,
-        &format!(
-            r#"{GROUND_MESH},{{"obj":"box.obj","color":[1,0,0],"translate":[0,2.2,0],"scale":[1.5,0.4,1.5]}}"#
-        ),
+        r#"{"obj":"box.obj","color":[1,0,0],"translate":[0,2.2,0],"scale":[1.5,0.4,1.5]}"#,
     );
     let ls = load(&j);
     let fx = Effects::resolve(&ls, &Overrides::default()).unwrap();
@@ -362,9 +353,7 @@ fn tiling_and_shadow_form_do_not_change_a_bit() {
     let j = scene(
         CAM,
         r#"{"position":[4,7,2.6],"intensity":0.5},{"position":[1,6,2],"radius":2.0,"samples":4}"#,
-        &format!(
-            r#"{GROUND_MESH},{{"obj":"u.obj","color":[0.9,0.8,0.2],"translate":[-1,0.4,0]}},{{"obj":"box.obj","color":[0,0,1],"translate":[1.5,0.5,1.5]}}"#
-        ),
+        r#"{"obj":"u.obj","color":[0.9,0.8,0.2],"translate":[-1,0.4,0]},{"obj":"box.obj","color":[0,0,1],"translate":[1.5,0.5,1.5]}"#,
     );
     let ls = load(&j);
     let run = |aw: usize, form: ShadowForm| {

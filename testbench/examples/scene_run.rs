@@ -5,6 +5,7 @@ use pixelproc_sim::plan::{Effects, Overrides};
 use pixelproc_testbench::compare::compare_stream;
 use pixelproc_testbench::external::{run_external, ExternalSim};
 use pixelproc_testbench::scene_stream;
+use pixelproc_testbench::sim_tools::speed_line;
 use pixelproc_testbench::stimulus::LineStream;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -47,14 +48,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if which != "rusthdl" {
         let dir = std::env::temp_dir().join("pixelproc-scene-verilator");
         if let Some(r) = run_external(ExternalSim::Verilator, &dir, &cmds, n, true)? {
-            println!(
-                "verilator: {} cycles, build {:.1} s, run {:.2} s, {:.0} cycles/s, pass {}",
-                r.cycles,
-                r.build_seconds,
-                r.run_seconds,
-                r.cycles as f64 / r.run_seconds,
-                r.pass
-            );
+            println!("{}", speed_line("verilator", &r));
         }
     }
     Ok(())

@@ -3,6 +3,7 @@
 use pixelproc_sim::pixel_array::Command;
 use pixelproc_testbench::compare::compare_commands;
 use pixelproc_testbench::external::{run_external, ExternalSim};
+use pixelproc_testbench::sim_tools::speed_line;
 use pixelproc_testbench::stimulus::{random_command, Rng};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -26,14 +27,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     ] {
         let dir = std::env::temp_dir().join(format!("pixelproc-speed-{tag}"));
         if let Some(r) = run_external(sim, &dir, &cmds, n, true)? {
-            println!(
-                "{tag} N={n}: {} cycles, build {:.1} s, run {:.2} s, {:.0} cycles/s, pass {}",
-                r.cycles,
-                r.build_seconds,
-                r.run_seconds,
-                r.cycles as f64 / r.run_seconds,
-                r.pass
-            );
+            println!("{}", speed_line(&format!("{tag} N={n}"), &r));
         }
     }
     Ok(())

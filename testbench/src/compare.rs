@@ -291,88 +291,22 @@ pub fn compare_commands_checked(
     let mut uut = PixelProcessorArray::new(n, shadows)?;
     uut.connect_all();
     let keep = n + LATENCY_PROC0 + 4;
-    let mut gold = GoldenWindow::new(n, keep);
+    let mut check = Checker {
+        cmds,
+        vecs: &vecs,
+        gold: GoldenWindow::new(n, keep),
+        keep,
+        ignore_flags,
+        comparisons: 0,
+        prev_cap: None,
+    };
     let start = std::time::Instant::now();
-    let mut comparisons = 0u64;
     let mut mismatch = None;
-    // The readout registers of `rd_addr` after the previous edge, if that processor had
-    // been reached by the reset token (before, it holds its power-up values).
-    let mut prev_cap: Option<ProcState> = None;
-    'run: for (t, v) in vecs.iter().enumerate() {
+    for (t, v) in vecs.iter().enumerate() {
         drive(&mut uut, v)?;
-        // Golden: commands are vector indices 1..=cmds.len(); feed the one sampled now.
-        if t >= 1 && t <= cmds.len() {
-            let (b, c) = &cmds[t - 1];
-            gold.push(*b, c, keep);
-        }
-        let rtl = probe_all(&uut);
-        for (p, got) in rtl.iter().enumerate() {
-            // The reset (edge 0) reaches processor p at edge L + p; commands sampled at
-            // edges 1..=t−L−p have been applied.
-            let kk = t as i64 - LATENCY_PROC0 as i64 - p as i64;
-            if kk < 0 {
-                continue;
-            }
-            let k = kk.min(cmds.len() as i64) as usize;
-            let (st, cap) = gold.get(k);
-            let mut exp = st[p];
-            let mut exp_cap = cap[p];
-            if ignore_flags {
-                exp = without_shadow_regs(exp);
-                exp_cap = without_shadow_regs(exp_cap);
-            }
-            let got_cap = probe_cap(&uut, p);
-            comparisons += 2;
-            let bad = if *got != exp {
-                Some(("state", exp, *got))
-            } else if got_cap != exp_cap {
-                Some(("readout register", exp_cap, got_cap))
-            } else {
-                None
-            };
-            if let Some((what, expected, got)) = bad {
-                mismatch = Some(make_mismatch(t, p, what, k, cmds, &vecs, expected, got));
-                break 'run;
-            }
-        }
-        // Readout port: the readout registers after edge t − 1 of the processor whose
-        // address was sampled at edge t − 2.
-        if t >= 1 {
-            let got = ProcState {
-                zb: uut.rd_zb.val().to_u32(),
-                rgb: uut.rd_rgb.val().to_u32(),
-                dsf: uut.rd_dsf.val(),
-                fsf: uut.rd_fsf.val(),
-                count: uut.rd_count.val().to_u8(),
-                mask: uut.rd_mask.val().to_u8(),
-                nclass: uut.rd_nclass.val().to_u8(),
-            };
-            if let Some(exp) = prev_cap {
-                comparisons += 1;
-                if got != exp {
-                    let p = vecs[t - 2].rd_addr as usize;
-                    mismatch = Some(make_mismatch(
-                        t,
-                        p,
-                        "readout port",
-                        0,
-                        cmds,
-                        &vecs,
-                        exp,
-                        got,
-                    ));
-                    break 'run;
-                }
-            }
-        }
-        // After edge t the port shows, at edge t + 1, the readout registers (as now) of
-        // the processor whose address was sampled at edge t − 1.
-        prev_cap = None;
-        if t >= 1 {
-            let a = vecs[t - 1].rd_addr as usize;
-            if t >= LATENCY_PROC0 + a {
-                prev_cap = Some(probe_cap(&uut, a));
-            }
+        mismatch = check.after_edge(&uut, t);
+        if mismatch.is_some() {
+            break;
         }
     }
     let seconds = start.elapsed().as_secs_f64();
@@ -390,10 +324,126 @@ pub fn compare_commands_checked(
         commands: cmds.len(),
         span_words,
         cycles: vecs.len() as u64,
-        comparisons,
+        comparisons: check.comparisons,
         seconds,
         mismatch,
     })
+}
+
+/// The checks of one clock-by-clock run: the commands, their port vectors and the golden
+/// states they lead to.
+struct Checker<'a> {
+    cmds: &'a [(u32, Command)],
+    vecs: &'a [PortVector],
+    gold: GoldenWindow,
+    keep: usize,
+    ignore_flags: bool,
+    comparisons: u64,
+    /// The readout registers of `rd_addr` after the previous edge, if that processor had
+    /// been reached by the reset token (before, it holds its power-up values).
+    prev_cap: Option<ProcState>,
+}
+
+impl Checker<'_> {
+    /// Compares everything after edge `t` (vector `t` was just driven); the first
+    /// mismatch, if any.
+    fn after_edge(&mut self, uut: &PixelProcessorArray, t: usize) -> Option<Mismatch> {
+        // Golden: commands are vector indices 1..=cmds.len(); feed the one sampled now.
+        if t >= 1 && t <= self.cmds.len() {
+            let (b, c) = &self.cmds[t - 1];
+            self.gold.push(*b, c, self.keep);
+        }
+        if let Some(m) = self.check_processors(uut, t) {
+            return Some(m);
+        }
+        if let Some(m) = self.check_port(uut, t) {
+            return Some(m);
+        }
+        // After edge t the port shows, at edge t + 1, the readout registers (as now) of
+        // the processor whose address was sampled at edge t − 1.
+        self.prev_cap = None;
+        if t >= 1 {
+            let a = self.vecs[t - 1].rd_addr as usize;
+            if t >= LATENCY_PROC0 + a {
+                self.prev_cap = Some(probe_cap(uut, a));
+            }
+        }
+        None
+    }
+
+    /// Every processor's state and readout registers against the golden model.
+    fn check_processors(&mut self, uut: &PixelProcessorArray, t: usize) -> Option<Mismatch> {
+        let rtl = probe_all(uut);
+        for (p, got) in rtl.iter().enumerate() {
+            // The reset (edge 0) reaches processor p at edge L + p; commands sampled at
+            // edges 1..=t−L−p have been applied.
+            let kk = t as i64 - LATENCY_PROC0 as i64 - p as i64;
+            if kk < 0 {
+                continue;
+            }
+            let k = kk.min(self.cmds.len() as i64) as usize;
+            let (st, cap) = self.gold.get(k);
+            let mut exp = st[p];
+            let mut exp_cap = cap[p];
+            if self.ignore_flags {
+                exp = without_shadow_regs(exp);
+                exp_cap = without_shadow_regs(exp_cap);
+            }
+            let got_cap = probe_cap(uut, p);
+            self.comparisons += 2;
+            let bad = if *got != exp {
+                Some(("state", exp, *got))
+            } else if got_cap != exp_cap {
+                Some(("readout register", exp_cap, got_cap))
+            } else {
+                None
+            };
+            if let Some((what, expected, got)) = bad {
+                return Some(make_mismatch(
+                    t, p, what, k, self.cmds, self.vecs, expected, got,
+                ));
+            }
+        }
+        None
+    }
+
+    /// Readout port: the readout registers after edge t − 1 of the processor whose
+    /// address was sampled at edge t − 2.
+    fn check_port(&mut self, uut: &PixelProcessorArray, t: usize) -> Option<Mismatch> {
+        let exp = self.prev_cap?;
+        if t < 1 {
+            return None;
+        }
+        let got = port_state(uut);
+        self.comparisons += 1;
+        if got == exp {
+            return None;
+        }
+        let p = self.vecs[t - 2].rd_addr as usize;
+        Some(make_mismatch(
+            t,
+            p,
+            "readout port",
+            0,
+            self.cmds,
+            self.vecs,
+            exp,
+            got,
+        ))
+    }
+}
+
+/// The readout port's current values.
+fn port_state(uut: &PixelProcessorArray) -> ProcState {
+    ProcState {
+        zb: uut.rd_zb.val().to_u32(),
+        rgb: uut.rd_rgb.val().to_u32(),
+        dsf: uut.rd_dsf.val(),
+        fsf: uut.rd_fsf.val(),
+        count: uut.rd_count.val().to_u8(),
+        mask: uut.rd_mask.val().to_u8(),
+        nclass: uut.rd_nclass.val().to_u8(),
+    }
 }
 
 #[allow(clippy::too_many_arguments)]

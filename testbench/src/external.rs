@@ -96,13 +96,18 @@ const STIM_FIELDS: [Field; 6] = [STIM_BG, STIM_OP, STIM_VALID, STIM_RST, STIM_BA
 
 /// The limb above the span word of a `stim.hex` line (bits 319:256).
 fn stim_high_limb(v: &PortVector) -> u64 {
+    let values = [
+        v.bg as u64,
+        v.op as u64,
+        v.valid as u64,
+        v.rst as u64,
+        v.base as u64,
+        v.rd_addr as u64,
+    ];
     let mut l = [0u64; 5];
-    STIM_BG.put(&mut l, v.bg as u64);
-    STIM_OP.put(&mut l, v.op as u64);
-    STIM_VALID.put(&mut l, v.valid as u64);
-    STIM_RST.put(&mut l, v.rst as u64);
-    STIM_BASE.put(&mut l, v.base as u64);
-    STIM_RD.put(&mut l, v.rd_addr as u64);
+    for (f, x) in STIM_FIELDS.iter().zip(values) {
+        f.put(&mut l, x);
+    }
     l[4]
 }
 

@@ -8,6 +8,7 @@
 pub mod compare;
 pub mod external;
 pub mod mask_search_tb;
+pub mod sim_tools;
 pub mod stimulus;
 
 pub use stimulus::scene_stream;

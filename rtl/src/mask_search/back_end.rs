@@ -6,63 +6,44 @@ use super::{ROM_LATENCY, WORD_BITS, Z_BITS};
 use pixelproc_formats::abuffer::MaskSize;
 use rust_hdl::prelude::*;
 
-/// The shared back end: a search result (sampled every clock) goes through the offset ROM
-/// and the depth calculator; the result ports show it [`BACK_LATENCY`] = 6 clocks later.
-///
-/// On `i_hit = 0` (empty mask) `i_and` is 0, the ROM reads 0 (offsets (0, 0), no pair) and
-/// every depth is `zc`, the golden fallback for a fragment without a hit.
-#[derive(LogicBlock)]
-pub struct SearchBackEnd<const B: usize> {
-    /// Clock.
-    pub clock: Signal<In, Clock>,
-    /// Synchronous reset.
-    pub rst: Signal<In, Bit>,
-    /// A search finished this clock.
-    pub i_valid: Signal<In, Bit>,
-    /// It found a non-zero AND result.
-    pub i_hit: Signal<In, Bit>,
-    /// Steps (lines tested) it took.
-    pub i_steps: Signal<In, Bits<LINE_BITS>>,
-    /// The first non-zero AND result (0 if none).
-    pub i_and: Signal<In, Bits<B>>,
-    /// Plane `zc`.
-    pub i_zc: Signal<In, Bits<PB>>,
-    /// Plane `sx`.
-    pub i_sx: Signal<In, Bits<PB>>,
-    /// Plane `sy`.
-    pub i_sy: Signal<In, Bits<PB>>,
-    /// Result valid.
-    pub out_valid: Signal<Out, Bit>,
-    /// Result: hit (mask not empty).
-    pub out_hit: Signal<Out, Bit>,
-    /// Result: steps.
-    pub out_steps: Signal<Out, Bits<LINE_BITS>>,
-    /// Result: first non-zero AND result.
-    pub out_and: Signal<Out, Bits<B>>,
-    /// Result: ROM word.
-    pub out_rom: Signal<Out, Bits<WORD_BITS>>,
-    /// Result: depth at end 1.
-    pub out_z1: Signal<Out, Bits<Z_BITS>>,
-    /// Result: depth at end 2.
-    pub out_z2: Signal<Out, Bits<Z_BITS>>,
-    /// Result: min depth.
-    pub out_zmin: Signal<Out, Bits<Z_BITS>>,
-    /// Result: max depth.
-    pub out_zmax: Signal<Out, Bits<Z_BITS>>,
-    rom: OffsetRom<B>,
-    depth: DepthCalc,
-    valid_d: Vec<DFF<Bit>>,
-    hit_d: Vec<DFF<Bit>>,
-    steps_d: Vec<DFF<Bits<LINE_BITS>>>,
-    and_d: Vec<DFF<Bits<B>>>,
-    zc_d: Vec<DFF<Bits<PB>>>,
-    sx_d: Vec<DFF<Bits<PB>>>,
-    sy_d: Vec<DFF<Bits<PB>>>,
-    word_d: Vec<DFF<Bits<WORD_BITS>>>,
-    k_zero_b: Constant<Bits<B>>,
-    k_zero_p: Constant<Bits<PB>>,
-    k_zero_l: Constant<Bits<LINE_BITS>>,
-    k_zero_w: Constant<Bits<WORD_BITS>>,
+search_block! {
+    /// The shared back end: a search result (sampled every clock) goes through the offset ROM
+    /// and the depth calculator; the result ports show it [`BACK_LATENCY`] = 6 clocks later.
+    ///
+    /// On `i_hit = 0` (empty mask) `i_and` is 0, the ROM reads 0 (offsets (0, 0), no pair) and
+    /// every depth is `zc`, the golden fallback for a fragment without a hit.
+    pub struct SearchBackEnd {
+        /// A search finished this clock.
+        pub i_valid: Signal<In, Bit>,
+        /// It found a non-zero AND result.
+        pub i_hit: Signal<In, Bit>,
+        /// Steps (lines tested) it took.
+        pub i_steps: Signal<In, Bits<LINE_BITS>>,
+        /// The first non-zero AND result (0 if none).
+        pub i_and: Signal<In, Bits<B>>,
+        /// Plane `zc`.
+        pub i_zc: Signal<In, Bits<PB>>,
+        /// Plane `sx`.
+        pub i_sx: Signal<In, Bits<PB>>,
+        /// Plane `sy`.
+        pub i_sy: Signal<In, Bits<PB>>,
+    }
+    after_results {
+        rom: OffsetRom<B>,
+        depth: DepthCalc,
+        valid_d: Vec<DFF<Bit>>,
+        hit_d: Vec<DFF<Bit>>,
+        steps_d: Vec<DFF<Bits<LINE_BITS>>>,
+        and_d: Vec<DFF<Bits<B>>>,
+        zc_d: Vec<DFF<Bits<PB>>>,
+        sx_d: Vec<DFF<Bits<PB>>>,
+        sy_d: Vec<DFF<Bits<PB>>>,
+        word_d: Vec<DFF<Bits<WORD_BITS>>>,
+        k_zero_b: Constant<Bits<B>>,
+        k_zero_p: Constant<Bits<PB>>,
+        k_zero_l: Constant<Bits<LINE_BITS>>,
+        k_zero_w: Constant<Bits<WORD_BITS>>,
+    }
 }
 
 impl<const B: usize> SearchBackEnd<B> {
@@ -70,9 +51,7 @@ impl<const B: usize> SearchBackEnd<B> {
     pub fn new(size: MaskSize) -> Self {
         // The kernel reads the last registers by literal index.
         const _: () = assert!(ROM_LATENCY == 2 && DEPTH_LATENCY == 4 && BACK_LATENCY == 6);
-        SearchBackEnd {
-            clock: Default::default(),
-            rst: Default::default(),
+        search_block_new!(SearchBackEnd {
             i_valid: Default::default(),
             i_hit: Default::default(),
             i_steps: Default::default(),
@@ -80,15 +59,6 @@ impl<const B: usize> SearchBackEnd<B> {
             i_zc: Default::default(),
             i_sx: Default::default(),
             i_sy: Default::default(),
-            out_valid: Default::default(),
-            out_hit: Default::default(),
-            out_steps: Default::default(),
-            out_and: Default::default(),
-            out_rom: Default::default(),
-            out_z1: Default::default(),
-            out_z2: Default::default(),
-            out_zmin: Default::default(),
-            out_zmax: Default::default(),
             rom: OffsetRom::new(size),
             depth: DepthCalc::new(),
             valid_d: dff_line(BACK_LATENCY),
@@ -103,7 +73,7 @@ impl<const B: usize> SearchBackEnd<B> {
             k_zero_p: Constant::new(0u64.to_bits()),
             k_zero_l: Constant::new(0u64.to_bits()),
             k_zero_w: Constant::new(0u64.to_bits()),
-        }
+        })
     }
 }
 

@@ -5,95 +5,64 @@ use super::{check, MaskGen, MaskSearchError, SearchBackEnd, LINE_BITS, PB, WORD_
 use pixelproc_formats::abuffer::{MaskSize, SearchFamily};
 use rust_hdl::prelude::*;
 
-/// The iterative search unit: one search line per clock (the seed's flowchart).
-///
-/// **Handshake.** `ready` is high when the unit is idle or finishing its search in this
-/// clock (`done`). A start (`in_valid`, with `in_mask`, `in_corner`, `in_zc/sx/sy`) is
-/// accepted at a rising edge where `ready` is high (it is ignored otherwise), so searches
-/// follow each other without a gap: a search of `s` lines occupies `s` clocks.
-///
-/// **Step ports** (combinational from the state registers, Moore): after the accepting
-/// edge the unit shows line 0, after each further edge the next line, exactly the golden
-/// `SearchUnit::step` output of that clock (all zero when idle).
-///
-/// **Result ports**: the clock that shows `done` is sampled into the back end; `out_*`
-/// show the result [`BACK_LATENCY`](super::BACK_LATENCY) = 6 clocks later (after edge `t + 6` for a `done`
-/// shown after edge `t`), `out_valid` for one clock. Result fields are meaningful only
-/// with `out_valid`.
-#[derive(LogicBlock)]
-pub struct MaskSearchIter<const B: usize> {
-    /// Clock.
-    pub clock: Signal<In, Clock>,
-    /// Synchronous reset: idle, every register 0.
-    pub rst: Signal<In, Bit>,
-    /// Start a search (accepted when `ready`).
-    pub in_valid: Signal<In, Bit>,
-    /// Fraction mask.
-    pub in_mask: Signal<In, Bits<B>>,
-    /// Start corner code (bit 0 right, bit 1 bottom).
-    pub in_corner: Signal<In, Bits<2>>,
-    /// Plane `zc`, Q.12, 48-bit two's complement.
-    pub in_zc: Signal<In, Bits<PB>>,
-    /// Plane `sx`.
-    pub in_sx: Signal<In, Bits<PB>>,
-    /// Plane `sy`.
-    pub in_sy: Signal<In, Bits<PB>>,
-    /// A start is accepted at the next edge.
-    pub ready: Signal<Out, Bit>,
-    /// Step: a search is running.
-    pub active: Signal<Out, Bit>,
-    /// Step: line index tested.
-    pub line: Signal<Out, Bits<LINE_BITS>>,
-    /// Step: the search mask of that line.
-    pub search_mask: Signal<Out, Bits<B>>,
-    /// Step: fraction mask AND search mask.
-    pub and_result: Signal<Out, Bits<B>>,
-    /// Step: zero detector.
-    pub zero: Signal<Out, Bit>,
-    /// Step: the mover fires (next line follows).
-    pub moved: Signal<Out, Bit>,
-    /// Step: first hit.
-    pub hit: Signal<Out, Bit>,
-    /// Step: the search ends this clock.
-    pub done: Signal<Out, Bit>,
-    /// Result valid (one clock).
-    pub out_valid: Signal<Out, Bit>,
-    /// Result: the mask was not empty.
-    pub out_hit: Signal<Out, Bit>,
-    /// Result: lines tested.
-    pub out_steps: Signal<Out, Bits<LINE_BITS>>,
-    /// Result: first non-zero AND result (0 if none).
-    pub out_and: Signal<Out, Bits<B>>,
-    /// Result: ROM word.
-    pub out_rom: Signal<Out, Bits<WORD_BITS>>,
-    /// Result: depth at end 1 (`zc` without hit), Q.12, 53-bit two's complement.
-    pub out_z1: Signal<Out, Bits<Z_BITS>>,
-    /// Result: depth at end 2.
-    pub out_z2: Signal<Out, Bits<Z_BITS>>,
-    /// Result: min depth.
-    pub out_zmin: Signal<Out, Bits<Z_BITS>>,
-    /// Result: max depth.
-    pub out_zmax: Signal<Out, Bits<Z_BITS>>,
-    /// The back end.
-    pub back: SearchBackEnd<B>,
-    running_r: DFF<Bit>,
-    line_r: DFF<Bits<LINE_BITS>>,
-    mask_r: DFF<Bits<B>>,
-    corner_r: DFF<Bits<2>>,
-    zc_r: DFF<Bits<PB>>,
-    sx_r: DFF<Bits<PB>>,
-    sy_r: DFF<Bits<PB>>,
-    /// The search mask generator (Fig. 6 block 3).
-    sm_gen: MaskGen<B>,
-    k_last: Constant<Bits<LINE_BITS>>,
-    k_one_l: Constant<Bits<LINE_BITS>>,
-    k_zero_l: Constant<Bits<LINE_BITS>>,
-    k_zero_b: Constant<Bits<B>>,
-    k_zero_p: Constant<Bits<PB>>,
-    k_zero_c: Constant<Bits<2>>,
-    and_v: Signal<Local, Bits<B>>,
-    nz: Signal<Local, Bit>,
-    last: Signal<Local, Bit>,
+search_unit! {
+    /// The iterative search unit: one search line per clock (the seed's flowchart).
+    ///
+    /// **Handshake.** `ready` is high when the unit is idle or finishing its search in this
+    /// clock (`done`). A start (`in_valid`, with `in_mask`, `in_corner`, `in_zc/sx/sy`) is
+    /// accepted at a rising edge where `ready` is high (it is ignored otherwise), so searches
+    /// follow each other without a gap: a search of `s` lines occupies `s` clocks.
+    ///
+    /// **Step ports** (combinational from the state registers, Moore): after the accepting
+    /// edge the unit shows line 0, after each further edge the next line, exactly the golden
+    /// `SearchUnit::step` output of that clock (all zero when idle).
+    ///
+    /// **Result ports**: the clock that shows `done` is sampled into the back end; `out_*`
+    /// show the result [`BACK_LATENCY`](super::BACK_LATENCY) = 6 clocks later (after edge `t + 6` for a `done`
+    /// shown after edge `t`), `out_valid` for one clock. Result fields are meaningful only
+    /// with `out_valid`.
+    pub struct MaskSearchIter {
+        /// A start is accepted at the next edge.
+        pub ready: Signal<Out, Bit>,
+        /// Step: a search is running.
+        pub active: Signal<Out, Bit>,
+        /// Step: line index tested.
+        pub line: Signal<Out, Bits<LINE_BITS>>,
+        /// Step: the search mask of that line.
+        pub search_mask: Signal<Out, Bits<B>>,
+        /// Step: fraction mask AND search mask.
+        pub and_result: Signal<Out, Bits<B>>,
+        /// Step: zero detector.
+        pub zero: Signal<Out, Bit>,
+        /// Step: the mover fires (next line follows).
+        pub moved: Signal<Out, Bit>,
+        /// Step: first hit.
+        pub hit: Signal<Out, Bit>,
+        /// Step: the search ends this clock.
+        pub done: Signal<Out, Bit>,
+    }
+    after_results {
+        /// The back end.
+        pub back: SearchBackEnd<B>,
+        running_r: DFF<Bit>,
+        line_r: DFF<Bits<LINE_BITS>>,
+        mask_r: DFF<Bits<B>>,
+        corner_r: DFF<Bits<2>>,
+        zc_r: DFF<Bits<PB>>,
+        sx_r: DFF<Bits<PB>>,
+        sy_r: DFF<Bits<PB>>,
+        /// The search mask generator (Fig. 6 block 3).
+        sm_gen: MaskGen<B>,
+        k_last: Constant<Bits<LINE_BITS>>,
+        k_one_l: Constant<Bits<LINE_BITS>>,
+        k_zero_l: Constant<Bits<LINE_BITS>>,
+        k_zero_b: Constant<Bits<B>>,
+        k_zero_p: Constant<Bits<PB>>,
+        k_zero_c: Constant<Bits<2>>,
+        and_v: Signal<Local, Bits<B>>,
+        nz: Signal<Local, Bit>,
+        last: Signal<Local, Bit>,
+    }
 }
 
 impl<const B: usize> MaskSearchIter<B> {
@@ -101,15 +70,7 @@ impl<const B: usize> MaskSearchIter<B> {
     /// [`SearchFamily::DIAGONAL`]).
     pub fn new(size: MaskSize, family: SearchFamily) -> Result<Self, MaskSearchError> {
         let lines = check(size, family, B)? as usize;
-        Ok(MaskSearchIter {
-            clock: Default::default(),
-            rst: Default::default(),
-            in_valid: Default::default(),
-            in_mask: Default::default(),
-            in_corner: Default::default(),
-            in_zc: Default::default(),
-            in_sx: Default::default(),
-            in_sy: Default::default(),
+        Ok(search_unit_new!(MaskSearchIter {
             ready: Default::default(),
             active: Default::default(),
             line: Default::default(),
@@ -119,15 +80,6 @@ impl<const B: usize> MaskSearchIter<B> {
             moved: Default::default(),
             hit: Default::default(),
             done: Default::default(),
-            out_valid: Default::default(),
-            out_hit: Default::default(),
-            out_steps: Default::default(),
-            out_and: Default::default(),
-            out_rom: Default::default(),
-            out_z1: Default::default(),
-            out_z2: Default::default(),
-            out_zmin: Default::default(),
-            out_zmax: Default::default(),
             back: SearchBackEnd::new(size),
             running_r: Default::default(),
             line_r: Default::default(),
@@ -146,7 +98,7 @@ impl<const B: usize> MaskSearchIter<B> {
             and_v: Default::default(),
             nz: Default::default(),
             last: Default::default(),
-        })
+        }))
     }
 
     /// Number of search lines (the longest search, in clocks).
@@ -155,7 +107,8 @@ impl<const B: usize> MaskSearchIter<B> {
     }
 }
 
-impl<const B: usize> Logic for MaskSearchIter<B> {
+search_unit_logic! {
+    MaskSearchIter,
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, clock, running_r, line_r, mask_r, corner_r, zc_r, sx_r, sy_r);
@@ -217,15 +170,7 @@ impl<const B: usize> Logic for MaskSearchIter<B> {
         self.back.i_zc.next = self.zc_r.q.val();
         self.back.i_sx.next = self.sx_r.q.val();
         self.back.i_sy.next = self.sy_r.q.val();
-        self.out_valid.next = self.back.out_valid.val();
-        self.out_hit.next = self.back.out_hit.val();
-        self.out_steps.next = self.back.out_steps.val();
-        self.out_and.next = self.back.out_and.val();
-        self.out_rom.next = self.back.out_rom.val();
-        self.out_z1.next = self.back.out_z1.val();
-        self.out_z2.next = self.back.out_z2.val();
-        self.out_zmin.next = self.back.out_zmin.val();
-        self.out_zmax.next = self.back.out_zmax.val();
+        // `search_unit_logic!` then forwards the back end's results to `out_*`.
     }
 }
 

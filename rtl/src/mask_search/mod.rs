@@ -25,12 +25,16 @@
 //! One block per file: [`iter`] with its [`mask_gen`], [`stage`], [`pipe`], [`back_end`], [`depth_calc`] with
 //! its [`shift_add`], and [`offset_rom`]; each file carries a short smoke simulation and
 //! a Yosys check of its block (the exhaustive comparisons are in the testbench crate);
-//! this module holds the widths, latencies and errors they share.
+//! this module holds the widths, latencies and errors they share, and its `ports` macros
+//! declare the ports that the two units and the back end have in common.
 //!
 //! **Literals.** Every sized literal in the kernels is a `Constant` field (`k_zero_*`,
 //! `k_one`, ...), never a bare `0`/`1` or a const generic: rust-hdl emits bare literals as
 //! 32-bit numbers and const generics by name, which Verilator's WIDTH lint (or the
 //! compiler) rejects.
+
+#[macro_use]
+mod ports;
 
 pub mod back_end;
 pub mod depth_calc;

@@ -6,65 +6,34 @@ use super::{WORD_BITS, Z_BITS};
 use pixelproc_formats::abuffer::{search_mask_table, Corner, MaskSize, SearchFamily};
 use rust_hdl::prelude::*;
 
-/// The pipelined search unit: one stage per search line, a new mask every clock.
-///
-/// **Handshake.** Valid-only, fixed latency, no back-pressure (`ready` would be constant 1):
-/// `in_valid` with its mask, corner and plane is sampled at every rising edge. Stage `k`
-/// (`k = 0 .. lines`) holds the mask `k` edges after it was sampled and tests line `k`
-/// unless an earlier line hit; the last stage's outcome enters the back end at the next
-/// edge. A mask sampled at edge `E` shows its result on `out_*` after edge
-/// `E + latency()`, `latency() = lines + 6` (13 for 4×4, 21 for 8×8), with `out_valid`.
-/// Result fields are meaningful only with `out_valid`.
-#[derive(LogicBlock)]
-pub struct MaskSearchPipe<const B: usize> {
-    /// Clock.
-    pub clock: Signal<In, Clock>,
-    /// Synchronous reset: every register 0 (pipeline empty).
-    pub rst: Signal<In, Bit>,
-    /// A mask is present.
-    pub in_valid: Signal<In, Bit>,
-    /// Fraction mask.
-    pub in_mask: Signal<In, Bits<B>>,
-    /// Start corner code.
-    pub in_corner: Signal<In, Bits<2>>,
-    /// Plane `zc`.
-    pub in_zc: Signal<In, Bits<PB>>,
-    /// Plane `sx`.
-    pub in_sx: Signal<In, Bits<PB>>,
-    /// Plane `sy`.
-    pub in_sy: Signal<In, Bits<PB>>,
-    /// Result valid.
-    pub out_valid: Signal<Out, Bit>,
-    /// Result: the mask was not empty.
-    pub out_hit: Signal<Out, Bit>,
-    /// Result: lines the iterative search would test.
-    pub out_steps: Signal<Out, Bits<LINE_BITS>>,
-    /// Result: first non-zero AND result (0 if none).
-    pub out_and: Signal<Out, Bits<B>>,
-    /// Result: ROM word.
-    pub out_rom: Signal<Out, Bits<WORD_BITS>>,
-    /// Result: depth at end 1.
-    pub out_z1: Signal<Out, Bits<Z_BITS>>,
-    /// Result: depth at end 2.
-    pub out_z2: Signal<Out, Bits<Z_BITS>>,
-    /// Result: min depth.
-    pub out_zmin: Signal<Out, Bits<Z_BITS>>,
-    /// Result: max depth.
-    pub out_zmax: Signal<Out, Bits<Z_BITS>>,
-    /// The search stages, line `k` in stage `k`.
-    pub stages: Vec<SearchStage<B>>,
-    /// The back end.
-    pub back: SearchBackEnd<B>,
-    k_zero_b: Constant<Bits<B>>,
-    k_zero_l: Constant<Bits<LINE_BITS>>,
-    k_zero_p: Constant<Bits<PB>>,
-    l_valid: Signal<Local, Bit>,
-    l_hit: Signal<Local, Bit>,
-    l_steps: Signal<Local, Bits<LINE_BITS>>,
-    l_and: Signal<Local, Bits<B>>,
-    l_zc: Signal<Local, Bits<PB>>,
-    l_sx: Signal<Local, Bits<PB>>,
-    l_sy: Signal<Local, Bits<PB>>,
+search_unit! {
+    /// The pipelined search unit: one stage per search line, a new mask every clock.
+    ///
+    /// **Handshake.** Valid-only, fixed latency, no back-pressure (`ready` would be constant 1):
+    /// `in_valid` with its mask, corner and plane is sampled at every rising edge. Stage `k`
+    /// (`k = 0 .. lines`) holds the mask `k` edges after it was sampled and tests line `k`
+    /// unless an earlier line hit; the last stage's outcome enters the back end at the next
+    /// edge. A mask sampled at edge `E` shows its result on `out_*` after edge
+    /// `E + latency()`, `latency() = lines + 6` (13 for 4×4, 21 for 8×8), with `out_valid`.
+    /// Result fields are meaningful only with `out_valid`.
+    pub struct MaskSearchPipe {
+    }
+    after_results {
+        /// The search stages, line `k` in stage `k`.
+        pub stages: Vec<SearchStage<B>>,
+        /// The back end.
+        pub back: SearchBackEnd<B>,
+        k_zero_b: Constant<Bits<B>>,
+        k_zero_l: Constant<Bits<LINE_BITS>>,
+        k_zero_p: Constant<Bits<PB>>,
+        l_valid: Signal<Local, Bit>,
+        l_hit: Signal<Local, Bit>,
+        l_steps: Signal<Local, Bits<LINE_BITS>>,
+        l_and: Signal<Local, Bits<B>>,
+        l_zc: Signal<Local, Bits<PB>>,
+        l_sx: Signal<Local, Bits<PB>>,
+        l_sy: Signal<Local, Bits<PB>>,
+    }
 }
 
 impl<const B: usize> MaskSearchPipe<B> {
@@ -75,24 +44,7 @@ impl<const B: usize> MaskSearchPipe<B> {
         let stages = (0..lines)
             .map(|k| SearchStage::new(t.clone().map(|v| v[k as usize]), k))
             .collect();
-        Ok(MaskSearchPipe {
-            clock: Default::default(),
-            rst: Default::default(),
-            in_valid: Default::default(),
-            in_mask: Default::default(),
-            in_corner: Default::default(),
-            in_zc: Default::default(),
-            in_sx: Default::default(),
-            in_sy: Default::default(),
-            out_valid: Default::default(),
-            out_hit: Default::default(),
-            out_steps: Default::default(),
-            out_and: Default::default(),
-            out_rom: Default::default(),
-            out_z1: Default::default(),
-            out_z2: Default::default(),
-            out_zmin: Default::default(),
-            out_zmax: Default::default(),
+        Ok(search_unit_new!(MaskSearchPipe {
             stages,
             back: SearchBackEnd::new(size),
             k_zero_b: Constant::new(0u64.to_bits()),
@@ -105,7 +57,7 @@ impl<const B: usize> MaskSearchPipe<B> {
             l_zc: Default::default(),
             l_sx: Default::default(),
             l_sy: Default::default(),
-        })
+        }))
     }
 
     /// Edges from sampling a mask to its result on `out_*`.
@@ -114,7 +66,8 @@ impl<const B: usize> MaskSearchPipe<B> {
     }
 }
 
-impl<const B: usize> Logic for MaskSearchPipe<B> {
+search_unit_logic! {
+    MaskSearchPipe,
     #[hdl_gen]
     fn update(&mut self) {
         for i in 0..self.stages.len() {
@@ -168,15 +121,7 @@ impl<const B: usize> Logic for MaskSearchPipe<B> {
         self.back.i_zc.next = self.l_zc.val();
         self.back.i_sx.next = self.l_sx.val();
         self.back.i_sy.next = self.l_sy.val();
-        self.out_valid.next = self.back.out_valid.val();
-        self.out_hit.next = self.back.out_hit.val();
-        self.out_steps.next = self.back.out_steps.val();
-        self.out_and.next = self.back.out_and.val();
-        self.out_rom.next = self.back.out_rom.val();
-        self.out_z1.next = self.back.out_z1.val();
-        self.out_z2.next = self.back.out_z2.val();
-        self.out_zmin.next = self.back.out_zmin.val();
-        self.out_zmax.next = self.back.out_zmax.val();
+        // `search_unit_logic!` then forwards the back end's results to `out_*`.
     }
 }
 

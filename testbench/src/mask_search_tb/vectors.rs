@@ -149,6 +149,25 @@ pub fn testbench_verilog(dut: &str, variant: Variant, b: usize, cycles: usize) -
     } else {
         String::new()
     };
+    let drive = format!(
+        "            rst = stim[t][0];
+            in_valid = stim[t][1];
+            in_mask = stim[t][{mb}:2];
+            in_corner = stim[t][{cb}:{cb0}];
+            in_zc = stim[t][{z0}+47:{z0}];
+            in_sx = stim[t][{z0}+95:{z0}+48];
+            in_sy = stim[t][{z0}+143:{z0}+96];
+",
+        mb = b + 1,
+        cb = b + 3,
+        cb0 = b + 2,
+        z0 = b + 4,
+    );
+    let mismatch = format!(
+        "t >= 1 && ({step_cmp}got[0] !== expv[t][0] || (expv[t][0] && got[{rb1}:0] !== expv[t][{rb1}:0]))",
+        rb1 = rb - 1,
+    );
+    let tail = crate::sim_tools::vector_loop("tb_mask_search", &drive, &mismatch);
     format!(
         r#"// Vector testbench for {dut}: drives stim.hex, checks the outputs against expect.hex.
 `timescale 1ns/1ps
@@ -173,39 +192,9 @@ module tb_mask_search;
         .out_valid(out_valid), .out_hit(out_hit), .out_steps(out_steps), .out_and(out_and),
         .out_rom(out_rom), .out_z1(out_z1), .out_z2(out_z2), .out_zmin(out_zmin),
         .out_zmax(out_zmax){step_conn});
-    always #5 clock = ~clock;
-    initial begin
-        $readmemh("stim.hex", stim);
-        $readmemh("expect.hex", expv);
-        $dumpfile("tb_mask_search.vcd");
-        $dumpvars(1, tb_mask_search);
-        for (t = 0; t < NCYC; t = t + 1) begin
-            rst = stim[t][0];
-            in_valid = stim[t][1];
-            in_mask = stim[t][{mb}:2];
-            in_corner = stim[t][{cb}:{cb0}];
-            in_zc = stim[t][{z0}+47:{z0}];
-            in_sx = stim[t][{z0}+95:{z0}+48];
-            in_sy = stim[t][{z0}+143:{z0}+96];
-            @(posedge clock);
-            #1;
-            if (t >= 1 && ({step_cmp}got[0] !== expv[t][0] || (expv[t][0] && got[{rb1}:0] !== expv[t][{rb1}:0]))) begin
-                $display("MISMATCH cycle=%0d inputs=%h expected=%h got=%h", t, stim[t], expv[t], got);
-                $finish;
-            end
-        end
-        $display("PASS cycles=%0d", NCYC);
-        $finish;
-    end
-endmodule
-"#,
+{tail}"#,
         sb1 = sb - 1,
         eb1 = eb - 1,
         b1 = b - 1,
-        mb = b + 1,
-        cb = b + 3,
-        cb0 = b + 2,
-        z0 = b + 4,
-        rb1 = rb - 1,
     )
 }

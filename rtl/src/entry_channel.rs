@@ -1,0 +1,124 @@
+//! One colour channel of the array's entry pipeline (seed 001, Matsumoto, section 3:
+//! the intensity at the tile's first column, `IL + max(0, base − XL)·dI`).
+//!
+//! Stages E2 to E4 of [`crate::pixel_array`] for one channel: E2 registers `IL` and
+//! `dI` (0 unless the command is a SPAN), E3 forms the two 16 × 16 partial products of
+//! the tile offset `m` and `dI`, E4 adds them to two partial sums,
+//! `m·dI = m·u21 − s·m·2^21` (`u21` = `dI` as unsigned, `s` its sign). The outputs are the
+//! sum of the E4 registers and the E4 copy of `dI`: the channel's part of the token for
+//! processor 0. The array builds three of these and owns `m` (shared with the depth).
+
+use crate::colour_lane::DI_W;
+use crate::pixel_processor::IACC_W;
+use pixelproc_formats::SPAN_IL_R;
+use rust_hdl::prelude::*;
+
+/// Width of one `IL` channel.
+pub(crate) const IL_W: usize = SPAN_IL_R.width;
+/// Operand width of the entry multipliers (RustHDL multiplies 16 × 16 bits only).
+pub(crate) const MUL_W: usize = 16;
+/// Width of one 16 × 16 partial product.
+pub(crate) const PROD_W: usize = 2 * MUL_W;
+/// Bits of `dI` above its low multiplier operand.
+const DI_HI_W: usize = DI_W - MUL_W;
+// A kernel can only take literal bit positions: the operand split at 16, the sign bit 20
+// and the weight 2^21 below are these widths.
+const _: () = assert!(MUL_W == 16 && DI_W == 21);
+
+/// One channel's E2..E4 registers. Build with [`EntryChannel::new`].
+#[derive(LogicBlock)]
+pub struct EntryChannel {
+    /// Clock.
+    pub clock: Signal<In, Clock>,
+    /// `IL` of the command in E1, Q8.12.
+    pub il: Signal<In, Bits<IL_W>>,
+    /// `dI` of the command in E1, Q9.12 two's complement.
+    pub di: Signal<In, Bits<DI_W>>,
+    /// The command in E1 is a SPAN (otherwise `dI` is taken as 0).
+    pub span: Signal<In, Bit>,
+    /// The tile offset `m` registered in E2.
+    pub m2: Signal<In, Bits<MUL_W>>,
+    /// The tile offset `m` registered in E3.
+    pub m3: Signal<In, Bits<MUL_W>>,
+    /// `IL + m·dI`, Q22.12 two's complement: processor 0's accumulator.
+    pub i: Signal<Out, Bits<IACC_W>>,
+    /// `dI` in E4.
+    pub o_di: Signal<Out, Bits<DI_W>>,
+    e2_il: DFF<Bits<IL_W>>,
+    e2_di: DFF<Bits<DI_W>>,
+    e3_il: DFF<Bits<IL_W>>,
+    e3_di: DFF<Bits<DI_W>>,
+    e3_p0: DFF<Bits<PROD_W>>,
+    e3_p1: DFF<Bits<PROD_W>>,
+    e4_di: DFF<Bits<DI_W>>,
+    e4_a: DFF<Bits<IACC_W>>,
+    e4_b: DFF<Bits<IACC_W>>,
+    l_dihi: Signal<Local, Bits<MUL_W>>,
+    l_m34: Signal<Local, Bits<IACC_W>>,
+    k_zero: Constant<Bits<DI_W>>,
+}
+
+impl EntryChannel {
+    /// A channel with its constants set and its registers at 0.
+    pub fn new() -> Self {
+        EntryChannel {
+            clock: Default::default(),
+            il: Default::default(),
+            di: Default::default(),
+            span: Default::default(),
+            m2: Default::default(),
+            m3: Default::default(),
+            i: Default::default(),
+            o_di: Default::default(),
+            e2_il: Default::default(),
+            e2_di: Default::default(),
+            e3_il: Default::default(),
+            e3_di: Default::default(),
+            e3_p0: Default::default(),
+            e3_p1: Default::default(),
+            e4_di: Default::default(),
+            e4_a: Default::default(),
+            e4_b: Default::default(),
+            l_dihi: Default::default(),
+            l_m34: Default::default(),
+            k_zero: Constant::new(0u64.to_bits()),
+        }
+    }
+}
+
+impl Default for EntryChannel {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Logic for EntryChannel {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, e2_il, e2_di, e3_il, e3_di, e3_p0, e3_p1, e4_di, e4_a, e4_b);
+        // ---- E2: no increment unless SPAN.
+        self.e2_il.d.next = self.il.val();
+        self.e2_di.d.next = self.k_zero.val();
+        if self.span.val() {
+            self.e2_di.d.next = self.di.val();
+        }
+        // ---- E3: partial products m·dI, 16×16 unsigned.
+        self.e3_il.d.next = self.e2_il.q.val();
+        self.e3_di.d.next = self.e2_di.q.val();
+        self.l_dihi.next = bit_cast::<MUL_W, DI_HI_W>(self.e2_di.q.val().get_bits::<DI_HI_W>(16));
+        self.e3_p0.d.next = self.m2.val() * self.e2_di.q.val().get_bits::<MUL_W>(0);
+        self.e3_p1.d.next = self.m2.val() * self.l_dihi.val();
+        // ---- E4: m·dI = m·u21 − s·m·2^21.
+        self.e4_di.d.next = self.e3_di.q.val();
+        self.l_m34.next = bit_cast::<IACC_W, MUL_W>(self.m3.val());
+        self.e4_a.d.next = bit_cast::<IACC_W, IL_W>(self.e3_il.q.val())
+            + bit_cast::<IACC_W, PROD_W>(self.e3_p0.q.val());
+        self.e4_b.d.next = bit_cast::<IACC_W, PROD_W>(self.e3_p1.q.val()) << 16;
+        if self.e3_di.q.val().get_bit(20) {
+            self.e4_b.d.next =
+                (bit_cast::<IACC_W, PROD_W>(self.e3_p1.q.val()) << 16) - (self.l_m34.val() << 21);
+        }
+        self.i.next = self.e4_a.q.val() + self.e4_b.q.val();
+        self.o_di.next = self.e4_di.q.val();
+    }
+}
