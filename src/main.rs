@@ -260,6 +260,19 @@ fn run_testbench(
     }
     let top = top_config(fx);
     let n_lines = lines.len();
+    // Long runs say so before they start (stderr, so stdout stays the report).
+    eprintln!(
+        "testbench: {} scanlines of {} on {:?}{}…",
+        n_lines,
+        ls.name,
+        sim,
+        match sim {
+            SimKind::RustHdl => ", every register compared every clock",
+            SimKind::Verilator =>
+                ", compiling the exported Verilog first (about a minute on 2 cores)",
+            SimKind::Icarus => ", compiling the exported Verilog first",
+        }
+    );
     let s = pixelproc_testbench::testbench(
         lines,
         bg,
@@ -284,12 +297,17 @@ fn run_testbench(
         if top.shadows { "with" } else { "without" }
     );
     say!(
-        "  bit-exact: {}  ({} span words, {} cycles compared, {:.2} s, {:.0} cycles/s)",
+        "  bit-exact: {}  ({} span words, {} cycles compared, run {:.2} s, {:.0} cycles/s{})",
         if s.outcome.bit_exact() { "yes" } else { "NO" },
         s.span_words,
         s.cycles,
         s.seconds,
-        s.cycles as f64 / s.seconds.max(1e-9)
+        s.cycles as f64 / s.seconds.max(1e-9),
+        if sim == SimKind::RustHdl {
+            String::new()
+        } else {
+            format!(", build {:.1} s", s.build_seconds)
+        }
     );
     if let Outcome::Mismatch(detail) = &s.outcome {
         say!("{detail}");

@@ -125,8 +125,10 @@ pub struct TestbenchSummary {
     pub span_words: usize,
     /// Clock cycles simulated.
     pub cycles: u64,
-    /// Simulation wall time, seconds.
+    /// Simulation wall time, seconds (the run alone, for an external simulator).
     pub seconds: f64,
+    /// Seconds spent compiling the exported Verilog (0 for the RustHDL model).
+    pub build_seconds: f64,
 }
 
 /// Runs a scene's command stream (`lines`: per scanline, the commands after its
@@ -154,6 +156,7 @@ pub fn testbench(
                 span_words: c.span_words,
                 cycles: c.cycles,
                 seconds: c.seconds,
+                build_seconds: 0.0,
             })
         }
         SimKind::Icarus | SimKind::Verilator => {
@@ -172,12 +175,14 @@ pub fn testbench(
                     span_words: words,
                     cycles: 0,
                     seconds: 0.0,
+                    build_seconds: 0.0,
                 }),
                 Some(r) => Ok(TestbenchSummary {
                     outcome: Outcome::compared(r.pass, || r.log),
                     span_words: words,
                     cycles: r.cycles as u64,
                     seconds: r.run_seconds,
+                    build_seconds: r.build_seconds,
                 }),
             }
         }
