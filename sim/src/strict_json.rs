@@ -49,17 +49,6 @@ pub enum StrictError {
     },
 }
 
-fn kind(v: &serde_json::Value) -> &'static str {
-    match v {
-        serde_json::Value::Null => "null",
-        serde_json::Value::Bool(_) => "a boolean",
-        serde_json::Value::Number(_) => "a number",
-        serde_json::Value::String(_) => "a string",
-        serde_json::Value::Array(_) => "an array",
-        serde_json::Value::Object(_) => "an object",
-    }
-}
-
 /// The field names a type declares (from its `Deserialize` implementation).
 pub type FieldLister = fn() -> Vec<&'static str>;
 
@@ -69,18 +58,46 @@ pub fn parse<T: DeserializeOwned>(
     text: &str,
     schema: &[(&str, FieldLister)],
 ) -> Result<(T, Vec<UnknownKey>), StrictError> {
-    let value: serde_json::Value = serde_json::from_str(text).map_err(StrictError::Syntax)?;
-    if !value.is_object() {
-        return Err(StrictError::NotObject(kind(&value)));
+    // Streamed straight from the text (no intermediate `Value`: a scene of a million
+    // triangles would take several times its size in memory as a tree).
+    match text.trim_start().chars().next() {
+        Some('{') => {}
+        Some('[') => return Err(StrictError::NotObject("an array")),
+        Some('"') => return Err(StrictError::NotObject("a string")),
+        Some(c) if c == '-' || c.is_ascii_digit() => {
+            return Err(StrictError::NotObject("a number"))
+        }
+        Some('t' | 'f') => return Err(StrictError::NotObject("a boolean")),
+        Some('n') => return Err(StrictError::NotObject("null")),
+        _ => {
+            // Empty or not JSON: let serde name the syntax error with its position.
+            return Err(StrictError::Syntax(
+                serde_json::from_str::<serde::de::IgnoredAny>(text)
+                    .err()
+                    .unwrap_or_else(|| serde::de::Error::custom("expected a JSON object")),
+            ));
+        }
     }
     let mut unknown = Vec::new();
     let mut note = |p: serde_ignored::Path| unknown.push(p.to_string());
-    let de = serde_ignored::Deserializer::new(value, &mut note);
+    let mut json = serde_json::Deserializer::from_str(text);
+    let de = serde_ignored::Deserializer::new(&mut json, &mut note);
     let t: T = serde_path_to_error::deserialize(de).map_err(|e| {
         let path = e.path().to_string();
-        let msg = readable(&e.into_inner().to_string());
-        StrictError::Value { path, msg }
+        let inner = e.into_inner();
+        let msg = inner.to_string();
+        // serde_json reports a fixed-size array with extra elements as a syntax error
+        // ("trailing characters") inside the value: that is a value error at `path`.
+        let too_long = msg.starts_with("trailing characters") && path != ".";
+        if (inner.is_syntax() || inner.is_eof()) && !too_long {
+            return StrictError::Syntax(inner);
+        }
+        StrictError::Value {
+            path,
+            msg: readable(&msg),
+        }
     })?;
+    json.end().map_err(StrictError::Syntax)?;
     let unknown = unknown
         .into_iter()
         .map(|p| with_suggestion(p, schema))
