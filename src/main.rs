@@ -35,12 +35,12 @@ fn load(spec: &OsStr, input: &InputArgs) -> Result<LoadedScene> {
     let ls = match spec.to_str().and_then(|s| s.strip_prefix('@')) {
         Some(name) => scene::load_builtin(name)?,
         None => {
+            let path = Path::new(spec);
             let policy = ReadPolicy {
                 max_bytes: input.max_input_mb << 20,
-                // An empty path: the scene file's own folder.
-                sandbox: input.sandbox.then(PathBuf::new),
+                sandbox: input.sandbox.then(|| scene::scene_folder(path)),
             };
-            scene::load_file_with(Path::new(spec), &policy)?
+            scene::load_file_with(path, &policy)?
         }
     };
     if input.strict && !ls.warnings.is_empty() {

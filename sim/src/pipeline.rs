@@ -9,6 +9,7 @@ use crate::render::{render_frame, Frame, SpanSource};
 use crate::scene::LoadedScene;
 use crate::setup::SetupError;
 use crate::shadow::{self, FactorTable, ShadowError, ShadowLight, ShadowStats};
+use crate::stream::StreamError;
 use crate::{aa, abuffer};
 use std::time::{Duration, Instant};
 use thiserror::Error;
@@ -16,15 +17,9 @@ use thiserror::Error;
 /// Render errors.
 #[derive(Debug, Error)]
 pub enum RenderError {
-    /// Front-end failure.
+    /// Front end, span setup or shadow volumes (the stages of the command stream).
     #[error(transparent)]
-    Front(#[from] FrontError),
-    /// Setup failure.
-    #[error(transparent)]
-    Setup(#[from] SetupError),
-    /// Shadow failure.
-    #[error(transparent)]
-    Shadow(#[from] ShadowError),
+    Stream(#[from] StreamError),
     /// Anti-aliasing failure.
     #[error(transparent)]
     Aa(#[from] aa::AaError),
@@ -32,6 +27,18 @@ pub enum RenderError {
     #[error(transparent)]
     Abuffer(#[from] abuffer::AbufferError),
 }
+
+/// The stream stages' own errors convert through [`StreamError`], so `?` works on each.
+macro_rules! via_stream {
+    ($($t:ty),*) => {$(
+        impl From<$t> for RenderError {
+            fn from(e: $t) -> Self {
+                RenderError::Stream(e.into())
+            }
+        }
+    )*};
+}
+via_stream!(FrontError, SetupError, ShadowError);
 
 /// An 8-bit image.
 #[derive(Clone, Debug, PartialEq, Eq)]

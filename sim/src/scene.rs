@@ -544,14 +544,22 @@ pub fn load_with(scene: Scene, src: &MeshSource, name: &str) -> Result<LoadedSce
     })
 }
 
+/// The folder a scene file's OBJ paths are relative to (`.` for a bare file name); also
+/// the `--sandbox` root.
+pub fn scene_folder(path: &Path) -> PathBuf {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
 /// Loads a scene file under the default [`ReadPolicy`]; OBJ paths resolve relative to the
 /// file's directory.
 pub fn load_file(path: &Path) -> Result<LoadedScene, SceneError> {
     load_file_with(path, &ReadPolicy::default())
 }
 
-/// Loads a scene file under `policy`. A `policy.sandbox` of `Some(empty path)` means "the
-/// scene file's own folder". Unknown keys become warnings on the returned scene.
+/// Loads a scene file under `policy`. Unknown keys become warnings on the returned scene.
 pub fn load_file_with(path: &Path, policy: &ReadPolicy) -> Result<LoadedScene, SceneError> {
     let text = input::read_text(path, policy).map_err(|e| match e {
         InputError::Io { path, source } => SceneError::Read { path, source },
@@ -559,15 +567,8 @@ pub fn load_file_with(path: &Path, policy: &ReadPolicy) -> Result<LoadedScene, S
     })?;
     let name = path.display().to_string();
     let (scene, unknown) = parse_with_warnings(&text, &name)?;
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let mut pol = policy.clone();
-    if matches!(&pol.sandbox, Some(p) if p.as_os_str().is_empty()) {
-        pol.sandbox = Some(dir.clone());
-    }
-    let mut ls = load_with(scene, &MeshSource::DirWith(dir, pol), &name)?;
+    let dir = scene_folder(path);
+    let mut ls = load_with(scene, &MeshSource::DirWith(dir, policy.clone()), &name)?;
     let mut warnings: Vec<String> = unknown
         .into_iter()
         .map(|k| format!("scene {name}: {k}"))

@@ -182,13 +182,11 @@ mod tests {
     use serde::Deserialize;
 
     #[derive(Deserialize, Debug)]
-    #[allow(dead_code)]
     struct Inner {
         position: [f64; 3],
     }
 
     #[derive(Deserialize, Debug)]
-    #[allow(dead_code)]
     struct Doc {
         width: u32,
         #[serde(default)]
@@ -202,11 +200,15 @@ mod tests {
 
     #[test]
     fn misspelt_keys_are_reported_with_the_closest_field() {
-        let (_, u) = parse::<Doc>(
+        let (doc, u) = parse::<Doc>(
             r#"{"width": 4, "triangels": [], "lights": [{"position": [0,0,0], "positon": 1}], "zzz": 0}"#,
             SCHEMA,
         )
         .unwrap();
+        // The known fields still read normally beside the unknown ones.
+        assert_eq!(doc.width, 4);
+        assert!(doc.triangles.is_empty());
+        assert_eq!(doc.lights[0].position, [0.0; 3]);
         let s: Vec<String> = u.iter().map(|k| k.to_string()).collect();
         assert!(
             s.contains(&"unknown key `triangels` (did you mean `triangles`?)".to_string()),

@@ -223,25 +223,12 @@ module tb_pixelproc;
         .cmd_bg(cmd_bg), .cmd_word(cmd_word), .tile_base(tile_base), .rd_addr(rd_addr),
         .rd_zb(rd_zb), .rd_rgb(rd_rgb), .rd_dsf(rd_dsf), .rd_fsf(rd_fsf), .rd_count(rd_count),
         .rd_mask(rd_mask), .rd_nclass(rd_nclass));
-    always #5 clock = ~clock;
-    initial begin
-        $readmemh("stim.hex", stim);
-        $readmemh("expect.hex", expv);
-        $dumpfile("tb_pixelproc.vcd");
-        $dumpvars(1, tb_pixelproc);
-        for (t = 0; t < NCYC; t = t + 1) begin
-{unpack}            @(posedge clock);
-            #1;
-            if (expv[t][{CHECK_BIT}] && got !== expv[t][{top}:0]) begin
-                $display("MISMATCH cycle=%0d inputs=%h expected=%h got=%h", t, stim[t], expv[t], got);
-                $finish;
-            end
-        end
-        $display("PASS cycles=%0d", NCYC);
-        $finish;
-    end
-endmodule
-"#
+{tail}"#,
+        tail = crate::sim_tools::vector_loop(
+            "tb_pixelproc",
+            &unpack,
+            &format!("expv[t][{CHECK_BIT}] && got !== expv[t][{top}:0]")
+        )
     )
 }
 

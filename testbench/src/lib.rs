@@ -39,9 +39,6 @@ pub enum TbError {
     /// The golden pipeline could not build a scene's command stream.
     #[error("scene")]
     Scene(#[from] pixelproc_sim::pipeline::RenderError),
-    /// The golden model could not build a scene's command stream.
-    #[error("scene")]
-    Stream(#[from] pixelproc_sim::stream::StreamError),
     /// A golden command the array's command port cannot carry (a CHECK range beyond
     /// column 4095).
     #[error("the RTL array cannot encode {0}")]

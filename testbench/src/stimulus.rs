@@ -20,7 +20,8 @@ pub fn scene_stream(
     ls: &LoadedScene,
     effects: &Effects,
 ) -> Result<(Vec<Vec<Command>>, u32), TbError> {
-    let s = SceneStream::of_scene(ls, &effects.shadow_lights, effects.shadow_form)?;
+    let s = SceneStream::of_scene(ls, &effects.shadow_lights, effects.shadow_form)
+        .map_err(pixelproc_sim::pipeline::RenderError::from)?;
     Ok((s.rows(), s.bg_packed()))
 }
 

@@ -89,7 +89,6 @@ fn render_in_bands(
 
 /// Box resolve of one band: every pixel's `k²` samples summed and truncated once; the
 /// visible triangle is the one owning most samples (lowest index on a tie).
-#[allow(clippy::needless_range_loop)]
 fn resolve(
     buf: &super::sampler::SampleBuf,
     width: u32,
@@ -107,8 +106,8 @@ fn resolve(
             for b in 0..k {
                 for a in 0..k {
                     let s = buf.idx((i * k + a) as u32, (j * k + b) as u32);
-                    for ch in 0..3 {
-                        acc[ch] += buf.rgb[s][ch] as u64;
+                    for (a, v) in acc.iter_mut().zip(buf.rgb[s]) {
+                        *a += v as u64;
                     }
                     let t = buf.tri[s];
                     match counts.iter_mut().find(|c| c.0 == t) {
@@ -117,8 +116,9 @@ fn resolve(
                     }
                 }
             }
-            for ch in 0..3 {
-                rgb[3 * (j * w + i) + ch] = (acc[ch] / (n * 4096)).min(255) as u8;
+            let px = 3 * (j * w + i);
+            for (out, a) in rgb[px..px + 3].iter_mut().zip(acc) {
+                *out = (a / (n * 4096)).min(255) as u8;
             }
             counts.sort_by_key(|c| (std::cmp::Reverse(c.1), c.0));
             visible[j * w + i] = counts[0].0;
