@@ -12,6 +12,7 @@
 #![deny(missing_docs)]
 
 pub mod abuffer;
+pub mod core_stream;
 pub mod fields;
 pub mod opcodes;
 pub mod regs;

@@ -13,6 +13,11 @@
 
 use crate::opcodes::OP_BITS;
 use crate::pixel_processor::REL_W;
+use pixelproc_formats::core_stream::{
+    BEAT_DATA_BITS, KIND_BITS, OUT_COUNT, OUT_DSF, OUT_FSF, OUT_MASK, OUT_NCLASS, OUT_SOF,
+    OUT_USER_BITS, OUT_ZB, SHADE_ADDR_BITS, SHADE_COUNT, SHADE_MASK, SHADE_NCLASS, TABLE_ADDR,
+    TABLE_FACTOR, TILE_BASE, TILE_BG, TILE_LAST, TILE_SOF,
+};
 use pixelproc_formats::fields::table_end;
 use pixelproc_formats::regs::{
     RD_COUNT, RD_DSF, RD_FSF, RD_MASK, RD_NCLASS, RD_RGB, RD_ZB, READOUT_BITS,
@@ -174,6 +179,86 @@ field_slices! {
         get_value_fsf, set_value_fsf, get_my_width_fsf, get_my_offset_fsf: RD_FSF;
         get_value_dsf, set_value_dsf, get_my_width_dsf, get_my_offset_dsf: RD_DSF;
     }
+}
+
+/// Width of a command beat as the core's input FIFO stores it: `tdata` (256) then the
+/// beat kind (4).
+pub const BEAT_W: usize = BEAT_DATA_BITS + KIND_BITS;
+/// Beat field: `tdata`.
+pub const BEAT_DATA: Field = Field::first("tdata", BEAT_DATA_BITS);
+/// Beat field: the kind (`tuser`).
+pub const BEAT_KIND: Field = BEAT_DATA.then("kind", KIND_BITS);
+/// Pixel-stream beat field: RGB888 (`tdata`).
+pub const PIX_RGB: Field = Field::first("rgb", 24);
+/// Pixel-stream beat field: `tuser`.
+pub const PIX_USER: Field = PIX_RGB.then("user", OUT_USER_BITS);
+/// Pixel-stream beat field: `tlast`.
+pub const PIX_LAST: Field = PIX_USER.then("last", 1);
+/// Width of a pixel-stream beat as the output FIFO stores it.
+pub const PIX_W: usize = PIX_LAST.end();
+
+field_slices! {
+    /// A stored command beat: data and kind.
+    BeatFields for BEAT_W;
+    bits {
+        get_value_tdata, set_value_tdata, get_my_width_tdata, get_my_offset_tdata: BEAT_DATA;
+        get_value_kind, set_value_kind, get_my_width_kind, get_my_offset_kind: BEAT_KIND;
+    }
+    flags {}
+}
+
+field_slices! {
+    /// The TILE, TABLE and LATCH_SHADOW beats' fields as slices of `tdata`.
+    TileFields for SPAN_W;
+    bits {
+        get_value_bg, set_value_bg, get_my_width_bg, get_my_offset_bg: TILE_BG;
+        get_value_base, set_value_base, get_my_width_base, get_my_offset_base: TILE_BASE;
+        get_value_last, set_value_last, get_my_width_last, get_my_offset_last: TILE_LAST;
+        get_value_taddr, set_value_taddr, get_my_width_taddr, get_my_offset_taddr: TABLE_ADDR;
+        get_value_factor, set_value_factor, get_my_width_factor, get_my_offset_factor: TABLE_FACTOR;
+    }
+    flags {
+        get_value_sof, set_value_sof, get_my_width_sof, get_my_offset_sof: TILE_SOF;
+    }
+}
+
+field_slices! {
+    /// A stored pixel beat: RGB, `tuser`, `tlast`.
+    PixFields for PIX_W;
+    bits {
+        get_value_prgb, set_value_prgb, get_my_width_prgb, get_my_offset_prgb: PIX_RGB;
+        get_value_puser, set_value_puser, get_my_width_puser, get_my_offset_puser: PIX_USER;
+    }
+    flags {
+        get_value_plast, set_value_plast, get_my_width_plast, get_my_offset_plast: PIX_LAST;
+    }
+}
+
+field_slices! {
+    /// The pixel stream's `tuser` fields.
+    UserFields for OUT_USER_BITS;
+    bits {
+        get_value_uzb, set_value_uzb, get_my_width_uzb, get_my_offset_uzb: OUT_ZB;
+        get_value_ucount, set_value_ucount, get_my_width_ucount, get_my_offset_ucount: OUT_COUNT;
+        get_value_umask, set_value_umask, get_my_width_umask, get_my_offset_umask: OUT_MASK;
+        get_value_unclass, set_value_unclass, get_my_width_unclass, get_my_offset_unclass: OUT_NCLASS;
+    }
+    flags {
+        get_value_usof, set_value_usof, get_my_width_usof, get_my_offset_usof: OUT_SOF;
+        get_value_udsf, set_value_udsf, get_my_width_udsf, get_my_offset_udsf: OUT_DSF;
+        get_value_ufsf, set_value_ufsf, get_my_width_ufsf, get_my_offset_ufsf: OUT_FSF;
+    }
+}
+
+field_slices! {
+    /// The shading-table address fields.
+    ShadeAddrFields for SHADE_ADDR_BITS;
+    bits {
+        get_value_scount, set_value_scount, get_my_width_scount, get_my_offset_scount: SHADE_COUNT;
+        get_value_smask, set_value_smask, get_my_width_smask, get_my_offset_smask: SHADE_MASK;
+        get_value_snclass, set_value_snclass, get_my_width_snclass, get_my_offset_snclass: SHADE_NCLASS;
+    }
+    flags {}
 }
 
 #[cfg(test)]

@@ -16,13 +16,16 @@
 #![warn(missing_docs)]
 
 pub mod colour_lane;
+pub mod core_top;
 pub mod entry_channel;
 pub mod layout;
 pub mod mask_search;
 pub mod opcodes;
 pub mod pixel_array;
 pub mod pixel_processor;
+pub mod shade_unit;
 pub mod span_parity;
+pub mod stream_fifo;
 pub mod verilog;
 
 use thiserror::Error;

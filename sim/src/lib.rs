@@ -10,6 +10,7 @@
 pub mod aa;
 pub mod abuffer;
 pub mod builtin;
+pub mod core_model;
 pub mod frontend;
 pub mod input;
 pub mod mask;

@@ -681,6 +681,27 @@ impl FactorTable {
         self.entries[((s.nclass as usize) << self.bits | mask) * self.counts as usize + cnt]
     }
 
+    /// Light-mask bits the table is indexed by (one per shadowing point light).
+    pub fn mask_bits(&self) -> u32 {
+        self.bits
+    }
+
+    /// Counter values the table is indexed by (`area_samples + 1`).
+    pub fn counts(&self) -> u32 {
+        self.counts
+    }
+
+    /// Every entry as `(nclass, mask, count, factor)`: what a hardware table holds.
+    pub fn entries(&self) -> impl Iterator<Item = (u8, u8, u8, u16)> + '_ {
+        let (bits, counts) = (self.bits, self.counts as usize);
+        self.entries.iter().enumerate().map(move |(i, &f)| {
+            let cnt = i % counts;
+            let rest = i / counts;
+            let mask = rest & ((1 << bits) - 1);
+            ((rest >> bits) as u8, mask as u8, cnt as u8, f)
+        })
+    }
+
     /// Shadowed fraction of the pixel's lights, 0..=255, for the shadow AOV.
     pub fn shadow_level(&self, s: &ProcState) -> u8 {
         let n = self.point_lights + (self.area_samples > 0) as u32;

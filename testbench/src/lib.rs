@@ -6,6 +6,7 @@
 #![warn(missing_docs)]
 
 pub mod compare;
+pub mod core_tb;
 pub mod external;
 pub mod mask_search_tb;
 pub mod sim_tools;

@@ -1,0 +1,239 @@
+//! The shading step of seed 001 (Matsumoto, section 2: "correct the intensity and store
+//! it in the frame buffer"; section 6 for the table indexed by the normal class and the
+//! light mask or counter), on the core's readout path.
+//!
+//! Each pixel read out of the array passes through two registers. Stage 1 registers the
+//! readout word and reads the shading table at `{NCLASS, MASK[2:0], COUNT[3:0]}`
+//! (`pixelproc_formats::core_stream::SHADE_ADDR_FIELDS`; a synchronous-read RAM of
+//! 2^15 × 9 bits, written through `tw_*`). Stage 2 multiplies each channel by the factor
+//! `F` (Q0.8) and stores `min((c·F + 128) >> 8, 255)`; a background pixel
+//! (`ZB = Z_FAR`) and every pixel of a unit built without shading keep their colour. This
+//! is `pixelproc_formats::core_stream::shade_rgb`, the golden model's
+//! `pixelproc_sim::shadow::shade`.
+//!
+//! # Ports
+//!
+//! | port | dir | width | meaning |
+//! |---|---|---|---|
+//! | `clock` | in | 1 | rising edge |
+//! | `rst` | in | 1 | synchronous: no pixel leaves for the next two edges |
+//! | `in_valid`, `in_word`, `in_meta` | in | 1, 74, 2 | a pixel: readout word, and two flags carried along |
+//! | `tw_en`, `tw_addr`, `tw_data` | in | 1, 15, 9 | table write (ignored without shading) |
+//! | `out_valid`, `out_word`, `out_meta` | out | 1, 74, 2 | the pixel two edges later, its RGB shaded |
+//!
+//! Latency: a pixel on the inputs before edge `E` is on the outputs after edge `E + 1`.
+
+use crate::layout::{ReadoutFields, ShadeAddrFields, READOUT_W};
+use pixelproc_formats::core_stream::{FACTOR_BITS, SHADE_ADDR_BITS};
+use pixelproc_formats::Z_FAR;
+use rust_hdl::prelude::*;
+
+/// Width of the meta flags carried beside each pixel.
+pub const META_W: usize = 2;
+
+/// The shading unit. Build with [`ShadeUnit::new`].
+#[derive(LogicBlock)]
+pub struct ShadeUnit {
+    /// Clock.
+    pub clock: Signal<In, Clock>,
+    /// Synchronous reset: empties the two stages.
+    pub rst: Signal<In, Bit>,
+    /// A pixel is on `in_word`.
+    pub in_valid: Signal<In, Bit>,
+    /// The pixel's readout word.
+    pub in_word: Signal<In, Bits<READOUT_W>>,
+    /// Flags carried along unchanged.
+    pub in_meta: Signal<In, Bits<META_W>>,
+    /// Table write enable.
+    pub tw_en: Signal<In, Bit>,
+    /// Table write address.
+    pub tw_addr: Signal<In, Bits<SHADE_ADDR_BITS>>,
+    /// Table write data: a factor, Q0.8.
+    pub tw_data: Signal<In, Bits<FACTOR_BITS>>,
+    /// The shaded pixel is on `out_word`.
+    pub out_valid: Signal<Out, Bit>,
+    /// The readout word with its RGB shaded.
+    pub out_word: Signal<Out, Bits<READOUT_W>>,
+    /// The flags.
+    pub out_meta: Signal<Out, Bits<META_W>>,
+    ftab: RAM<Bits<FACTOR_BITS>, SHADE_ADDR_BITS>,
+    s1_v: DFF<Bit>,
+    s1_word: DFF<Bits<READOUT_W>>,
+    s1_meta: DFF<Bits<META_W>>,
+    s2_v: DFF<Bit>,
+    s2_word: DFF<Bits<READOUT_W>>,
+    s2_meta: DFF<Bits<META_W>>,
+    l_addr: Signal<Local, Bits<SHADE_ADDR_BITS>>,
+    l_f: Signal<Local, Bits<16>>,
+    l_rgb: Signal<Local, Bits<24>>,
+    l_ch: Signal<Local, Bits<8>>,
+    l_c: Signal<Local, Bits<32>>,
+    l_out: Signal<Local, Bits<24>>,
+    l_word: Signal<Local, Bits<READOUT_W>>,
+    k_on: Constant<Bit>,
+    k_far: Constant<Bits<24>>,
+    k_one: Constant<Bits<16>>,
+    k_half: Constant<Bits<32>>,
+    k_sat: Constant<Bits<32>>,
+    k_max: Constant<Bits<8>>,
+}
+
+impl ShadeUnit {
+    /// A unit that shades (`shading`) or passes colours through with the same latency.
+    pub fn new(shading: bool) -> ShadeUnit {
+        ShadeUnit {
+            clock: Default::default(),
+            rst: Default::default(),
+            in_valid: Default::default(),
+            in_word: Default::default(),
+            in_meta: Default::default(),
+            tw_en: Default::default(),
+            tw_addr: Default::default(),
+            tw_data: Default::default(),
+            out_valid: Default::default(),
+            out_word: Default::default(),
+            out_meta: Default::default(),
+            ftab: Default::default(),
+            s1_v: Default::default(),
+            s1_word: Default::default(),
+            s1_meta: Default::default(),
+            s2_v: Default::default(),
+            s2_word: Default::default(),
+            s2_meta: Default::default(),
+            l_addr: Default::default(),
+            l_f: Default::default(),
+            l_rgb: Default::default(),
+            l_ch: Default::default(),
+            l_c: Default::default(),
+            l_out: Default::default(),
+            l_word: Default::default(),
+            k_on: Constant::new(shading),
+            k_far: Constant::new((Z_FAR as u64).to_bits()),
+            k_one: Constant::new(256u64.to_bits()),
+            k_half: Constant::new(128u64.to_bits()),
+            k_sat: Constant::new(0xFFFFu64.to_bits()),
+            k_max: Constant::new(255u64.to_bits()),
+        }
+    }
+}
+
+impl Logic for ShadeUnit {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, s1_v, s1_word, s1_meta, s2_v, s2_word, s2_meta);
+        self.ftab.read_clock.next = self.clock.val();
+        self.ftab.write_clock.next = self.clock.val();
+        self.ftab.write_enable.next = self.tw_en.val() & self.k_on.val();
+        self.ftab.write_address.next = self.tw_addr.val();
+        self.ftab.write_data.next = self.tw_data.val();
+        // ---- Stage 1: register the pixel, read its factor.
+        self.l_addr.next = 0u64.into();
+        self.l_addr
+            .next
+            .set_value_scount(self.in_word.val().get_value_count().get_bits::<4>(0));
+        self.l_addr
+            .next
+            .set_value_smask(self.in_word.val().get_value_mask().get_bits::<3>(0));
+        self.l_addr
+            .next
+            .set_value_snclass(self.in_word.val().get_value_nclass());
+        self.ftab.read_address.next = self.l_addr.val();
+        self.s1_v.d.next = self.in_valid.val();
+        self.s1_word.d.next = self.in_word.val();
+        self.s1_meta.d.next = self.in_meta.val();
+        // ---- Stage 2: c·F + 128 >> 8, saturated at 255, per channel.
+        self.l_f.next = bit_cast::<16, FACTOR_BITS>(self.ftab.read_data.val());
+        if !self.k_on.val() | (self.s1_word.q.val().get_value_zb() == self.k_far.val()) {
+            self.l_f.next = self.k_one.val();
+        }
+        self.l_rgb.next = self.s1_word.q.val().get_value_rgb();
+        self.l_out.next = 0u64.into();
+        for c in 0..3 {
+            self.l_ch.next = self.l_rgb.val().get_bits::<8>(8 * c);
+            self.l_c.next =
+                ((bit_cast::<16, 8>(self.l_ch.val()) * self.l_f.val()) + self.k_half.val()) >> 8;
+            if self.l_c.val() > bit_cast::<32, 8>(self.k_max.val()) {
+                self.l_c.next = self.k_sat.val();
+            }
+            self.l_out.next = (self.l_out.val() >> 8)
+                | (bit_cast::<24, 8>(self.l_c.val().get_bits::<8>(0)) << 16);
+        }
+        self.l_word.next = self.s1_word.q.val();
+        self.l_word.next.set_value_rgb(self.l_out.val());
+        self.s2_v.d.next = self.s1_v.q.val();
+        self.s2_word.d.next = self.l_word.val();
+        self.s2_meta.d.next = self.s1_meta.q.val();
+        self.out_valid.next = self.s2_v.q.val();
+        self.out_word.next = self.s2_word.q.val();
+        self.out_meta.next = self.s2_meta.q.val();
+        if self.rst.val() {
+            self.s1_v.d.next = false;
+            self.s2_v.d.next = false;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pixelproc_formats::core_stream::{shade_addr, shade_rgb};
+    use pixelproc_formats::regs::ProcState;
+
+    fn edge(u: &mut ShadeUnit) {
+        u.clock.next = Clock { clk: true };
+        assert!(simulate(u, 50));
+        u.clock.next = Clock { clk: false };
+        assert!(simulate(u, 50));
+    }
+
+    fn word(s: &ProcState) -> Bits<READOUT_W> {
+        let w = s.pack_readout();
+        let mut b: Bits<READOUT_W> = (w as u64).to_bits();
+        b.set_bits::<10>(64, ((w >> 64) as u64).to_bits());
+        b
+    }
+
+    /// Every channel value times a spread of factors, through the RAM, equals
+    /// `shade_rgb`; background pixels and the unshaded unit pass colours through.
+    #[test]
+    fn shades_like_the_formula() {
+        for shading in [true, false] {
+            let mut u = ShadeUnit::new(shading);
+            u.connect_all();
+            let factors = [0u32, 1, 77, 128, 200, 255, 256, 300, 511];
+            for (i, f) in factors.iter().enumerate() {
+                u.tw_en.next = true;
+                u.tw_addr.next = (shade_addr(i as u8, 5, 3) as u64).to_bits();
+                u.tw_data.next = (*f as u64).to_bits();
+                edge(&mut u);
+            }
+            u.tw_en.next = false;
+            let mut want = Vec::new();
+            for v in (0..=255u32).step_by(3) {
+                for (i, f) in factors.iter().enumerate() {
+                    let s = ProcState {
+                        zb: if v % 7 == 0 { Z_FAR } else { v * 1000 },
+                        rgb: v << 16 | (255 - v) << 8 | (v * 5 % 256),
+                        mask: 5,
+                        count: 3,
+                        nclass: i as u8,
+                        ..Default::default()
+                    };
+                    let mut out = s;
+                    if shading && s.zb != Z_FAR {
+                        out.rgb = shade_rgb(s.rgb, *f);
+                    }
+                    want.push(out);
+                    u.in_valid.next = true;
+                    u.in_word.next = word(&s);
+                    u.in_meta.next = 2u64.to_bits();
+                    edge(&mut u);
+                    if want.len() >= 2 {
+                        assert!(u.out_valid.val());
+                        assert_eq!(u.out_word.val(), word(&want[want.len() - 2]));
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,220 @@
+//! A first-word-fall-through stream FIFO on one synchronous-read RAM, with valid/ready
+//! handshakes on both sides (AXI4-Stream rules: a beat moves on a rising edge where
+//! `valid` and `ready` are both 1; `out_data` is stable while `out_valid` and not
+//! `out_ready`).
+//!
+//! # Ports
+//!
+//! | port | dir | width | meaning |
+//! |---|---|---|---|
+//! | `clock` | in | 1 | rising edge |
+//! | `rst` | in | 1 | synchronous: empties the FIFO; `in_ready` is 0 while it is 1 |
+//! | `in_valid`, `in_data`, `in_ready` | in, in, out | 1, `D`, 1 | write side |
+//! | `out_valid`, `out_data`, `out_ready` | out, out, in | 1, `D`, 1 | read side |
+//! | `level` | out | `A1` | entries held, the presented one included (0 ..= 2^`A`) |
+//!
+//! # Behaviour, one rising edge (the golden twin is `pixelproc_sim::core_model::Fifo`)
+//!
+//! Registers: write pointer `wr`, read pointer `rd` (both `A + 1` bits), and `dv` (the
+//! RAM's read register holds the head entry). With `pop = dv ∧ out_ready`,
+//! `fetch = (wr ≠ rd) ∧ (¬dv ∨ pop)`, `push = in_valid ∧ in_ready`:
+//! - the RAM reads address `rd` if `fetch`, else `rd − 1` (re-reads the head entry, so
+//!   `out_data` holds);
+//! - `rd += fetch`, `dv := fetch ∨ (dv ∧ ¬pop)`, `wr += push`, `mem[wr] := in_data` if
+//!   `push`;
+//! - `level = wr − rd + dv`, `in_ready = ¬rst ∧ level ≠ 2^A`.
+//!
+//! A beat written at edge `E` is presented (`out_valid`) from edge `E + 1` on if the FIFO
+//! was empty; in steady state one beat moves on each side on every edge. The head entry
+//! stays in the RAM until popped, so the RAM never reads a slot being written.
+
+use rust_hdl::prelude::*;
+
+/// The FIFO: `D` data, `2^A` entries, `A1 = A + 1` (pointer width).
+#[derive(LogicBlock)]
+pub struct StreamFifo<D: Synth, const A: usize, const A1: usize> {
+    /// Clock.
+    pub clock: Signal<In, Clock>,
+    /// Synchronous reset.
+    pub rst: Signal<In, Bit>,
+    /// Write side: a beat is offered.
+    pub in_valid: Signal<In, Bit>,
+    /// Write side: the beat.
+    pub in_data: Signal<In, D>,
+    /// Write side: the FIFO takes the beat at the next edge if `in_valid`.
+    pub in_ready: Signal<Out, Bit>,
+    /// Read side: `out_data` holds the head entry.
+    pub out_valid: Signal<Out, Bit>,
+    /// Read side: the head entry.
+    pub out_data: Signal<Out, D>,
+    /// Read side: the consumer takes the head entry at the next edge if `out_valid`.
+    pub out_ready: Signal<In, Bit>,
+    /// Entries held.
+    pub level: Signal<Out, Bits<A1>>,
+    ram: RAM<D, A>,
+    wr: DFF<Bits<A1>>,
+    rd: DFF<Bits<A1>>,
+    dv: DFF<Bit>,
+    l_pop: Signal<Local, Bit>,
+    l_fetch: Signal<Local, Bit>,
+    l_push: Signal<Local, Bit>,
+    l_level: Signal<Local, Bits<A1>>,
+    l_dv: Signal<Local, Bits<A1>>,
+    k_one: Constant<Bits<A1>>,
+    k_zero: Constant<Bits<A1>>,
+    k_full: Constant<Bits<A1>>,
+}
+
+impl<D: Synth, const A: usize, const A1: usize> Default for StreamFifo<D, A, A1> {
+    fn default() -> Self {
+        assert!(
+            A1 == A + 1 && A >= 1 && A < 16,
+            "StreamFifo needs A1 = A + 1"
+        );
+        StreamFifo {
+            clock: Default::default(),
+            rst: Default::default(),
+            in_valid: Default::default(),
+            in_data: Default::default(),
+            in_ready: Default::default(),
+            out_valid: Default::default(),
+            out_data: Default::default(),
+            out_ready: Default::default(),
+            level: Default::default(),
+            ram: Default::default(),
+            wr: Default::default(),
+            rd: Default::default(),
+            dv: Default::default(),
+            l_pop: Default::default(),
+            l_fetch: Default::default(),
+            l_push: Default::default(),
+            l_level: Default::default(),
+            l_dv: Default::default(),
+            k_one: Constant::new(1u64.to_bits()),
+            k_zero: Constant::new(0u64.to_bits()),
+            k_full: Constant::new((1u64 << A).to_bits()),
+        }
+    }
+}
+
+impl<D: Synth, const A: usize, const A1: usize> StreamFifo<D, A, A1> {
+    /// Number of entries.
+    pub const DEPTH: usize = 1 << A;
+
+    /// The write pointer, read pointer and head-valid registers (for testbenches).
+    pub fn probe(&self) -> (u32, u32, bool) {
+        (
+            self.wr.q.val().index() as u32,
+            self.rd.q.val().index() as u32,
+            self.dv.q.val(),
+        )
+    }
+}
+
+impl<D: Synth, const A: usize, const A1: usize> Logic for StreamFifo<D, A, A1> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, wr, rd, dv);
+        self.ram.read_clock.next = self.clock.val();
+        self.ram.write_clock.next = self.clock.val();
+        self.l_dv.next = self.k_zero.val();
+        if self.dv.q.val() {
+            self.l_dv.next = self.k_one.val();
+        }
+        self.l_level.next = (self.wr.q.val() - self.rd.q.val()) + self.l_dv.val();
+        self.level.next = self.l_level.val();
+        self.in_ready.next = (self.l_level.val() != self.k_full.val()) & !self.rst.val();
+        self.l_pop.next = self.dv.q.val() & self.out_ready.val();
+        self.l_fetch.next =
+            (self.wr.q.val() != self.rd.q.val()) & (!self.dv.q.val() | self.l_pop.val());
+        self.l_push.next = self.in_valid.val() & self.in_ready.val();
+        // Read side.
+        self.ram.read_address.next = bit_cast::<A, A1>(self.rd.q.val() - self.k_one.val());
+        if self.l_fetch.val() {
+            self.ram.read_address.next = bit_cast::<A, A1>(self.rd.q.val());
+            self.rd.d.next = self.rd.q.val() + self.k_one.val();
+        }
+        self.dv.d.next = self.l_fetch.val() | (self.dv.q.val() & !self.l_pop.val());
+        self.out_valid.next = self.dv.q.val();
+        self.out_data.next = self.ram.read_data.val();
+        // Write side.
+        self.ram.write_address.next = bit_cast::<A, A1>(self.wr.q.val());
+        self.ram.write_data.next = self.in_data.val();
+        self.ram.write_enable.next = self.l_push.val();
+        if self.l_push.val() {
+            self.wr.d.next = self.wr.q.val() + self.k_one.val();
+        }
+        if self.rst.val() {
+            self.wr.d.next = self.k_zero.val();
+            self.rd.d.next = self.k_zero.val();
+            self.dv.d.next = false;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::VecDeque;
+
+    type F = StreamFifo<Bits<8>, 2, 3>;
+
+    fn edge(uut: &mut F) {
+        uut.clock.next = Clock { clk: true };
+        assert!(simulate(uut, 50));
+        uut.clock.next = Clock { clk: false };
+        assert!(simulate(uut, 50));
+    }
+
+    /// Random valid and ready patterns: every beat comes out once, in order, data stable
+    /// while stalled, and the level matches a queue model.
+    #[test]
+    fn no_beat_lost_duplicated_or_reordered() {
+        let mut uut = F::default();
+        uut.connect_all();
+        let mut seed = 0x1234_5678_9abc_def1u64;
+        let mut rnd = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        uut.rst.next = true;
+        edge(&mut uut);
+        uut.rst.next = false;
+        let (mut next_in, mut next_out) = (0u64, 0u64);
+        let mut model: VecDeque<u64> = VecDeque::new();
+        let mut held: Option<u64> = None;
+        for _ in 0..4000 {
+            let r = rnd();
+            let valid = r & 3 != 0;
+            let ready = (r >> 2) & 3 == 0 || (r >> 8) & 1 == 1;
+            uut.in_valid.next = valid;
+            uut.in_data.next = (next_in & 0xFF).to_bits();
+            uut.out_ready.next = ready;
+            assert!(simulate(&mut uut, 50));
+            assert_eq!(uut.level.val().index(), model.len());
+            let in_ready = uut.in_ready.val();
+            assert_eq!(in_ready, model.len() < 4);
+            let out_valid = uut.out_valid.val();
+            if out_valid {
+                let d = uut.out_data.val().index() as u64;
+                assert_eq!(d, next_out & 0xFF);
+                if let Some(h) = held {
+                    assert_eq!(h, d, "data changed while stalled");
+                }
+                held = if ready { None } else { Some(d) };
+            }
+            if out_valid && ready {
+                model.pop_front();
+                next_out += 1;
+            }
+            if valid && in_ready {
+                model.push_back(next_in);
+                next_in += 1;
+            }
+            edge(&mut uut);
+        }
+        assert!(next_out > 1000, "the pattern moved {next_out} beats");
+    }
+}
