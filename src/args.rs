@@ -74,10 +74,46 @@ pub(crate) struct TestbenchArgs {
     /// Folder for vector files, simulator builds and the VCD of a mismatch.
     #[arg(long, value_name = "DIR", default_value = "pixelproc-out/testbench")]
     pub(crate) work: PathBuf,
+    /// A whole frame through the core (`pixelproc_core`): its binned command stream in,
+    /// its pixel stream collected into an image, every pixel compared with the golden
+    /// image, both written as PNGs into the work folder, cycles reported. Runs in
+    /// Verilator (`--sim verilator`, any scene) or RustHDL (small scenes).
+    #[arg(long, conflicts_with = "rows")]
+    pub(crate) frame: bool,
+    /// With --frame: the core's debug configuration; depth, shadow flags, light mask,
+    /// counter and normal class are compared too.
+    #[arg(long, requires = "frame")]
+    pub(crate) debug: bool,
+    /// With --frame: seed of the random input gaps and output back-pressure.
+    #[arg(long, default_value_t = 1, requires = "frame")]
+    pub(crate) seed: u64,
+    /// With --frame: percent of clocks the source leaves a gap (0..=90).
+    #[arg(long, value_name = "PCT", default_value_t = 20, requires = "frame",
+          value_parser = clap::value_parser!(u32).range(0..=90))]
+    pub(crate) gaps: u32,
+    /// With --frame: percent of clocks the sink drops `tready` (0..=90).
+    #[arg(long, value_name = "PCT", default_value_t = 20, requires = "frame",
+          value_parser = clap::value_parser!(u32).range(0..=90))]
+    pub(crate) stalls: u32,
+    /// With --frame: clock for the frame time, in MHz (default: the routed figure in
+    /// docs/rtl.md).
+    #[arg(long, value_name = "MHZ", default_value_t = pixelproc_testbench::frame::DEFAULT_CLOCK_MHZ,
+          value_parser = parse_mhz)]
+    pub(crate) clock_mhz: f64,
     #[command(flatten)]
     pub(crate) fx: EffectArgs,
     #[command(flatten)]
     pub(crate) input: InputArgs,
+}
+
+/// A clock frequency: a finite number above 0 and at most 10 GHz.
+fn parse_mhz(s: &str) -> Result<f64, String> {
+    let v: f64 = s.trim().parse().map_err(|_| format!("`{s}` is not a number of MHz"))?;
+    if v.is_finite() && v > 0.0 && v <= 10_000.0 {
+        Ok(v)
+    } else {
+        Err(format!("{s} MHz is outside (0, 10000]"))
+    }
 }
 
 #[derive(Args)]

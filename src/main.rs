@@ -335,6 +335,9 @@ fn cmd_testbench(a: &TestbenchArgs) -> Result<bool> {
             );
         }
     }
+    if a.frame {
+        return cmd_frame(a, &ls, &fx, sim);
+    }
     let mut ok = run_testbench(&ls, &fx, sim, a.rows.as_deref(), &a.work)?;
     // The search unit only when the scene asks for the A-buffer.
     if let AaMethod::Abuffer(p) = &fx.aa {
@@ -364,6 +367,144 @@ fn cmd_testbench(a: &TestbenchArgs) -> Result<bool> {
         }
     }
     Ok(ok)
+}
+
+/// `testbench --frame`: a whole frame through the core, every pixel compared.
+fn cmd_frame(a: &TestbenchArgs, ls: &LoadedScene, fx: &Effects, sim: SimKind) -> Result<bool> {
+    use pixelproc_testbench::frame::{plan_frame, run_frame_check, FrameSim, FrameSpec};
+    let fsim = match sim {
+        SimKind::Verilator => FrameSim::Verilator,
+        SimKind::RustHdl => FrameSim::RustHdl,
+        SimKind::Icarus => {
+            bail!("--frame --sim icarus: whole frames run in verilator (any scene) or rusthdl (small scenes)")
+        }
+    };
+    // Everything the core cannot take is an error before any simulation.
+    let plan = plan_frame(ls, fx, fx.array_width)?;
+    let spec = FrameSpec {
+        array_width: fx.array_width,
+        debug: a.debug,
+        seed: a.seed,
+        gap_pct: a.gaps,
+        stall_pct: a.stalls,
+        work: a.work.clone(),
+    };
+    if fsim == FrameSim::RustHdl && plan.stream.pixels() > 100_000 {
+        eprintln!(
+            "testbench: {} pixels in RustHDL runs at a few thousand clocks per second; --sim verilator is faster",
+            plan.stream.pixels()
+        );
+    }
+    let progress = indicatif::ProgressBar::new_spinner();
+    if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        progress.enable_steady_tick(std::time::Duration::from_millis(120));
+    } else {
+        progress.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+    }
+    let mut say_progress = |m: &str| {
+        if progress.is_hidden() {
+            eprintln!("testbench: {m}");
+        } else {
+            progress.set_message(m.to_string());
+        }
+    };
+    let r = run_frame_check(ls, fx, &spec, fsim, &mut say_progress)?;
+    progress.finish_and_clear();
+    let mut files = OutputSet::new();
+    let img = |data: Vec<u8>| Image {
+        width: r.width,
+        height: r.height,
+        channels: 3,
+        data,
+    };
+    let rtl_png = a.work.join("frame_rtl.png");
+    let golden_png = a.work.join("frame_golden.png");
+    add_png(&mut files, &rtl_png, &img(r.rtl_rgb.clone()))?;
+    add_png(&mut files, &golden_png, &img(r.golden_rgb.clone()))?;
+    files.commit()?;
+    let c = &r.cycles;
+    say!(
+        "frame {} {}x{} through {} ({:?}): identical: {}",
+        ls.name,
+        r.width,
+        r.height,
+        r.module,
+        fsim,
+        if r.identical { "yes" } else { "NO" }
+    );
+    say!(
+        "  pixels compared: {} ({})",
+        r.pixels,
+        if a.debug {
+            "RGB, depth, DSF, FSF, counter, light mask, normal class"
+        } else {
+            "RGB"
+        }
+    );
+    say!(
+        "  cycles: {} with stalls (seed {}, input gaps {} %, output stalls {} %): source held by the core {}, readout-hazard waits {}, sink not ready {}; the cycle model {}",
+        c.cycles,
+        a.seed,
+        a.gaps,
+        a.stalls,
+        c.in_stall,
+        c.hazard_stall,
+        c.out_stall,
+        if c.cycles == r.model_cycles.cycles && c.in_stall == r.model_cycles.in_stall && c.out_stall == r.model_cycles.out_stall {
+            "agrees".to_string()
+        } else {
+            format!("says {} cycles", r.model_cycles.cycles)
+        }
+    );
+    let per_line = r.free_cycles.cycles as f64 / r.height.max(1) as f64;
+    let ms = r.free_cycles.cycles as f64 / (a.clock_mhz * 1e3);
+    say!(
+        "  frame cost (no stalls): {} cycles, {:.1} per scanline, {} beats, {} tile-lines; unbinned stream: {} cycles ({:.2}x)",
+        r.free_cycles.cycles,
+        per_line,
+        r.free_cycles.beats,
+        r.tile_lines,
+        r.unbinned_cycles,
+        r.unbinned_cycles as f64 / r.free_cycles.cycles.max(1) as f64
+    );
+    say!(
+        "  at {} MHz: {:.3} ms per frame, {:.1} frames/s",
+        a.clock_mhz,
+        ms,
+        1e3 / ms.max(1e-12)
+    );
+    say!(
+        "  build: {}, run: {:.2} s ({:.0} cycles/s)",
+        if fsim == FrameSim::RustHdl {
+            "none (RustHDL)".to_string()
+        } else if r.build_cached {
+            "cached".to_string()
+        } else {
+            format!("{:.1} s", r.build_seconds)
+        },
+        r.run_seconds,
+        c.cycles as f64 / r.run_seconds.max(1e-9)
+    );
+    if r.proto_err {
+        say!("  the core raised proto_err");
+    }
+    if let Some(m) = &r.mismatch {
+        say!(
+            "  first differing pixel ({}, {}) in the tile at column {} of row {}, clock {}:\n    golden {:?}\n    rtl    {}",
+            m.x,
+            m.y,
+            m.tile_base,
+            m.y,
+            m.clock.map_or("-".into(), |c| c.to_string()),
+            m.golden,
+            m.rtl.map_or("never streamed out".into(), |s| format!("{s:?}"))
+        );
+        if let Some(v) = &m.vcd {
+            say!("  trace of the clocks around it: {}", v.display());
+        }
+    }
+    say!("wrote {} and {}", rtl_png.display(), golden_png.display());
+    Ok(r.identical)
 }
 
 /// The no-argument run: render the embedded scene, check a few of its scanlines on the

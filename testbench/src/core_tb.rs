@@ -34,8 +34,9 @@ pub struct CoreMismatch {
 /// Outcome of a clock-by-clock core run.
 #[derive(Clone, Debug)]
 pub struct CoreComparison {
-    /// Pixels taken from the RTL's output stream, in order.
-    pub pixels: Vec<PixelBeat>,
+    /// Pixels taken from the RTL's output stream, in order, each with the clock it was
+    /// taken on (edges after reset, from 0).
+    pub pixels: Vec<(PixelBeat, u64)>,
     /// Cycle accounting (from the model; the RTL agreed on every clock).
     pub cycles: FrameCycles,
     /// The first disagreement, if any.
@@ -181,7 +182,7 @@ pub fn compare_core<const IA: usize, const IA1: usize>(
             c.out_stall += (got.m_valid && !inp.m_ready) as u64;
             c.issued += want.issued as u64;
             if got.m_valid && inp.m_ready {
-                pixels.push(got.m_pixel);
+                pixels.push((got.m_pixel, c.cycles - 1));
             }
         }
         first = false;

@@ -8,6 +8,7 @@
 pub mod compare;
 pub mod core_tb;
 pub mod external;
+pub mod frame;
 pub mod mask_search_tb;
 pub mod sim_tools;
 pub mod stimulus;

@@ -44,7 +44,7 @@ fn run(scene: &str, w: u32, h: u32, n: usize, shadows: bool, gap: u32, stall: u3
         panic!("{scene} N {n}: after cycle {}: {}", m.cycle, m.what);
     }
     assert_eq!(r.pixels.len(), cs.pixels());
-    for (k, p) in r.pixels.iter().enumerate() {
+    for (k, (p, _)) in r.pixels.iter().enumerate() {
         let (x, y) = cs.position(k);
         let i = (y * w + x) as usize;
         let g = &golden.image.data[3 * i..3 * i + 3];

@@ -1,0 +1,683 @@
+//! Whole frames through the exported Verilog of the core
+//! (`pixelproc_rtl::core_top::PixelprocCore`), every pixel compared with the golden
+//! image.
+//!
+//! The golden model writes the frame's binned command stream
+//! (`pixelproc_sim::core_model::CoreStream`) as `beats.bin`; a C++ harness drives the
+//! Verilated core with it, one beat per clock when the core is ready, with seeded random
+//! gaps on the input and random `tready` drops on the output (the same xorshift64*
+//! sequence as `pixelproc_sim::core_model::Stalls`, so the cycle-level golden model runs
+//! the very same clocks), and writes every pixel it takes, with its clock, to
+//! `pixels.bin`. The pixels, in stream order, are placed into an image and compared with
+//! the golden renderer's no-AA image (and, in the debug configuration, depth, flags,
+//! light mask and counter). The cycle counts of the Verilog run must equal the model's.
+//!
+//! `beats.bin`: per beat five little-endian `u64`: `tdata[63:0]`, …, `tdata[255:192]`,
+//! then the kind. `pixels.bin`: per pixel `u32` RGB, `u32` 0, `u64` `tuser | tlast << 63`,
+//! `u64` the clock it was taken on (edges after reset).
+
+use crate::TbError;
+use pixelproc_rtl::core_top::core_verilog;
+use pixelproc_sim::core_model::{
+    run_frame, Beat, CoreModel, CoreStream, FrameCycles, PixelBeat, Stalls, DEFAULT_IN_ABITS,
+};
+use pixelproc_sim::pipeline::render;
+use pixelproc_sim::pixel_array::ProcState;
+use pixelproc_sim::plan::{AaMethod, Effects};
+use pixelproc_sim::scene::LoadedScene;
+use pixelproc_sim::shadow::{shadow_lights, FactorTable};
+use pixelproc_sim::stream::SceneStream;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::Command as Proc;
+
+/// The clock the frame time is given at by default, MHz: the routed figure of the array
+/// (N = 8, ECP5, `docs/rtl.md`). The core at N = 64 is not yet routed at a higher clock.
+pub const DEFAULT_CLOCK_MHZ: f64 = 116.95;
+
+/// What to run.
+#[derive(Clone, Debug)]
+pub struct FrameSpec {
+    /// Array width `N`.
+    pub array_width: usize,
+    /// Debug configuration: compare depth, flags, mask and counter too.
+    pub debug: bool,
+    /// Seed of the stall pattern.
+    pub seed: u64,
+    /// Input gap probability, percent.
+    pub gap_pct: u32,
+    /// Output stall probability, percent.
+    pub stall_pct: u32,
+    /// Work folder (Verilog, harness, build, vectors, VCD).
+    pub work: PathBuf,
+}
+
+/// The first pixel that differs.
+#[derive(Clone, Debug)]
+pub struct PixelMismatch {
+    /// Screen position.
+    pub x: u32,
+    /// Screen row.
+    pub y: u32,
+    /// First column of its tile.
+    pub tile_base: u32,
+    /// Clock it left the core on (edges after reset), if it did.
+    pub clock: Option<u64>,
+    /// Golden value.
+    pub golden: ProcState,
+    /// Verilog value (`None`: never came out).
+    pub rtl: Option<ProcState>,
+    /// VCD of the clocks around it, when written.
+    pub vcd: Option<PathBuf>,
+}
+
+/// The outcome of a whole-frame run.
+#[derive(Clone, Debug)]
+pub struct FrameResult {
+    /// Every pixel identical (and the cycle counts equal to the model's).
+    pub identical: bool,
+    /// Pixels compared.
+    pub pixels: usize,
+    /// Cycle accounting of the Verilog run (stall figures from its ports).
+    pub cycles: FrameCycles,
+    /// The model's cycle accounting for the same stall pattern.
+    pub model_cycles: FrameCycles,
+    /// The model's cycles for the same stream with no stalls (back-to-back input, always
+    /// ready output): the frame's own cost.
+    pub free_cycles: FrameCycles,
+    /// The model's cycles with no stalls for the unbinned stream (every tile fed the
+    /// whole row).
+    pub unbinned_cycles: u64,
+    /// Tile-lines in the frame.
+    pub tile_lines: u64,
+    /// Verilator build seconds (0 when cached).
+    pub build_seconds: f64,
+    /// The build came from the cache.
+    pub build_cached: bool,
+    /// Simulation seconds.
+    pub run_seconds: f64,
+    /// First differing pixel.
+    pub mismatch: Option<PixelMismatch>,
+    /// The Verilog's image, RGB8 row-major (unwritten pixels black).
+    pub rtl_rgb: Vec<u8>,
+    /// The golden image, RGB8.
+    pub golden_rgb: Vec<u8>,
+    /// Screen width.
+    pub width: u32,
+    /// Screen height.
+    pub height: u32,
+    /// The core's `proto_err` at the end.
+    pub proto_err: bool,
+    /// The Verilog module simulated.
+    pub module: String,
+}
+
+/// Everything about a scene the core needs, checked before any simulation.
+pub struct FramePlan {
+    /// The binned stream.
+    pub stream: CoreStream,
+    /// The same frame unbinned (every tile fed its whole row), for the cycle comparison.
+    pub unbinned: CoreStream,
+    /// Shadows on.
+    pub shadows: bool,
+}
+
+/// Builds the core's streams for `ls` under `fx`; a scene the core cannot take is an
+/// error here, before any simulation.
+pub fn plan_frame(ls: &LoadedScene, fx: &Effects, n: usize) -> Result<FramePlan, TbError> {
+    if !matches!(fx.aa, AaMethod::None) {
+        return Err(TbError::Unsupported(
+            "an anti-aliased frame: the core renders the no-AA image (use --aa none)".into(),
+        ));
+    }
+    let s = SceneStream::of_scene(ls, &fx.shadow_lights, fx.shadow_form)
+        .map_err(pixelproc_sim::pipeline::RenderError::from)?;
+    let shadows = !fx.shadow_lights.is_empty();
+    let table = if shadows {
+        let lights = shadow_lights(ls, &fx.shadow_lights)
+            .map_err(|e| TbError::Unsupported(e.to_string()))?;
+        Some(FactorTable::new(ls, &lights))
+    } else {
+        None
+    };
+    let core_err = |e: pixelproc_sim::core_model::CoreError| TbError::Unsupported(e.to_string());
+    let stream = CoreStream::of_scene(&s, n, table.as_ref()).map_err(core_err)?;
+    let unbinned = CoreStream::unbinned(&s, n, table.as_ref()).map_err(core_err)?;
+    Ok(FramePlan {
+        stream,
+        unbinned,
+        shadows,
+    })
+}
+
+/// The C++ harness for the Verilated module `top` (see the module header).
+pub fn harness_cpp(top: &str) -> String {
+    format!(
+        r#"// Frame harness for {top}: beats.bin in, pixels.bin out; generated by pixelproc.
+#include "V{top}.h"
+#include "verilated.h"
+#if VM_TRACE
+#include "verilated_vcd_c.h"
+#endif
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <vector>
+
+static uint64_t xs;
+static uint64_t xnext() {{
+    xs ^= xs >> 12; xs ^= xs << 25; xs ^= xs >> 27;
+    return xs * 0x2545F4914F6CDD1DULL;
+}}
+
+int main(int argc, char** argv) {{
+    if (argc < 8) {{
+        std::fprintf(stderr, "usage: %s beats.bin pixels.bin seed gap stall pixels max_cycles [vcd from to]\n", argv[0]);
+        return 2;
+    }}
+    std::FILE* f = std::fopen(argv[1], "rb");
+    if (!f) {{ std::perror(argv[1]); return 2; }}
+    std::vector<uint64_t> b;
+    uint64_t w;
+    while (std::fread(&w, 8, 1, f) == 1) b.push_back(w);
+    std::fclose(f);
+    const size_t nbeats = b.size() / 5;
+    uint64_t seed = std::strtoull(argv[3], nullptr, 10);
+    xs = seed ? seed : 1;
+    const uint64_t gap = std::strtoull(argv[4], nullptr, 10);
+    const uint64_t stall = std::strtoull(argv[5], nullptr, 10);
+    const uint64_t expect = std::strtoull(argv[6], nullptr, 10);
+    const uint64_t max_cycles = std::strtoull(argv[7], nullptr, 10);
+    VerilatedContext* ctx = new VerilatedContext;
+    V{top}* top = new V{top}{{ctx}};
+#if VM_TRACE
+    VerilatedVcdC* tfp = nullptr;
+    uint64_t vfrom = 0, vto = 0;
+    if (argc >= 11) {{
+        ctx->traceEverOn(true);
+        tfp = new VerilatedVcdC;
+        top->trace(tfp, 99);
+        tfp->open(argv[8]);
+        vfrom = std::strtoull(argv[9], nullptr, 10);
+        vto = std::strtoull(argv[10], nullptr, 10);
+    }}
+#define DUMP(t) do {{ if (tfp && cycle >= vfrom && cycle <= vto) tfp->dump(t); }} while (0)
+#else
+#define DUMP(t) do {{}} while (0)
+#endif
+    uint64_t cycle = 0;
+    top->rst = 1; top->s_axis_tvalid = 0; top->m_axis_tready = 0;
+    top->clock = 0; top->eval();
+    top->clock = 1; top->eval();
+    top->rst = 0;
+    std::FILE* o = std::fopen(argv[2], "wb");
+    if (!o) {{ std::perror(argv[2]); return 2; }}
+    size_t next = 0;
+    bool offered = false;
+    uint64_t pixels = 0, in_stall = 0, out_stall = 0;
+    auto t0 = std::chrono::steady_clock::now();
+    while (pixels < expect && cycle < max_cycles) {{
+        uint64_t a = xnext() % 100, r = xnext() % 100;
+        bool valid = next < nbeats && (offered || a >= gap);
+        offered = valid;
+        bool ready = r >= stall;
+        top->s_axis_tvalid = valid;
+        if (next < nbeats) {{
+            for (int i = 0; i < 4; i++) {{
+                uint64_t limb = b[5 * next + i];
+                top->s_axis_tdata[2 * i] = (uint32_t)limb;
+                top->s_axis_tdata[2 * i + 1] = (uint32_t)(limb >> 32);
+            }}
+            top->s_axis_tuser = (uint8_t)b[5 * next + 4];
+        }}
+        top->m_axis_tready = ready;
+        top->clock = 0; top->eval();
+        DUMP(2 * cycle);
+        bool sready = top->s_axis_tready, mvalid = top->m_axis_tvalid;
+        uint32_t rgb = top->m_axis_tdata;
+        uint64_t user = top->m_axis_tuser;
+        bool last = top->m_axis_tlast;
+        top->clock = 1; top->eval();
+        DUMP(2 * cycle + 1);
+        if (valid && sready) {{ next++; offered = false; }}
+        if (valid && !sready) in_stall++;
+        if (mvalid && !ready) out_stall++;
+        if (mvalid && ready) {{
+            uint32_t rec32[2] = {{rgb, 0}};
+            uint64_t rec64[2] = {{user | ((uint64_t)last << 63), cycle}};
+            std::fwrite(rec32, 4, 2, o);
+            std::fwrite(rec64, 8, 2, o);
+            pixels++;
+        }}
+        cycle++;
+    }}
+    double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::fclose(o);
+    std::printf("CYCLES %llu BEATS %llu TAKEN %llu IN_STALL %llu OUT_STALL %llu PIXELS %llu ERR %d SECONDS %.6f\n",
+        (unsigned long long)cycle, (unsigned long long)nbeats, (unsigned long long)next,
+        (unsigned long long)in_stall, (unsigned long long)out_stall,
+        (unsigned long long)pixels, (int)top->proto_err, secs);
+#if VM_TRACE
+    if (tfp) tfp->close();
+#endif
+    top->final();
+    delete top;
+    delete ctx;
+    return 0;
+}}
+"#
+    )
+}
+
+/// Writes `beats.bin`.
+pub fn write_beats(path: &Path, beats: &[Beat]) -> Result<(), TbError> {
+    let mut f = std::io::BufWriter::new(std::fs::File::create(path)?);
+    for b in beats {
+        for l in b.data {
+            f.write_all(&l.to_le_bytes())?;
+        }
+        f.write_all(&(b.kind as u64).to_le_bytes())?;
+    }
+    f.flush()?;
+    Ok(())
+}
+
+/// Reads `pixels.bin`: each pixel with the clock it was taken on.
+pub fn read_pixels(path: &Path) -> Result<Vec<(PixelBeat, u64)>, TbError> {
+    let bytes = std::fs::read(path)?;
+    Ok(bytes
+        .chunks_exact(24)
+        .map(|r| {
+            let u = |a: usize| u64::from_le_bytes(r[a..a + 8].try_into().unwrap_or([0; 8]));
+            let rgb = u32::from_le_bytes(r[0..4].try_into().unwrap_or([0; 4]));
+            let ul = u(8);
+            (
+                PixelBeat {
+                    rgb,
+                    user: ul & !(1 << 63),
+                    last: ul >> 63 == 1,
+                },
+                u(16),
+            )
+        })
+        .collect())
+}
+
+/// A Verilator build of `top` from `files` and the C++ `harness`, cached under
+/// `cache_root` by a hash of everything that goes into it. Returns the executable, the
+/// build seconds and whether it came from the cache.
+pub fn verilator_build(
+    cache_root: &Path,
+    top: &str,
+    verilog: &str,
+    harness: &str,
+    trace: bool,
+) -> Result<(PathBuf, f64, bool), TbError> {
+    use std::hash::{Hash, Hasher};
+    if !crate::external::tool_available("verilator") {
+        return Err(TbError::ToolMissing("verilator".into()));
+    }
+    let version = Proc::new("verilator")
+        .arg("--version")
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).to_string())
+        .unwrap_or_default();
+    let flags: Vec<&str> = {
+        let mut f = vec![
+            "--cc",
+            "--exe",
+            "--build",
+            "-O3",
+            "--x-assign",
+            "fast",
+            "--x-initial",
+            "fast",
+            "-Wno-fatal",
+            "-Wno-lint",
+            "-Wno-style",
+            "-j",
+            "2",
+            "-CFLAGS",
+            "-O1",
+        ];
+        if trace {
+            f.push("--trace");
+        }
+        f
+    };
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    (top, verilog, harness, &flags, &version).hash(&mut h);
+    let key = format!("{top}-{:016x}{}", h.finish(), if trace { "-trace" } else { "" });
+    let dir = cache_root.join(key);
+    let exe = dir.join("obj").join(format!("V{top}"));
+    if dir.join("complete").exists() && exe.exists() {
+        return Ok((exe, 0.0, true));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir)?;
+    std::fs::write(dir.join(format!("{top}.v")), verilog)?;
+    std::fs::write(dir.join("harness.cpp"), harness)?;
+    let t0 = std::time::Instant::now();
+    let o = Proc::new("verilator")
+        .current_dir(&dir)
+        .args(&flags)
+        .args(["--top-module", top, "-Mdir", "obj", "harness.cpp"])
+        .arg(format!("{top}.v"))
+        .output()?;
+    if !o.status.success() || !exe.exists() {
+        return Err(TbError::Sim(format!(
+            "verilator build failed:\n{}{}",
+            String::from_utf8_lossy(&o.stdout),
+            String::from_utf8_lossy(&o.stderr)
+        )));
+    }
+    std::fs::write(dir.join("complete"), "")?;
+    Ok((exe, t0.elapsed().as_secs_f64(), false))
+}
+
+fn stat(out: &str, key: &str) -> Option<f64> {
+    let mut it = out.split_whitespace();
+    while let Some(w) = it.next() {
+        if w == key {
+            return it.next()?.parse().ok();
+        }
+    }
+    None
+}
+
+/// Which simulator runs a whole frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrameSim {
+    /// The exported Verilog in Verilator (any scene).
+    Verilator,
+    /// The RustHDL core itself, every control register compared with the cycle-level
+    /// model every clock (small scenes: a few thousand clocks per second).
+    RustHdl,
+}
+
+/// What the golden renderer says about every pixel: final RGB (shaded) with the array's
+/// depth, flags, mask, counter and normal class.
+fn golden_pixels(ls: &LoadedScene, fx: &Effects) -> Result<(Vec<ProcState>, Vec<u8>), TbError> {
+    let golden = render(ls, fx)?;
+    let gframe = golden
+        .frame
+        .ok_or_else(|| TbError::Unsupported("the plan ran no pixel-processor array".into()))?;
+    let px = gframe
+        .px
+        .iter()
+        .zip(golden.image.data.chunks_exact(3))
+        .map(|(s, c)| ProcState {
+            rgb: pixelproc_formats::pack_rgb([c[0], c[1], c[2]]),
+            ..*s
+        })
+        .collect();
+    Ok((px, golden.image.data))
+}
+
+/// Places the pixels `got` (in stream order, with their clocks) and compares them with
+/// `golden`: the Verilog image and the first difference (value or framing).
+fn compare_pixels(
+    cs: &CoreStream,
+    golden: &[ProcState],
+    got: &[(PixelBeat, u64)],
+    debug: bool,
+) -> (Vec<u8>, Option<PixelMismatch>) {
+    let (w, n) = (cs.width, cs.array_width);
+    let mut rtl_rgb = vec![0u8; 3 * cs.pixels()];
+    let mut mismatch = None;
+    for k in 0..cs.pixels() {
+        let (x, y) = cs.position(k);
+        let i = (y * w + x) as usize;
+        let g = golden[i];
+        let r = got.get(k).map(|(p, c)| {
+            let s = if debug {
+                p.state()
+            } else {
+                ProcState { rgb: p.rgb, ..g }
+            };
+            let framing = p.sof() == (k == 0) && p.last == (x == w - 1 || (x + 1) % n == 0);
+            (s, *c, framing)
+        });
+        if let Some((s, _, _)) = &r {
+            rtl_rgb[3 * i..3 * i + 3].copy_from_slice(&pixelproc_formats::unpack_rgb(s.rgb));
+        }
+        let ok = r.as_ref().is_some_and(|(s, _, f)| *s == g && *f);
+        if mismatch.is_none() && !ok {
+            mismatch = Some(PixelMismatch {
+                x,
+                y,
+                tile_base: x / n * n,
+                clock: r.as_ref().map(|(_, c, _)| *c),
+                golden: g,
+                rtl: r.map(|(s, _, _)| s),
+                vcd: None,
+            });
+        }
+    }
+    (rtl_rgb, mismatch)
+}
+
+/// Runs the whole frame of `ls` under `fx` through the core in `sim` and compares every
+/// pixel with the golden image; `say` receives progress lines.
+pub fn run_frame_check(
+    ls: &LoadedScene,
+    fx: &Effects,
+    spec: &FrameSpec,
+    sim: FrameSim,
+    say: &mut dyn FnMut(&str),
+) -> Result<FrameResult, TbError> {
+    let n = spec.array_width;
+    let plan = plan_frame(ls, fx, n)?;
+    if sim == FrameSim::Verilator && !crate::external::tool_available("verilator") {
+        return Err(TbError::ToolMissing("verilator".into()));
+    }
+    let cs = &plan.stream;
+    let (w, h) = (cs.width, cs.height);
+    let (golden, golden_rgb) = golden_pixels(ls, fx)?;
+    // The model: the same clocks as the RTL run, then the stream's own cost.
+    let max_cycles = 64 * (cs.beats.len() as u64 + cs.pixels() as u64) + 10_000;
+    let new_model = || {
+        CoreModel::new(n, plan.shadows, spec.debug, DEFAULT_IN_ABITS)
+            .map_err(|e| TbError::Unsupported(e.to_string()))
+    };
+    let model_run = |beats: &[Beat], px: usize, st: &mut Stalls| -> Result<_, TbError> {
+        run_frame(&mut new_model()?, beats, px, st, max_cycles)
+            .ok_or_else(|| TbError::Sim("the core model made no progress".into()))
+    };
+    let stalls = || Stalls::new(spec.seed, spec.gap_pct, spec.stall_pct);
+    let model = model_run(&cs.beats, cs.pixels(), &mut stalls())?;
+    let free = model_run(&cs.beats, cs.pixels(), &mut Stalls::new(1, 0, 0))?;
+    let unbinned = model_run(
+        &plan.unbinned.beats,
+        plan.unbinned.pixels(),
+        &mut Stalls::new(1, 0, 0),
+    )?;
+    let module = pixelproc_rtl::core_top::core_module_name(n, plan.shadows, spec.debug);
+    let mut r = FrameResult {
+        identical: false,
+        pixels: cs.pixels(),
+        cycles: FrameCycles::default(),
+        model_cycles: model.cycles.clone(),
+        free_cycles: free.cycles,
+        unbinned_cycles: unbinned.cycles.cycles,
+        tile_lines: (h as u64) * (w as u64).div_ceil(n as u64),
+        build_seconds: 0.0,
+        build_cached: false,
+        run_seconds: 0.0,
+        mismatch: None,
+        rtl_rgb: Vec::new(),
+        golden_rgb,
+        width: w,
+        height: h,
+        proto_err: false,
+        module: module.clone(),
+    };
+    let got = match sim {
+        FrameSim::Verilator => run_verilator(cs, &plan, spec, max_cycles, &model, &mut r, say)?,
+        FrameSim::RustHdl => {
+            say(&format!(
+                "simulating {} beats, {} pixels in RustHDL, every control register compared with the model every clock (seed {}, input gaps {} %, output stalls {} %) ...",
+                cs.beats.len(), cs.pixels(), spec.seed, spec.gap_pct, spec.stall_pct
+            ));
+            let mut uut = pixelproc_rtl::core_top::DefaultCore::new(n, plan.shadows, spec.debug)?;
+            rust_hdl::prelude::Block::connect_all(&mut uut);
+            let mut m = new_model()?;
+            let c = crate::core_tb::compare_core(
+                &mut uut,
+                &mut m,
+                &cs.beats,
+                cs.pixels(),
+                &mut stalls(),
+                max_cycles,
+            )?;
+            r.run_seconds = c.seconds;
+            r.cycles = c.cycles;
+            r.proto_err = uut.proto_err.val();
+            if let Some(mm) = c.mismatch {
+                return Err(TbError::Sim(format!(
+                    "the RustHDL core left its cycle model after cycle {}: {}",
+                    mm.cycle, mm.what
+                )));
+            }
+            c.pixels
+        }
+    };
+    let (rtl_rgb, mismatch) = compare_pixels(cs, &golden, &got, spec.debug);
+    r.rtl_rgb = rtl_rgb;
+    r.mismatch = mismatch;
+    if let (Some(m), FrameSim::Verilator) = (&mut r.mismatch, sim) {
+        m.vcd = mismatch_vcd(&spec.work, &module, m.clock.unwrap_or(r.cycles.cycles), spec, cs, max_cycles, say);
+    }
+    r.identical = r.mismatch.is_none()
+        && got.len() == cs.pixels()
+        && !r.proto_err
+        && r.cycles.cycles == model.cycles.cycles
+        && r.cycles.in_stall == model.cycles.in_stall
+        && r.cycles.out_stall == model.cycles.out_stall;
+    Ok(r)
+}
+
+/// The arguments of the frame harness.
+fn harness_args(
+    work: &Path,
+    spec: &FrameSpec,
+    cs: &CoreStream,
+    max_cycles: u64,
+    extra: &[String],
+) -> Vec<String> {
+    let mut a = vec![
+        work.join("beats.bin").display().to_string(),
+        work.join("pixels.bin").display().to_string(),
+        spec.seed.to_string(),
+        spec.gap_pct.to_string(),
+        spec.stall_pct.to_string(),
+        cs.pixels().to_string(),
+        max_cycles.to_string(),
+    ];
+    a.extend_from_slice(extra);
+    a
+}
+
+/// Builds (or takes from the cache) and runs the Verilated core; fills the build, run and
+/// cycle figures of `r`; returns the pixels with their clocks.
+fn run_verilator(
+    cs: &CoreStream,
+    plan: &FramePlan,
+    spec: &FrameSpec,
+    max_cycles: u64,
+    model: &pixelproc_sim::core_model::FrameRun,
+    r: &mut FrameResult,
+    say: &mut dyn FnMut(&str),
+) -> Result<Vec<(PixelBeat, u64)>, TbError> {
+    std::fs::create_dir_all(&spec.work)?;
+    let work = spec.work.canonicalize()?;
+    let (verilog, module) = core_verilog(cs.array_width as usize, plan.shadows, spec.debug)?;
+    std::fs::write(work.join(format!("{module}.v")), &verilog)?;
+    say(&format!(
+        "building {module} in Verilator (cached by the Verilog's hash) ..."
+    ));
+    let (exe, build_seconds, build_cached) = verilator_build(
+        &work.join("verilator-cache"),
+        &module,
+        &verilog,
+        &harness_cpp(&module),
+        false,
+    )?;
+    r.build_seconds = build_seconds;
+    r.build_cached = build_cached;
+    write_beats(&work.join("beats.bin"), &cs.beats)?;
+    say(&format!(
+        "simulating {} beats, {} pixels (seed {}, input gaps {} %, output stalls {} %) ...",
+        cs.beats.len(),
+        cs.pixels(),
+        spec.seed,
+        spec.gap_pct,
+        spec.stall_pct
+    ));
+    let t0 = std::time::Instant::now();
+    let o = Proc::new(&exe)
+        .args(harness_args(&work, spec, cs, max_cycles, &[]))
+        .output()?;
+    r.run_seconds = t0.elapsed().as_secs_f64();
+    let out = String::from_utf8_lossy(&o.stdout).to_string();
+    if !o.status.success() {
+        return Err(TbError::Sim(format!(
+            "the Verilated core failed: {out}{}",
+            String::from_utf8_lossy(&o.stderr)
+        )));
+    }
+    let pixels_path = work.join("pixels.bin");
+    let got = read_pixels(&pixels_path)?;
+    let _ = std::fs::remove_file(&pixels_path);
+    let _ = std::fs::remove_file(work.join("beats.bin"));
+    let field = |k: &str| stat(&out, k).unwrap_or(0.0) as u64;
+    r.cycles = FrameCycles {
+        cycles: field("CYCLES"),
+        beats: field("TAKEN"),
+        in_stall: field("IN_STALL"),
+        hazard_stall: model.cycles.hazard_stall,
+        out_stall: field("OUT_STALL"),
+        issued: model.cycles.issued,
+    };
+    r.proto_err = stat(&out, "ERR").unwrap_or(1.0) != 0.0;
+    Ok(got)
+}
+
+/// A VCD of the clocks `clock − 200 ..= clock + 20` from a traced build of the core.
+fn mismatch_vcd(
+    work: &Path,
+    module: &str,
+    clock: u64,
+    spec: &FrameSpec,
+    cs: &CoreStream,
+    max_cycles: u64,
+    say: &mut dyn FnMut(&str),
+) -> Option<PathBuf> {
+    let work = work.canonicalize().ok()?;
+    let verilog = std::fs::read_to_string(work.join(format!("{module}.v"))).ok()?;
+    say("building a traced model for the VCD of the mismatch ...");
+    let (texe, _, _) = verilator_build(
+        &work.join("verilator-cache"),
+        module,
+        &verilog,
+        &harness_cpp(module),
+        true,
+    )
+    .ok()?;
+    write_beats(&work.join("beats.bin"), &cs.beats).ok()?;
+    let vcd = work.join("frame_mismatch.vcd");
+    let extra = [
+        vcd.display().to_string(),
+        clock.saturating_sub(200).to_string(),
+        (clock + 20).to_string(),
+    ];
+    let ok = Proc::new(&texe)
+        .args(harness_args(&work, spec, cs, max_cycles, &extra))
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false);
+    let _ = std::fs::remove_file(work.join("pixels.bin"));
+    let _ = std::fs::remove_file(work.join("beats.bin"));
+    ok.then_some(vcd)
+}
