@@ -388,6 +388,7 @@ fn cmd_frame(a: &TestbenchArgs, ls: &LoadedScene, fx: &Effects, sim: SimKind) ->
         gap_pct: a.gaps,
         stall_pct: a.stalls,
         work: a.work.clone(),
+        cache: a.work.join("verilator-cache"),
     };
     if fsim == FrameSim::RustHdl && plan.stream.pixels() > 100_000 {
         eprintln!(

@@ -189,6 +189,20 @@ mod tests {
     }
 
     #[test]
+    fn tables_match_docs() {
+        use crate::fields::{parse_doc_table, table_rows};
+        let doc = include_str!("../../docs/core.md");
+        for (heading, fields) in [
+            ("### TILE beat", TILE_FIELDS),
+            ("### TABLE beat", TABLE_FIELDS),
+            ("### Shading-table address", SHADE_ADDR_FIELDS),
+            ("### Pixel `tuser`", OUT_USER_FIELDS),
+        ] {
+            assert_eq!(parse_doc_table(doc, heading), table_rows(fields), "{heading}");
+        }
+    }
+
+    #[test]
     fn shading_rounds_and_saturates() {
         assert_eq!(shade_rgb(0x80FF01, 256), 0x80FF01);
         // 0x80·128 = 16384 → (16384 + 128) >> 8 = 64; 0xFF·128 → 128 (127.5 rounds up).

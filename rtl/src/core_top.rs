@@ -19,7 +19,8 @@
 //! | `m_axis_tdata` | out | 24 | final RGB888 |
 //! | `m_axis_tuser` | out | 51 | start of frame; debug fields (`core_stream::OUT_USER_FIELDS`) |
 //! | `m_axis_tlast` | out | 1 | last pixel of a tile-line |
-//! | `proto_err` | out | 1 | sticky: a beat of an unknown kind, or a TILE whose `LAST ≥ N`, was seen |
+//! | `proto_err` | out | 1 | sticky: a beat of an unknown kind, or a TILE whose `LAST ≥ N`, was seen (or a pixel met a full output FIFO, which the credit check rules out) |
+//! | `in_level` | out | `IA + 1` | beats in the command FIFO |
 //!
 //! # Controller, one rising edge
 //!
@@ -97,6 +98,8 @@ pub struct PixelprocCore<const IA: usize, const IA1: usize> {
     pub m_axis_tlast: Signal<Out, Bit>,
     /// Sticky protocol error.
     pub proto_err: Signal<Out, Bit>,
+    /// Beats in the command FIFO (status for a host or DMA).
+    pub in_level: Signal<Out, Bits<IA1>>,
     /// The command FIFO.
     pub in_fifo: StreamFifo<Bits<BEAT_W>, IA, IA1>,
     /// The pixel-processor array.
@@ -152,6 +155,12 @@ pub struct PixelprocCore<const IA: usize, const IA1: usize> {
     k_one5: Constant<Bits<5>>,
     k_room: Constant<Bits<6>>,
     k_debug: Constant<Bit>,
+    k_two3: Constant<Bits<3>>,
+    k_four3: Constant<Bits<3>>,
+    k_zero_beat: Constant<Bits<BEAT_W>>,
+    k_zero_rd: Constant<Bits<READOUT_W>>,
+    k_zero_user: Constant<Bits<OUT_USER_BITS>>,
+    k_zero_pix: Constant<Bits<PIX_W>>,
 }
 
 impl<const IA: usize, const IA1: usize> PixelprocCore<IA, IA1> {
@@ -176,6 +185,7 @@ impl<const IA: usize, const IA1: usize> PixelprocCore<IA, IA1> {
             m_axis_tuser: Default::default(),
             m_axis_tlast: Default::default(),
             proto_err: Default::default(),
+            in_level: Default::default(),
             in_fifo: Default::default(),
             array,
             shade: ShadeUnit::new(shadows),
@@ -227,6 +237,12 @@ impl<const IA: usize, const IA1: usize> PixelprocCore<IA, IA1> {
             k_one5: k(1),
             k_room: k(1 << OUT_FIFO_ABITS),
             k_debug: Constant::new(debug),
+            k_two3: k(2),
+            k_four3: k(4),
+            k_zero_beat: k(0),
+            k_zero_rd: k(0),
+            k_zero_user: k(0),
+            k_zero_pix: k(0),
         })
     }
 
@@ -281,12 +297,13 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
         self.shade.rst.next = self.rst.val();
         self.out_fifo.rst.next = self.rst.val();
         // ---- Command stream into the input FIFO.
-        self.l_beat.next = 0u64.into();
+        self.l_beat.next = self.k_zero_beat.val();
         self.l_beat.next.set_value_tdata(self.s_axis_tdata.val());
         self.l_beat.next.set_value_kind(self.s_axis_tuser.val());
         self.in_fifo.in_data.next = self.l_beat.val();
         self.in_fifo.in_valid.next = self.s_axis_tvalid.val();
         self.s_axis_tready.next = self.in_fifo.in_ready.val();
+        self.in_level.next = self.in_fifo.level.val();
         // ---- Decode the head beat; issue it unless it would start a second readout job.
         self.l_data.next = self.in_fifo.out_data.val().get_value_tdata();
         self.l_kind.next = self.in_fifo.out_data.val().get_value_kind();
@@ -347,23 +364,23 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
             & (self.job_wait.q.val() == self.k_zero3.val())
             & (self.l_credit.val() < self.k_room.val());
         self.array.rd_addr.next = self.ra.q.val();
-        self.l_t1.next = 0u64.into();
+        self.l_t1.next = self.k_zero3.val();
         if self.l_go.val() {
             self.ra.d.next = self.ra.q.val() + self.k_one12.val();
             self.l_t1.next = self.l_t1.val() | self.k_one3.val();
             if self.ra.q.val() == self.job_last.q.val() {
                 self.job_v.d.next = false;
-                self.l_t1.next = self.l_t1.val().replace_bit(1, true);
+                self.l_t1.next = self.l_t1.val() | self.k_two3.val();
             }
             if (self.ra.q.val() == self.k_zero12.val()) & self.job_sof.q.val() {
-                self.l_t1.next = self.l_t1.val().replace_bit(2, true);
+                self.l_t1.next = self.l_t1.val() | self.k_four3.val();
             }
         }
         self.t1.d.next = self.l_t1.val();
         self.t2.d.next = self.t1.q.val();
         self.t3.d.next = self.t2.q.val();
         // ---- The array's readout port, as one word, into the shading unit.
-        self.l_rdw.next = 0u64.into();
+        self.l_rdw.next = self.k_zero_rd.val();
         self.l_rdw.next.set_value_zb(self.array.rd_zb.val());
         self.l_rdw.next.set_value_rgb(self.array.rd_rgb.val());
         self.l_rdw.next.set_value_dsf(self.array.rd_dsf.val());
@@ -377,7 +394,7 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
         // ---- Shaded pixels into the output FIFO.
         self.l_ow.next = self.shade.out_word.val();
         self.l_meta.next = self.shade.out_meta.val();
-        self.l_user.next = 0u64.into();
+        self.l_user.next = self.k_zero_user.val();
         self.l_user
             .next
             .set_value_usof(self.l_meta.val().get_bit(1));
@@ -401,7 +418,7 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
                 .next
                 .set_value_unclass(self.l_ow.val().get_value_nclass());
         }
-        self.l_pix.next = 0u64.into();
+        self.l_pix.next = self.k_zero_pix.val();
         self.l_pix
             .next
             .set_value_prgb(self.l_ow.val().get_value_rgb());
@@ -410,6 +427,10 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
             .next
             .set_value_plast(self.l_meta.val().get_bit(0));
         self.out_fifo.in_valid.next = self.shade.out_valid.val();
+        if self.shade.out_valid.val() & !self.out_fifo.in_ready.val() {
+            // Never in a correct core (the sweep's credit check): a lost pixel is an error.
+            self.err.d.next = true;
+        }
         self.out_fifo.in_data.next = self.l_pix.val();
         if self.l_go.val() & !self.shade.out_valid.val() {
             self.inflight.d.next = self.inflight.q.val() + self.k_one5.val();

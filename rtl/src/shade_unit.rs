@@ -75,7 +75,9 @@ pub struct ShadeUnit {
     k_one: Constant<Bits<16>>,
     k_half: Constant<Bits<32>>,
     k_sat: Constant<Bits<32>>,
-    k_max: Constant<Bits<8>>,
+    k_max: Constant<Bits<32>>,
+    k_zero_addr: Constant<Bits<SHADE_ADDR_BITS>>,
+    k_zero24: Constant<Bits<24>>,
 }
 
 impl ShadeUnit {
@@ -113,6 +115,8 @@ impl ShadeUnit {
             k_half: Constant::new(128u64.to_bits()),
             k_sat: Constant::new(0xFFFFu64.to_bits()),
             k_max: Constant::new(255u64.to_bits()),
+            k_zero_addr: Constant::new(0u64.to_bits()),
+            k_zero24: Constant::new(0u64.to_bits()),
         }
     }
 }
@@ -127,7 +131,7 @@ impl Logic for ShadeUnit {
         self.ftab.write_address.next = self.tw_addr.val();
         self.ftab.write_data.next = self.tw_data.val();
         // ---- Stage 1: register the pixel, read its factor.
-        self.l_addr.next = 0u64.into();
+        self.l_addr.next = self.k_zero_addr.val();
         self.l_addr
             .next
             .set_value_scount(self.in_word.val().get_value_count().get_bits::<4>(0));
@@ -147,12 +151,12 @@ impl Logic for ShadeUnit {
             self.l_f.next = self.k_one.val();
         }
         self.l_rgb.next = self.s1_word.q.val().get_value_rgb();
-        self.l_out.next = 0u64.into();
+        self.l_out.next = self.k_zero24.val();
         for c in 0..3 {
             self.l_ch.next = self.l_rgb.val().get_bits::<8>(8 * c);
             self.l_c.next =
                 ((bit_cast::<16, 8>(self.l_ch.val()) * self.l_f.val()) + self.k_half.val()) >> 8;
-            if self.l_c.val() > bit_cast::<32, 8>(self.k_max.val()) {
+            if self.l_c.val() > self.k_max.val() {
                 self.l_c.next = self.k_sat.val();
             }
             self.l_out.next = (self.l_out.val() >> 8)

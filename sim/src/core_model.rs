@@ -547,8 +547,9 @@ impl CoreModel {
         }
         // Output FIFO: the shaded pixel in s2 goes in.
         let push = (s2_out.flags & 1 != 0).then(|| self.pixel_beat(&s2_out));
-        if push.is_some() && !self.out_fifo.in_ready(rst) && !rst {
-            self.overflow = true;
+        if push.is_some() && !self.out_fifo.in_ready(rst) {
+            self.overflow |= !rst;
+            self.err = true;
         }
         self.out_fifo.edge(push, inp.m_ready, rst);
         // Inflight count.

@@ -48,8 +48,11 @@ pub struct FrameSpec {
     pub gap_pct: u32,
     /// Output stall probability, percent.
     pub stall_pct: u32,
-    /// Work folder (Verilog, harness, build, vectors, VCD).
+    /// Work folder (Verilog, harness, vectors, VCD).
     pub work: PathBuf,
+    /// Folder of cached Verilator builds, one subfolder per hash of the Verilog, the
+    /// harness, the flags and the Verilator version.
+    pub cache: PathBuf,
 }
 
 /// The first pixel that differs.
@@ -598,7 +601,7 @@ fn run_verilator(
         "building {module} in Verilator (cached by the Verilog's hash) ..."
     ));
     let (exe, build_seconds, build_cached) = verilator_build(
-        &work.join("verilator-cache"),
+        &spec.cache,
         &module,
         &verilog,
         &harness_cpp(&module),
@@ -658,7 +661,7 @@ fn mismatch_vcd(
     let verilog = std::fs::read_to_string(work.join(format!("{module}.v"))).ok()?;
     say("building a traced model for the VCD of the mismatch ...");
     let (texe, _, _) = verilator_build(
-        &work.join("verilator-cache"),
+        &spec.cache,
         module,
         &verilog,
         &harness_cpp(module),
