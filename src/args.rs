@@ -108,7 +108,10 @@ pub(crate) struct TestbenchArgs {
 
 /// A clock frequency: a finite number above 0 and at most 10 GHz.
 fn parse_mhz(s: &str) -> Result<f64, String> {
-    let v: f64 = s.trim().parse().map_err(|_| format!("`{s}` is not a number of MHz"))?;
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number of MHz"))?;
     if v.is_finite() && v > 0.0 && v <= 10_000.0 {
         Ok(v)
     } else {

@@ -375,9 +375,7 @@ fn cmd_frame(a: &TestbenchArgs, ls: &LoadedScene, fx: &Effects, sim: SimKind) ->
     let fsim = match sim {
         SimKind::Verilator => FrameSim::Verilator,
         SimKind::RustHdl => FrameSim::RustHdl,
-        SimKind::Icarus => {
-            bail!("--frame --sim icarus: whole frames run in verilator (any scene) or rusthdl (small scenes)")
-        }
+        SimKind::Icarus => FrameSim::Icarus,
     };
     // Everything the core cannot take is an error before any simulation.
     let plan = plan_frame(ls, fx, fx.array_width)?;
@@ -390,10 +388,11 @@ fn cmd_frame(a: &TestbenchArgs, ls: &LoadedScene, fx: &Effects, sim: SimKind) ->
         work: a.work.clone(),
         cache: a.work.join("verilator-cache"),
     };
-    if fsim == FrameSim::RustHdl && plan.stream.pixels() > 100_000 {
+    if fsim != FrameSim::Verilator && plan.stream.pixels() > 100_000 {
         eprintln!(
-            "testbench: {} pixels in RustHDL runs at a few thousand clocks per second; --sim verilator is faster",
-            plan.stream.pixels()
+            "testbench: {} pixels in {:?} runs at a few thousand clocks per second; --sim verilator is much faster",
+            plan.stream.pixels(),
+            fsim
         );
     }
     let progress = indicatif::ProgressBar::new_spinner();
@@ -478,6 +477,8 @@ fn cmd_frame(a: &TestbenchArgs, ls: &LoadedScene, fx: &Effects, sim: SimKind) ->
         "  build: {}, run: {:.2} s ({:.0} cycles/s)",
         if fsim == FrameSim::RustHdl {
             "none (RustHDL)".to_string()
+        } else if fsim == FrameSim::Icarus {
+            format!("{:.1} s (iverilog)", r.build_seconds)
         } else if r.build_cached {
             "cached".to_string()
         } else {

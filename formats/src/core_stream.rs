@@ -198,7 +198,11 @@ mod tests {
             ("### Shading-table address", SHADE_ADDR_FIELDS),
             ("### Pixel `tuser`", OUT_USER_FIELDS),
         ] {
-            assert_eq!(parse_doc_table(doc, heading), table_rows(fields), "{heading}");
+            assert_eq!(
+                parse_doc_table(doc, heading),
+                table_rows(fields),
+                "{heading}"
+            );
         }
     }
 

@@ -261,6 +261,30 @@ field_slices! {
     flags {}
 }
 
+field_slices! {
+    /// The low bits of the readout word's counter and mask that address the shading
+    /// table (one part-select each: chained selects are not Verilog-2005).
+    ReadoutLowFields for READOUT_W;
+    bits {
+        get_value_count_lo, set_value_count_lo, get_my_width_count_lo, get_my_offset_count_lo: RD_COUNT_LO;
+        get_value_mask_lo, set_value_mask_lo, get_my_width_mask_lo, get_my_offset_mask_lo: RD_MASK_LO;
+    }
+    flags {}
+}
+
+/// The counter's bits that address the shading table.
+pub const RD_COUNT_LO: Field = Field {
+    name: "COUNT",
+    lsb: RD_COUNT.lsb,
+    width: SHADE_COUNT.width,
+};
+/// The light mask's bits that address the shading table.
+pub const RD_MASK_LO: Field = Field {
+    name: "MASK",
+    lsb: RD_MASK.lsb,
+    width: SHADE_MASK.width,
+};
+
 #[cfg(test)]
 mod tests {
     use super::*;

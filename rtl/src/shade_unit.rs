@@ -23,7 +23,7 @@
 //!
 //! Latency: a pixel on the inputs before edge `E` is on the outputs after edge `E + 1`.
 
-use crate::layout::{ReadoutFields, ShadeAddrFields, READOUT_W};
+use crate::layout::{ReadoutFields, ReadoutLowFields, ShadeAddrFields, READOUT_W};
 use pixelproc_formats::core_stream::{FACTOR_BITS, SHADE_ADDR_BITS};
 use pixelproc_formats::Z_FAR;
 use rust_hdl::prelude::*;
@@ -134,10 +134,10 @@ impl Logic for ShadeUnit {
         self.l_addr.next = self.k_zero_addr.val();
         self.l_addr
             .next
-            .set_value_scount(self.in_word.val().get_value_count().get_bits::<4>(0));
+            .set_value_scount(self.in_word.val().get_value_count_lo());
         self.l_addr
             .next
-            .set_value_smask(self.in_word.val().get_value_mask().get_bits::<3>(0));
+            .set_value_smask(self.in_word.val().get_value_mask_lo());
         self.l_addr
             .next
             .set_value_snclass(self.in_word.val().get_value_nclass());

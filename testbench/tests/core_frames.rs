@@ -23,8 +23,10 @@ fn check(ls: &LoadedScene, n: usize, seed: u64, expect_shadows: bool) {
         work: work.path().to_path_buf(),
         cache: Path::new(env!("CARGO_TARGET_TMPDIR")).join("verilator-cache"),
     };
-    let r = run_frame_check(ls, &fx, &spec, FrameSim::Verilator, &mut |m| eprintln!("{m}"))
-        .unwrap();
+    let r = run_frame_check(ls, &fx, &spec, FrameSim::Verilator, &mut |m| {
+        eprintln!("{m}")
+    })
+    .unwrap();
     println!(
         "{} {}x{} N {n}: identical {}, {} pixels, {} cycles (model {}), build {:.1} s, run {:.2} s",
         ls.name,
@@ -38,8 +40,15 @@ fn check(ls: &LoadedScene, n: usize, seed: u64, expect_shadows: bool) {
         r.run_seconds
     );
     assert!(r.mismatch.is_none(), "{}: {:?}", ls.name, r.mismatch);
-    assert!(r.identical, "{}: cycles {:?} vs model {:?}", ls.name, r.cycles, r.model_cycles);
-    assert!(r.cycles.out_stall > 0 && r.cycles.in_stall > 0, "stalls were exercised");
+    assert!(
+        r.identical,
+        "{}: cycles {:?} vs model {:?}",
+        ls.name, r.cycles, r.model_cycles
+    );
+    assert!(
+        r.cycles.out_stall > 0 && r.cycles.in_stall > 0,
+        "stalls were exercised"
+    );
 }
 
 #[test]
@@ -96,5 +105,8 @@ fn scenes_beyond_the_core_are_refused_up_front() {
     let fx = Effects::resolve(&ls, &Overrides::default()).unwrap();
     assert_eq!(fx.shadow_lights.len(), 4);
     let e = plan_frame(&ls, &fx, 16).err().expect("refused").to_string();
-    assert!(e.contains("4 shadowing point lights") && e.contains("at most 3"), "{e}");
+    assert!(
+        e.contains("4 shadowing point lights") && e.contains("at most 3"),
+        "{e}"
+    );
 }
