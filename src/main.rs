@@ -387,6 +387,7 @@ fn cmd_frame(a: &TestbenchArgs, ls: &LoadedScene, fx: &Effects, sim: SimKind) ->
         stall_pct: a.stalls,
         work: a.work.clone(),
         cache: a.work.join("verilator-cache"),
+        corrupt_golden: None,
     };
     if fsim != FrameSim::Verilator && plan.stream.pixels() > 100_000 {
         eprintln!(

@@ -53,6 +53,9 @@ pub struct FrameSpec {
     /// Folder of cached Verilator builds, one subfolder per hash of the Verilog, the
     /// harness, the flags and the Verilator version.
     pub cache: PathBuf,
+    /// Testing the mismatch report: flip the red LSB of the golden value of the `k`-th
+    /// streamed pixel, so that the run must report it (position, tile, clock, VCD).
+    pub corrupt_golden: Option<usize>,
 }
 
 /// The first pixel that differs.
@@ -488,7 +491,11 @@ pub fn run_frame_check(
     }
     let cs = &plan.stream;
     let (w, h) = (cs.width, cs.height);
-    let (golden, golden_rgb) = golden_pixels(ls, fx)?;
+    let (mut golden, golden_rgb) = golden_pixels(ls, fx)?;
+    if let Some(k) = spec.corrupt_golden.filter(|k| *k < cs.pixels()) {
+        let (x, y) = cs.position(k);
+        golden[(y * w + x) as usize].rgb ^= 1 << 16;
+    }
     // The model: the same clocks as the RTL run, then the stream's own cost.
     let max_cycles = 64 * (cs.beats.len() as u64 + cs.pixels() as u64) + 10_000;
     let new_model = || {

@@ -22,6 +22,7 @@ fn check(ls: &LoadedScene, n: usize, seed: u64, expect_shadows: bool) {
         stall_pct: 30,
         work: work.path().to_path_buf(),
         cache: Path::new(env!("CARGO_TARGET_TMPDIR")).join("verilator-cache"),
+        corrupt_golden: None,
     };
     let r = run_frame_check(ls, &fx, &spec, FrameSim::Verilator, &mut |m| {
         eprintln!("{m}")
@@ -108,5 +109,44 @@ fn scenes_beyond_the_core_are_refused_up_front() {
     assert!(
         e.contains("4 shadowing point lights") && e.contains("at most 3"),
         "{e}"
+    );
+}
+
+/// The mismatch report: a golden value flipped on purpose must be found at its pixel, with
+/// its tile and clock, and a VCD of the clocks around it must be written.
+#[test]
+fn a_difference_is_reported_with_its_pixel_clock_and_trace() {
+    let mut ls = load_builtin("default").unwrap();
+    ls.scene.width = 40;
+    ls.scene.height = 6;
+    let mut ov = Overrides::default();
+    ov.no_shadows = true;
+    let fx = Effects::resolve(&ls, &ov).unwrap();
+    let work = tempfile::tempdir().unwrap();
+    let spec = FrameSpec {
+        array_width: 8,
+        debug: false,
+        seed: 9,
+        gap_pct: 10,
+        stall_pct: 10,
+        work: work.path().to_path_buf(),
+        cache: Path::new(env!("CARGO_TARGET_TMPDIR")).join("verilator-cache"),
+        corrupt_golden: Some(3 * 40 + 21),
+    };
+    let r = run_frame_check(&ls, &fx, &spec, FrameSim::Verilator, &mut |m| {
+        eprintln!("{m}")
+    })
+    .unwrap();
+    assert!(!r.identical);
+    let m = r.mismatch.expect("the flipped pixel is reported");
+    assert_eq!((m.x, m.y, m.tile_base), (21, 3, 16));
+    assert_eq!(m.golden.rgb ^ (1 << 16), m.rtl.unwrap().rgb);
+    let c = m.clock.expect("the pixel came out");
+    assert!(c > 0 && c < r.cycles.cycles);
+    let vcd = std::fs::read_to_string(m.vcd.expect("a VCD")).unwrap();
+    assert!(vcd.contains("$enddefinitions") && vcd.contains("m_axis_tdata"));
+    assert!(
+        vcd.contains(&format!("#{}", 2 * c)),
+        "the VCD covers the pixel's clock"
     );
 }
