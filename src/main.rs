@@ -386,7 +386,7 @@ fn cmd_frame(a: &TestbenchArgs, ls: &LoadedScene, fx: &Effects, sim: SimKind) ->
         gap_pct: a.gaps,
         stall_pct: a.stalls,
         work: a.work.clone(),
-        cache: a.work.join("verilator-cache"),
+        cache: pixelproc_testbench::external::verilator_cache_dir(),
         corrupt_golden: None,
     };
     if fsim != FrameSim::Verilator && plan.stream.pixels() > 100_000 {

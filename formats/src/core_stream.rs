@@ -90,7 +90,7 @@ pub const TILE_FIELDS: &[Field] = &[TILE_BG, TILE_BASE, TILE_LAST, TILE_SOF];
 pub const LATCH_BIT: Field = Field::first("BIT", 3);
 
 /// TABLE field: entry address ([`SHADE_ADDR_FIELDS`]).
-pub const TABLE_ADDR: Field = Field::first("ADDR", 16);
+pub const TABLE_ADDR: Field = Field::first("ADDR", SHADE_ADDR_BITS);
 /// TABLE field: the factor, Q0.8 (256 = 1).
 pub const TABLE_FACTOR: Field = TABLE_ADDR.then("FACTOR", FACTOR_BITS);
 /// The TABLE beat's `tdata`, LSB first.

@@ -55,7 +55,7 @@ use crate::pixel_array::PixelProcessorArray;
 use crate::shade_unit::{ShadeUnit, META_W};
 use crate::stream_fifo::StreamFifo;
 use pixelproc_formats::core_stream::{
-    CoreRegs, KIND_BITS, KIND_END, KIND_TABLE, KIND_TILE, OUT_USER_BITS, SHADE_ADDR_BITS,
+    CoreRegs, KIND_BITS, KIND_END, KIND_TABLE, KIND_TILE, OUT_USER_BITS,
 };
 use pixelproc_formats::regs::RGB_BITS;
 use pixelproc_formats::SPAN_XL;
@@ -329,8 +329,7 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
         }
         // ---- Shading-table writes.
         self.shade.tw_en.next = self.l_issue.val() & self.l_table.val();
-        self.shade.tw_addr.next =
-            bit_cast::<SHADE_ADDR_BITS, 16>(self.l_data.val().get_value_taddr());
+        self.shade.tw_addr.next = self.l_data.val().get_value_taddr();
         self.shade.tw_data.next = self.l_data.val().get_value_factor();
         // ---- Tile framing: a TILE or END starts the readout of the pending tile-line.
         if self.l_issue.val() & self.l_tile.val() {

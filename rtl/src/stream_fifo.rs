@@ -15,7 +15,8 @@
 //!
 //! # Behaviour, one rising edge (the golden twin is `pixelproc_sim::core_model::Fifo`)
 //!
-//! Registers: write pointer `wr`, read pointer `rd` (both `A + 1` bits), and `dv` (the
+//! Registers: write pointer `wr`, read pointer `rd` (both `A + 1` bits: an `A`-bit
+//! address and a wrap bit), and `dv` (the
 //! RAM's read register holds the head entry). With `pop = dv ∧ out_ready`,
 //! `fetch = (wr ≠ rd) ∧ (¬dv ∨ pop)`, `push = in_valid ∧ in_ready`:
 //! - the RAM reads address `rd` if `fetch`, else `rd − 1` (re-reads the head entry, so
@@ -30,7 +31,8 @@
 
 use rust_hdl::prelude::*;
 
-/// The FIFO: `D` data, `2^A` entries, `A1 = A + 1` (pointer width).
+/// The FIFO: `D` data, `2^A` entries, `A1 = A + 1` (pointer width). Each pointer is
+/// held as an `A`-bit address and a wrap bit, so the RAM addresses need no truncation.
 #[derive(LogicBlock)]
 pub struct StreamFifo<D: Synth, const A: usize, const A1: usize> {
     /// Clock.
@@ -52,17 +54,24 @@ pub struct StreamFifo<D: Synth, const A: usize, const A1: usize> {
     /// Entries held.
     pub level: Signal<Out, Bits<A1>>,
     ram: RAM<D, A>,
-    wr: DFF<Bits<A1>>,
-    rd: DFF<Bits<A1>>,
+    wa: DFF<Bits<A>>,
+    ww: DFF<Bit>,
+    ra: DFF<Bits<A>>,
+    rw: DFF<Bit>,
     dv: DFF<Bit>,
     l_pop: Signal<Local, Bit>,
     l_fetch: Signal<Local, Bit>,
     l_push: Signal<Local, Bit>,
+    l_wr: Signal<Local, Bits<A1>>,
+    l_rd: Signal<Local, Bits<A1>>,
     l_level: Signal<Local, Bits<A1>>,
     l_dv: Signal<Local, Bits<A1>>,
     k_one: Constant<Bits<A1>>,
     k_zero: Constant<Bits<A1>>,
     k_full: Constant<Bits<A1>>,
+    k_one_a: Constant<Bits<A>>,
+    k_zero_a: Constant<Bits<A>>,
+    k_last_a: Constant<Bits<A>>,
 }
 
 impl<D: Synth, const A: usize, const A1: usize> Default for StreamFifo<D, A, A1> {
@@ -82,17 +91,24 @@ impl<D: Synth, const A: usize, const A1: usize> Default for StreamFifo<D, A, A1>
             out_ready: Default::default(),
             level: Default::default(),
             ram: Default::default(),
-            wr: Default::default(),
-            rd: Default::default(),
+            wa: Default::default(),
+            ww: Default::default(),
+            ra: Default::default(),
+            rw: Default::default(),
             dv: Default::default(),
             l_pop: Default::default(),
             l_fetch: Default::default(),
             l_push: Default::default(),
+            l_wr: Default::default(),
+            l_rd: Default::default(),
             l_level: Default::default(),
             l_dv: Default::default(),
             k_one: Constant::new(1u64.to_bits()),
             k_zero: Constant::new(0u64.to_bits()),
             k_full: Constant::new((1u64 << A).to_bits()),
+            k_one_a: Constant::new(1u64.to_bits()),
+            k_zero_a: Constant::new(0u64.to_bits()),
+            k_last_a: Constant::new(((1u64 << A) - 1).to_bits()),
         }
     }
 }
@@ -101,11 +117,13 @@ impl<D: Synth, const A: usize, const A1: usize> StreamFifo<D, A, A1> {
     /// Number of entries.
     pub const DEPTH: usize = 1 << A;
 
-    /// The write pointer, read pointer and head-valid registers (for testbenches).
+    /// The write pointer, read pointer (`wrap << A | address`) and head-valid registers
+    /// (for testbenches).
     pub fn probe(&self) -> (u32, u32, bool) {
+        let p = |a: &DFF<Bits<A>>, w: &DFF<Bit>| a.q.val().index() as u32 | (w.q.val() as u32) << A;
         (
-            self.wr.q.val().index() as u32,
-            self.rd.q.val().index() as u32,
+            p(&self.wa, &self.ww),
+            p(&self.ra, &self.rw),
             self.dv.q.val(),
         )
     }
@@ -114,39 +132,56 @@ impl<D: Synth, const A: usize, const A1: usize> StreamFifo<D, A, A1> {
 impl<D: Synth, const A: usize, const A1: usize> Logic for StreamFifo<D, A, A1> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, wr, rd, dv);
+        dff_setup!(self, clock, wa, ww, ra, rw, dv);
         self.ram.read_clock.next = self.clock.val();
         self.ram.write_clock.next = self.clock.val();
+        // The two pointers as `A + 1`-bit numbers.
+        self.l_wr.next = bit_cast::<A1, A>(self.wa.q.val());
+        if self.ww.q.val() {
+            self.l_wr.next = bit_cast::<A1, A>(self.wa.q.val()) | self.k_full.val();
+        }
+        self.l_rd.next = bit_cast::<A1, A>(self.ra.q.val());
+        if self.rw.q.val() {
+            self.l_rd.next = bit_cast::<A1, A>(self.ra.q.val()) | self.k_full.val();
+        }
         self.l_dv.next = self.k_zero.val();
         if self.dv.q.val() {
             self.l_dv.next = self.k_one.val();
         }
-        self.l_level.next = (self.wr.q.val() - self.rd.q.val()) + self.l_dv.val();
+        self.l_level.next = (self.l_wr.val() - self.l_rd.val()) + self.l_dv.val();
         self.level.next = self.l_level.val();
         self.in_ready.next = (self.l_level.val() != self.k_full.val()) & !self.rst.val();
         self.l_pop.next = self.dv.q.val() & self.out_ready.val();
         self.l_fetch.next =
-            (self.wr.q.val() != self.rd.q.val()) & (!self.dv.q.val() | self.l_pop.val());
+            (self.l_wr.val() != self.l_rd.val()) & (!self.dv.q.val() | self.l_pop.val());
         self.l_push.next = self.in_valid.val() & self.in_ready.val();
         // Read side.
-        self.ram.read_address.next = bit_cast::<A, A1>(self.rd.q.val() - self.k_one.val());
+        self.ram.read_address.next = self.ra.q.val() - self.k_one_a.val();
         if self.l_fetch.val() {
-            self.ram.read_address.next = bit_cast::<A, A1>(self.rd.q.val());
-            self.rd.d.next = self.rd.q.val() + self.k_one.val();
+            self.ram.read_address.next = self.ra.q.val();
+            self.ra.d.next = self.ra.q.val() + self.k_one_a.val();
+            if self.ra.q.val() == self.k_last_a.val() {
+                self.rw.d.next = !self.rw.q.val();
+            }
         }
         self.dv.d.next = self.l_fetch.val() | (self.dv.q.val() & !self.l_pop.val());
         self.out_valid.next = self.dv.q.val();
         self.out_data.next = self.ram.read_data.val();
         // Write side.
-        self.ram.write_address.next = bit_cast::<A, A1>(self.wr.q.val());
+        self.ram.write_address.next = self.wa.q.val();
         self.ram.write_data.next = self.in_data.val();
         self.ram.write_enable.next = self.l_push.val();
         if self.l_push.val() {
-            self.wr.d.next = self.wr.q.val() + self.k_one.val();
+            self.wa.d.next = self.wa.q.val() + self.k_one_a.val();
+            if self.wa.q.val() == self.k_last_a.val() {
+                self.ww.d.next = !self.ww.q.val();
+            }
         }
         if self.rst.val() {
-            self.wr.d.next = self.k_zero.val();
-            self.rd.d.next = self.k_zero.val();
+            self.wa.d.next = self.k_zero_a.val();
+            self.ww.d.next = false;
+            self.ra.d.next = self.k_zero_a.val();
+            self.rw.d.next = false;
             self.dv.d.next = false;
         }
     }

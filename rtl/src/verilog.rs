@@ -436,8 +436,8 @@ pub struct TopConfig {
 }
 
 /// Writes `span_parity.v`, `pixel_processor.v`, `pixel_processor_noshadow.v`, the array
-/// of `top.width` processors, and `pixelproc_top.v` (the array as configured by `top`,
-/// module `pixelproc_top`) into `dir`. Every file holds its block with all sub-modules.
+/// of `top.width` processors, and `pixelproc_top.v` (the streaming core
+/// `core_top::PixelprocCore` as configured by `top`, module `pixelproc_top`) into `dir`. Every file holds its block with all sub-modules.
 pub fn write_verilog_dir(dir: &Path, top: TopConfig) -> Result<Vec<PathBuf>, RtlError> {
     std::fs::create_dir_all(dir)?;
     let mut files = Vec::new();
@@ -459,8 +459,9 @@ pub fn verilog_files(top: TopConfig) -> Result<Vec<(String, String)>, RtlError> 
     }
     let (n, t) = array_verilog(top.width, top.shadows)?;
     files.push((format!("{n}.v"), t));
+    // The top a user drops into a design: the streaming core (`docs/core.md`).
     let top_text = export(
-        PixelProcessorArray::new(top.width, top.shadows)?,
+        crate::core_top::DefaultCore::new(top.width, top.shadows, false)?,
         "pixelproc_top",
     );
     files.push(("pixelproc_top.v".to_string(), top_text));

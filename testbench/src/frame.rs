@@ -310,80 +310,23 @@ pub fn read_pixels(path: &Path) -> Result<Vec<(PixelBeat, u64)>, TbError> {
         .collect())
 }
 
-/// A Verilator build of `top` from `files` and the C++ `harness`, cached under
-/// `cache_root` by a hash of everything that goes into it. Returns the executable, the
-/// build seconds and whether it came from the cache.
-pub fn verilator_build(
-    cache_root: &Path,
+/// The Verilator build of the core `top` with the frame harness, from the shared build
+/// cache ([`crate::external::verilator_build_cached_in`]); `trace` adds `--trace` (the
+/// VCD of a mismatch).
+fn core_build(
+    cache: &Path,
     top: &str,
     verilog: &str,
-    harness: &str,
     trace: bool,
-) -> Result<(PathBuf, f64, bool), TbError> {
-    use std::hash::{Hash, Hasher};
-    if !crate::external::tool_available("verilator") {
-        return Err(TbError::ToolMissing("verilator".into()));
-    }
-    let version = Proc::new("verilator")
-        .arg("--version")
-        .output()
-        .map(|o| String::from_utf8_lossy(&o.stdout).to_string())
-        .unwrap_or_default();
-    let flags: Vec<&str> = {
-        let mut f = vec![
-            "--cc",
-            "--exe",
-            "--build",
-            "-O3",
-            "--x-assign",
-            "fast",
-            "--x-initial",
-            "fast",
-            "-Wno-fatal",
-            "-Wno-lint",
-            "-Wno-style",
-            "-j",
-            "2",
-            "-CFLAGS",
-            "-O1",
-        ];
-        if trace {
-            f.push("--trace");
-        }
-        f
-    };
-    let mut h = std::collections::hash_map::DefaultHasher::new();
-    (top, verilog, harness, &flags, &version).hash(&mut h);
-    let key = format!(
-        "{top}-{:016x}{}",
-        h.finish(),
-        if trace { "-trace" } else { "" }
-    );
-    let dir = cache_root.join(key);
-    let exe = dir.join("obj").join(format!("V{top}"));
-    if dir.join("complete").exists() && exe.exists() {
-        return Ok((exe, 0.0, true));
-    }
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir)?;
-    std::fs::write(dir.join(format!("{top}.v")), verilog)?;
-    std::fs::write(dir.join("harness.cpp"), harness)?;
-    let t0 = std::time::Instant::now();
-    let o = Proc::new("verilator")
-        .current_dir(&dir)
-        .args(&flags)
-        .args(["--top-module", top, "-Mdir", "obj", "harness.cpp"])
-        .arg(format!("{top}.v"))
-        .output()?;
-    if !o.status.success() || !exe.exists() {
-        return Err(TbError::Sim(format!(
-            "verilator build failed:\n{}{}",
-            String::from_utf8_lossy(&o.stdout),
-            String::from_utf8_lossy(&o.stderr)
-        )));
-    }
-    std::fs::write(dir.join("complete"), "")?;
-    Ok((exe, t0.elapsed().as_secs_f64(), false))
+) -> Result<(PathBuf, crate::external::BuildInfo), TbError> {
+    let flags: &[&str] = if trace { &["--trace"] } else { &[] };
+    crate::external::verilator_build_cached_in(
+        cache,
+        top,
+        &[(format!("{top}.v"), verilog.to_string())],
+        &harness_cpp(top),
+        flags,
+    )
 }
 
 fn stat(out: &str, key: &str) -> Option<f64> {
@@ -627,10 +570,9 @@ fn run_verilator(
     say(&format!(
         "building {module} in Verilator (cached by the Verilog's hash) ..."
     ));
-    let (exe, build_seconds, build_cached) =
-        verilator_build(&spec.cache, &module, &verilog, &harness_cpp(&module), false)?;
-    r.build_seconds = build_seconds;
-    r.build_cached = build_cached;
+    let (exe, info) = core_build(&spec.cache, &module, &verilog, false)?;
+    r.build_seconds = if info.cached { 0.0 } else { info.seconds };
+    r.build_cached = info.cached;
     write_beats(&work.join("beats.bin"), &cs.beats)?;
     say(&format!(
         "simulating {} beats, {} pixels (seed {}, input gaps {} %, output stalls {} %) ...",
@@ -682,8 +624,7 @@ fn mismatch_vcd(
     let work = work.canonicalize().ok()?;
     let verilog = std::fs::read_to_string(work.join(format!("{module}.v"))).ok()?;
     say("building a traced model for the VCD of the mismatch ...");
-    let (texe, _, _) =
-        verilator_build(&spec.cache, module, &verilog, &harness_cpp(module), true).ok()?;
+    let (texe, _) = core_build(&spec.cache, module, &verilog, true).ok()?;
     write_beats(&work.join("beats.bin"), &cs.beats).ok()?;
     let vcd = work.join("frame_mismatch.vcd");
     let extra = [

@@ -121,12 +121,19 @@ fn yosys_synthesis_has_no_latches_or_loops() {
     let dir = tempfile::tempdir().unwrap();
     for f in exported(dir.path()) {
         let m = module_of(&f);
-        // `pixelproc_top` is the same array under its top-level name: synthesised once.
+        // `pixelproc_top` (the core) holds the same array: synthesised once, there.
         if m.starts_with("pixel_processor_array") {
             continue;
         }
+        // The core's RAMs (FIFOs, the 32K-entry shading table) stay memories: generic
+        // synthesis would map them to flip-flops (the FPGA flows map them to block RAM).
+        let stages = if m.starts_with("pixelproc_top") {
+            " -run begin:fine"
+        } else {
+            ""
+        };
         let script = format!(
-            "read_verilog {}; hierarchy -check -top {m}; proc; flatten; synth -top {m}; check -assert",
+            "read_verilog {}; hierarchy -check -top {m}; proc; flatten; synth -top {m}{stages}; check -assert",
             f.display()
         );
         let out = Command::new("yosys")
