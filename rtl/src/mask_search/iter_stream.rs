@@ -113,10 +113,14 @@ stream_unit_logic! {
         self.core.rst.next = self.rst.val();
         self.fifo.clock.next = self.clock.val();
         self.fifo.rst.next = self.rst.val();
-        // Input side: the core starts exactly on a handshake.
+        // Input side: the core starts exactly on a handshake. It gates its start with its
+        // own `ready`, so `in_valid` does not include it: no path from the core's outputs
+        // back into its inputs (which Verilator would flag as a combinational loop, the
+        // core's kernel being one block).
         self.l_ready.next = (self.core.ready.val() & self.fifo.credit.val()) & (!self.rst.val());
         self.s_tready.next = self.l_ready.val();
-        self.core.in_valid.next = self.s_tvalid.val() & self.l_ready.val();
+        self.core.in_valid.next =
+            (self.s_tvalid.val() & self.fifo.credit.val()) & (!self.rst.val());
         self.fifo.take.next = self.s_tvalid.val() & self.l_ready.val();
         // Output side (`stream_unit_logic!` then connects the words).
         self.fifo.m_tready.next = self.m_tready.val();
