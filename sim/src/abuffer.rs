@@ -41,7 +41,9 @@ use rayon::prelude::*;
 use thiserror::Error;
 
 mod pixel;
+mod search_stream;
 pub use pixel::{merge, pack, process_pixel, resolve, Group, Packed, PixelOut};
+pub use search_stream::{search_stream, SearchRequest};
 
 /// Why a frame cannot be rendered.
 #[derive(Debug, Error, PartialEq)]

@@ -14,6 +14,10 @@
 //!   (`active`, `line`, `search_mask`, `and_result`, `zero`, `moved`, `hit`, `done`) are
 //!   exactly the golden `SearchUnit::step` output of every clock.
 //! * [`MaskSearchPipe`]: one stage per search line, a new mask accepted every clock.
+//! * [`MaskSearchIterStream`], [`MaskSearchPipeStream`]: the two units as AXI4-Stream
+//!   blocks (`s_tvalid/s_tready/s_tdata` in, `m_tvalid/m_tready/m_tdata` out), a
+//!   credit-counted [`ResultFifo`] behind each core; these are what the Verilog export
+//!   writes for streaming use ([`mask_search_stream_verilog`]).
 //!
 //! Both feed the same back end ([`SearchBackEnd`]: ROM, depth calculator, result
 //! registers). All arithmetic is on `Bits` (two's complement modulo `2^53`); formats are
@@ -39,18 +43,24 @@ mod ports;
 pub mod back_end;
 pub mod depth_calc;
 pub mod iter;
+pub mod iter_stream;
 pub mod mask_gen;
 pub mod offset_rom;
 pub mod pipe;
+pub mod pipe_stream;
+pub mod result_fifo;
 pub mod shift_add;
 pub mod stage;
 
 pub use back_end::SearchBackEnd;
 pub use depth_calc::DepthCalc;
 pub use iter::MaskSearchIter;
+pub use iter_stream::{MaskSearchIterStream, ITER_FIFO_DEPTH};
 pub use mask_gen::MaskGen;
 pub use offset_rom::{OffsetRom, ROM_LATENCY, WORD_BITS};
 pub use pipe::MaskSearchPipe;
+pub use pipe_stream::{pipe_fifo_depth, MaskSearchPipeStream};
+pub use result_fifo::ResultFifo;
 pub use shift_add::ShiftAdd;
 pub use stage::{SearchStage, StageProbe};
 
@@ -74,6 +84,59 @@ pub const LINE_BITS: usize = 5;
 pub const DEPTH_LATENCY: usize = 4;
 /// Clocks from a search result (the clock its last line is tested) to the result ports.
 pub const BACK_LATENCY: usize = ROM_LATENCY + DEPTH_LATENCY;
+
+/// Width of a stream search word (`s_tdata`) for `b`-bit masks. Fields, LSB first:
+/// `zc[48]` at 0, `sx[48]` at 48, `sy[48]` at 96, `corner[2]` at 144, `mask[b]` at 146.
+pub const fn stream_in_bits(b: usize) -> usize {
+    3 * PB + 2 + b
+}
+
+/// Width of a stream result word (`m_tdata`) for `b`-bit masks. Fields, LSB first:
+/// `z1` at 0, `z2` at 53, `zmin` at 106, `zmax` at 159 (53 bits each), `rom[17]` at 212,
+/// `steps[5]` at 229, `hit` at 234, `and[b]` at 235.
+pub const fn stream_out_bits(b: usize) -> usize {
+    4 * Z_BITS + WORD_BITS + LINE_BITS + 1 + b
+}
+
+/// Bit of `hit` in a result word.
+pub const STREAM_HIT_BIT: usize = 4 * Z_BITS + WORD_BITS + LINE_BITS;
+// The stream kernels (`stream_unit_logic!`) use these offsets as literals.
+const _: () = assert!(
+    stream_in_bits(0) == 146 && STREAM_HIT_BIT == 234 && WORD_BITS == 17,
+    "stream word layout changed: update stream_unit_logic!"
+);
+
+/// The iterative stream unit for 4×4 masks.
+pub type MaskSearchIterStream4x4 =
+    MaskSearchIterStream<16, { stream_in_bits(16) }, { stream_out_bits(16) }>;
+/// The iterative stream unit for 8×8 masks.
+pub type MaskSearchIterStream8x8 =
+    MaskSearchIterStream<64, { stream_in_bits(64) }, { stream_out_bits(64) }>;
+/// The pipelined stream unit for 4×4 masks.
+pub type MaskSearchPipeStream4x4 =
+    MaskSearchPipeStream<16, { stream_in_bits(16) }, { stream_out_bits(16) }>;
+/// The pipelined stream unit for 8×8 masks.
+pub type MaskSearchPipeStream8x8 =
+    MaskSearchPipeStream<64, { stream_in_bits(64) }, { stream_out_bits(64) }>;
+
+/// Checks a stream unit's word widths against its mask width.
+pub(crate) fn check_stream(b: usize, iw: usize, ow: usize) -> Result<(), MaskSearchError> {
+    if iw != stream_in_bits(b) || ow != stream_out_bits(b) {
+        return Err(MaskSearchError::StreamWidth {
+            b,
+            iw,
+            ow,
+            want_iw: stream_in_bits(b),
+            want_ow: stream_out_bits(b),
+        });
+    }
+    Ok(())
+}
+
+/// The `hit` bit of a result word as a constant.
+pub(crate) fn hit_bit<const OW: usize>() -> Bits<OW> {
+    Bits::<OW>::default().replace_bit(STREAM_HIT_BIT, true)
+}
 
 /// Why a search unit cannot be built.
 #[derive(Debug, Error, PartialEq, Eq)]
@@ -103,6 +166,20 @@ pub enum MaskSearchError {
     /// Verilog export is built for 4×4 (`B = 16`) and 8×8 (`B = 64`) masks only.
     #[error("no Verilog export for mask size {0} (4x4 and 8x8 are built)")]
     NoExport(MaskSize),
+    /// A stream unit's word widths do not fit its mask width.
+    #[error("stream words of {iw} and {ow} bits for {b}-bit masks; need {want_iw} and {want_ow}")]
+    StreamWidth {
+        /// Mask width.
+        b: usize,
+        /// `s_tdata` width asked for.
+        iw: usize,
+        /// `m_tdata` width asked for.
+        ow: usize,
+        /// `s_tdata` width needed.
+        want_iw: usize,
+        /// `m_tdata` width needed.
+        want_ow: usize,
+    },
     /// Writing a file failed.
     #[error("writing Verilog: {0}")]
     Io(String),
@@ -163,6 +240,44 @@ pub fn module_name(variant: Variant, size: MaskSize) -> String {
     format!("mask_search_{}_{}x{}", variant.name(), size.n(), size.m())
 }
 
+/// Verilog module name of a variant's stream unit for a size, e.g.
+/// `mask_search_pipe_stream_4x4`.
+pub fn stream_module_name(variant: Variant, size: MaskSize) -> String {
+    format!(
+        "mask_search_{}_stream_{}x{}",
+        variant.name(),
+        size.n(),
+        size.m()
+    )
+}
+
+/// Self-contained Verilog of one variant's AXI4-Stream unit ([`MaskSearchIterStream`],
+/// [`MaskSearchPipeStream`]) for 4×4 or 8×8 masks (seed diagonal family): `(module name,
+/// text)`. The module is [`stream_module_name`].
+pub fn mask_search_stream_verilog(
+    variant: Variant,
+    size: MaskSize,
+) -> Result<(String, String), MaskSearchError> {
+    let name = stream_module_name(variant, size);
+    let fam = SearchFamily::DIAGONAL;
+    let text = match (variant, size.bits()) {
+        (Variant::Iterative, 16) => {
+            crate::verilog::export(MaskSearchIterStream4x4::new(size, fam)?, &name)
+        }
+        (Variant::Iterative, 64) => {
+            crate::verilog::export(MaskSearchIterStream8x8::new(size, fam)?, &name)
+        }
+        (Variant::Pipelined, 16) => {
+            crate::verilog::export(MaskSearchPipeStream4x4::new(size, fam)?, &name)
+        }
+        (Variant::Pipelined, 64) => {
+            crate::verilog::export(MaskSearchPipeStream8x8::new(size, fam)?, &name)
+        }
+        _ => return Err(MaskSearchError::NoExport(size)),
+    };
+    Ok((name, text))
+}
+
 /// Self-contained Verilog of one variant for 4×4 or 8×8 masks (seed diagonal family):
 /// `(module name, text)`. The module is [`module_name`]; sub-modules are `name$...`.
 pub fn mask_search_verilog(
@@ -189,8 +304,10 @@ pub fn mask_search_verilog(
     Ok((name, text))
 }
 
-/// Writes both variants for 4×4 and 8×8 into `dir` (`mask_search_{iter,pipe}_{4x4,8x8}.v`,
-/// each self-contained); returns the paths.
+/// Writes both variants for 4×4 and 8×8 into `dir`, the cores
+/// (`mask_search_{iter,pipe}_{4x4,8x8}.v`) and their AXI4-Stream units
+/// (`mask_search_{iter,pipe}_stream_{4x4,8x8}.v`), each file self-contained; returns the
+/// paths.
 pub fn write_mask_search_verilog(dir: &Path) -> Result<Vec<PathBuf>, MaskSearchError> {
     let io = |e: std::io::Error| MaskSearchError::Io(e.to_string());
     std::fs::create_dir_all(dir).map_err(io)?;
@@ -204,12 +321,14 @@ pub fn write_mask_search_verilog(dir: &Path) -> Result<Vec<PathBuf>, MaskSearchE
 }
 
 /// The files [`write_mask_search_verilog`] writes, as `(file name, text)`: both variants
-/// at 4×4 and 8×8.
+/// at 4×4 and 8×8, core and stream unit.
 pub fn mask_search_files() -> Result<Vec<(String, String)>, MaskSearchError> {
     let mut out = Vec::new();
     for size in [MaskSize::S4X4, MaskSize::S8X8] {
         for v in Variant::ALL {
             let (name, text) = mask_search_verilog(v, size)?;
+            out.push((format!("{name}.v"), text));
+            let (name, text) = mask_search_stream_verilog(v, size)?;
             out.push((format!("{name}.v"), text));
         }
     }

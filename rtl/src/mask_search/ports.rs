@@ -139,3 +139,40 @@ macro_rules! search_unit_logic {
         }
     };
 }
+
+/// Implements `Logic` for a stream search unit (a struct with `s_tdata`, `core`, `fifo`,
+/// `k_hit` and a local `l_word`): the unit's own kernel, followed by the two word layouts.
+/// `s_tdata` is taken apart onto the core's `in_*` ports, and the core's `out_*` ports
+/// are packed into the FIFO's `i_data` (layouts in `stream_in_bits` and
+/// `stream_out_bits`; the literal offsets are checked against them in `mod.rs`).
+macro_rules! stream_unit_logic {
+    (
+        $name:ident,
+        $hash:tt $gen:tt
+        $fn:ident $update:ident(&mut $s:ident) { $($body:tt)* }
+    ) => {
+        impl<const B: usize, const IW: usize, const OW: usize> Logic for $name<B, IW, OW> {
+            $hash $gen
+            $fn $update(&mut $s) {
+                $($body)*
+                $s.core.in_zc.next = $s.s_tdata.val().get_bits::<PB>(0);
+                $s.core.in_sx.next = $s.s_tdata.val().get_bits::<PB>(48);
+                $s.core.in_sy.next = $s.s_tdata.val().get_bits::<PB>(96);
+                $s.core.in_corner.next = $s.s_tdata.val().get_bits::<2>(144);
+                $s.core.in_mask.next = $s.s_tdata.val().get_bits::<B>(146);
+                $s.l_word.next = bit_cast::<OW, Z_BITS>($s.core.out_z1.val())
+                    | (bit_cast::<OW, Z_BITS>($s.core.out_z2.val()) << 53)
+                    | (bit_cast::<OW, Z_BITS>($s.core.out_zmin.val()) << 106)
+                    | (bit_cast::<OW, Z_BITS>($s.core.out_zmax.val()) << 159)
+                    | (bit_cast::<OW, WORD_BITS>($s.core.out_rom.val()) << 212)
+                    | (bit_cast::<OW, LINE_BITS>($s.core.out_steps.val()) << 229)
+                    | (bit_cast::<OW, B>($s.core.out_and.val()) << 235);
+                if $s.core.out_hit.val() {
+                    $s.l_word.next = $s.l_word.val() | $s.k_hit.val();
+                }
+                $s.fifo.i_valid.next = $s.core.out_valid.val();
+                $s.fifo.i_data.next = $s.l_word.val();
+            }
+        }
+    };
+}

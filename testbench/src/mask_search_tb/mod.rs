@@ -31,6 +31,9 @@
 //! and the run up to it is replayed in the traced RustHDL simulator into `mismatch.vcd`
 //! (external simulators dump their own VCD).
 //!
+//! **Stream.** [`stream`] runs the AXI4-Stream units on the whole search stream of an
+//! A-buffer render with random input gaps and output back-pressure ([`run_search_stream`]).
+//!
 //! Files: [`jobs`] (stimulus), [`schedule`] (golden per-clock vectors), [`rusthdl`] (the
 //! RustHDL runs), [`vectors`] (vector files and the Verilog testbench), [`external`]
 //! (Icarus Verilog and Verilator through the shared runner of `crate::external`).
@@ -39,6 +42,8 @@ pub mod external;
 pub mod jobs;
 pub mod rusthdl;
 pub mod schedule;
+pub mod stream;
+mod stream_rusthdl;
 pub mod vectors;
 
 pub use external::{check_external, check_external_against};
@@ -46,6 +51,9 @@ pub use jobs::{exhaustive_jobs, loaded_scene_jobs, random_jobs, scene_jobs};
 pub use rusthdl::check_rusthdl_against;
 pub use schedule::{
     golden_result, schedule_iter, schedule_pipe, InVec, OutVec, ResultPorts, Schedule,
+};
+pub use stream::{
+    run_search_stream, run_stream_words, scene_requests, stream_words, StreamSummary, StreamWords,
 };
 pub use vectors::{testbench_verilog, write_vectors};
 
