@@ -84,8 +84,9 @@ pub(crate) struct TestbenchArgs {
     /// counter and normal class are compared too.
     #[arg(long, requires = "frame")]
     pub(crate) debug: bool,
-    /// With --frame: seed of the random input gaps and output back-pressure.
-    #[arg(long, default_value_t = 1, requires = "frame")]
+    /// Seed of the random input gaps and output back-pressure (--frame, and the search
+    /// units' stream run of an A-buffer scene in Verilator).
+    #[arg(long, default_value_t = 1)]
     pub(crate) seed: u64,
     /// With --frame: percent of clocks the source leaves a gap (0..=90).
     #[arg(long, value_name = "PCT", default_value_t = 20, requires = "frame",

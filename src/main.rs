@@ -365,6 +365,19 @@ fn cmd_testbench(a: &TestbenchArgs) -> Result<bool> {
             }
             ok &= s.bit_exact;
         }
+        // The stream version of each unit on the scene's whole search stream, with random
+        // gaps and back-pressure (Verilator: the whole stream is long).
+        if sim == SimKind::Verilator {
+            use pixelproc_testbench::mask_search_tb::run_search_stream;
+            for v in pixelproc_rtl::mask_search::Variant::ALL {
+                let s = run_search_stream(&ls, p.size, v, sim, a.seed)?;
+                say!("testbench {} search stream: {s}", ls.name);
+                if !s.identical {
+                    say!("{}", s.detail);
+                }
+                ok &= s.identical;
+            }
+        }
     }
     Ok(ok)
 }
