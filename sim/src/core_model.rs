@@ -513,7 +513,7 @@ impl CoreModel {
             && kind != pixelproc_formats::opcodes::OP_CLEAR_LINE
             && kind != pixelproc_formats::opcodes::OP_RESET;
         let table = kind == KIND_TABLE;
-        let can = !(frame && self.job.valid) && !rst;
+        let can = !(rst || frame && self.job.valid);
         let issue = head.is_some() && can;
         let credit = self.out_fifo.level() + self.inflight < 1 << OUT_FIFO_ABITS;
         let go = self.job.valid && self.job.wait == 0 && credit;

@@ -119,8 +119,10 @@ fn a_difference_is_reported_with_its_pixel_clock_and_trace() {
     let mut ls = load_builtin("default").unwrap();
     ls.scene.width = 40;
     ls.scene.height = 6;
-    let mut ov = Overrides::default();
-    ov.no_shadows = true;
+    let ov = Overrides {
+        no_shadows: true,
+        ..Default::default()
+    };
     let fx = Effects::resolve(&ls, &ov).unwrap();
     let work = tempfile::tempdir().unwrap();
     let spec = FrameSpec {

@@ -15,10 +15,10 @@ fn run(scene: &str, w: u32, h: u32, n: usize, shadows: bool, gap: u32, stall: u3
     let mut ls = load_builtin(scene).unwrap();
     ls.scene.width = w;
     ls.scene.height = h;
-    let mut ov = Overrides::default();
-    if !shadows {
-        ov.no_shadows = true;
-    }
+    let ov = Overrides {
+        no_shadows: !shadows,
+        ..Default::default()
+    };
     let fx = Effects::resolve(&ls, &ov).unwrap();
     assert_eq!(!fx.shadow_lights.is_empty(), shadows, "{scene}");
     let golden = pixelproc_sim::pipeline::render(&ls, &fx).unwrap();
