@@ -250,6 +250,9 @@ pub(crate) struct PixelSummary {
     pub free: u64,
 }
 
+/// The packing key of a group: (zmin, zmax, not decal, first tie, first member).
+type GroupKey = (i64, i64, bool, i64, usize);
+
 /// One merged group as [`PixelScratch`] builds it (the fields of [`Group`] without the
 /// member list, plus the packing key's parts).
 #[derive(Clone, Copy, Debug)]
@@ -275,7 +278,7 @@ pub(crate) struct PixelScratch {
     comp: Vec<usize>,
     groups: Vec<GroupAcc>,
     /// Packing keys of the groups: ((zmin, zmax, not decal, first tie, first member), group).
-    gorder: Vec<((i64, i64, bool, i64, usize), usize)>,
+    gorder: Vec<(GroupKey, usize)>,
     /// Rank in packing order per group.
     rank: Vec<usize>,
     grank: Vec<usize>,
