@@ -239,3 +239,46 @@ impl SpanSink for VisibleProbe {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The 128-bit reference of [`round_div`].
+    fn round_div_wide(n: i128, d: i128) -> i128 {
+        let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
+        (2 * n + d).div_euclid(2 * d)
+    }
+
+    #[test]
+    fn round_div_fast_path_and_steps_match_the_wide_division() {
+        let mut rng = crate::rng::Lcg64(0x1234_5678);
+        for k in 0..20_000 {
+            // Magnitudes on both sides of the 64-bit fast path's limit.
+            let bits = [8, 40, 60, 62, 90][k % 5];
+            let mut draw = |b: u32| {
+                let v = (rng.step() as i128) << 64 | rng.step() as i128;
+                let v = v % (1i128 << b);
+                if rng.step() & 1 == 0 {
+                    -v
+                } else {
+                    v
+                }
+            };
+            let (n0, dn, mut d) = (draw(bits), draw(bits.min(60)), draw(bits));
+            if d == 0 {
+                d = 7;
+            }
+            assert_eq!(round_div(n0, d), round_div_wide(n0, d), "{n0} / {d}");
+            let mut st = RoundDivSteps::new(n0, dn, d);
+            for i in 0..8 {
+                assert_eq!(
+                    st.value(),
+                    round_div_wide(n0 + i * dn, d),
+                    "{n0} + {i}·{dn} / {d}"
+                );
+                st.advance();
+            }
+        }
+    }
+}
