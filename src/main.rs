@@ -183,6 +183,9 @@ fn cmd_bench(a: &BenchArgs) -> Result<()> {
     if a.runs == 0 {
         bail!("--runs must be at least 1");
     }
+    if a.all_methods {
+        return bench_all_methods(a.runs);
+    }
     let ls = load(&a.scene, &a.input)?;
     let fx = Effects::resolve(&ls, &overrides(&a.fx, &[])?)?;
     let first = render(&ls, &fx)?;
@@ -214,6 +217,19 @@ fn cmd_bench(a: &BenchArgs) -> Result<()> {
             .collect(),
     );
     say!("  {:<34} {:>9.2} ms", "total", tot * 1e3);
+    Ok(())
+}
+
+/// `bench --all-methods`: the table of `pixelproc_bench::methods`.
+fn bench_all_methods(runs: usize) -> Result<()> {
+    use pixelproc_bench::methods::{bench_scenes, run_all_methods, table};
+    let scenes = bench_scenes()?;
+    say!(
+        "bench --all-methods: median of {runs} interleaved runs after 1 warm-up, {} threads",
+        rayon::current_num_threads()
+    );
+    let rows = run_all_methods(&scenes, runs, |s| eprintln!("  {s}…"))?;
+    say!("{}", table(&rows));
     Ok(())
 }
 

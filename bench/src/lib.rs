@@ -21,6 +21,7 @@
 
 pub mod chart;
 pub mod judge;
+pub mod methods;
 pub mod report;
 pub mod scenes;
 pub mod settings;

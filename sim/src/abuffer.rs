@@ -32,8 +32,8 @@
 use crate::mask::MaskEdges;
 use crate::mask_search::{DepthSelect, DepthSelector};
 use crate::raster::edge::check_depths;
-use crate::raster::round_div;
 use crate::raster::rows::Bands;
+use crate::raster::{round_div, RoundDivSteps};
 use crate::setup::{ExactPlane, SetupError, SnappedTri};
 use pixelproc_formats::abuffer::{saturate_plane, FragPlane, MaskSize, PLANE_FRAC};
 use pixelproc_formats::{I_FRAC, MAX_SCREEN, SUBPIXEL_ONE};
@@ -173,6 +173,42 @@ impl FragSetup {
         }
     }
 
+    /// Steppers of the depth and colour planes along row `j` from pixel `i0`: the values
+    /// [`FragSetup::fragment`] computes, pixel after pixel, with additions only.
+    fn row_steps(&self, i0: i64, j: i64) -> [RoundDivSteps; 4] {
+        let one = SUBPIXEL_ONE as i128;
+        let (x, y) = (i0 as i128 * one + one / 2, j as i128 * one + one / 2);
+        let at = |p: &ExactPlane, frac: u32| {
+            let num = (p.v0 * p.area2 + p.nx * (x - p.x0) + p.ny * (y - p.y0)) << frac;
+            RoundDivSteps::new(num, (p.nx * one) << frac, p.area2)
+        };
+        [
+            at(&self.z, PLANE_FRAC),
+            at(&self.c[0], 0),
+            at(&self.c[1], 0),
+            at(&self.c[2], 0),
+        ]
+    }
+
+    /// The fragment whose depth and colour planes the steppers are at (see
+    /// [`FragSetup::row_steps`]).
+    #[inline]
+    fn fragment_from(&self, st: &[RoundDivSteps; 4], mask: u64) -> Fragment {
+        let max = 255i128 << I_FRAC;
+        Fragment {
+            mask,
+            plane: FragPlane {
+                zc: saturate_plane(st[0].value()),
+                sx: self.sx,
+                sy: self.sy,
+            },
+            rgb_q12: [1, 2, 3].map(|k| st[k].value().clamp(0, max) as u32),
+            tag: self.tag,
+            decal: self.decal,
+            prim: self.prim,
+        }
+    }
+
     /// The fragment of pixel (i, j) with a given mask.
     pub fn fragment(&self, i: i64, j: i64, mask: u64) -> Fragment {
         let max = 255i128 << I_FRAC;
@@ -282,42 +318,77 @@ fn frag_setups(
     Ok((setups, bands))
 }
 
-/// The non-empty fraction masks of row `j`: `(pixel, triangle, mask)` sorted by pixel,
-/// triangles in scene order within a pixel (`tris` in scene order).
-fn row_entries<'a>(
-    j: i64,
-    width: u32,
-    tris: impl Iterator<Item = &'a FragSetup>,
-    size: MaskSize,
-    entries: &mut Vec<(u32, &'a FragSetup, u64)>,
-) {
-    entries.clear();
-    let full = size.full();
-    for t in tris {
-        let Some(rc) = t.edges.row_coverage(j, width) else {
-            continue;
-        };
-        for i in rc.touched.0..=rc.touched.1 {
-            let mask = match rc.full {
-                Some((a, b)) if a <= i && i <= b => full,
-                _ => t.edges.fraction_mask(i, j),
-            };
-            if mask != 0 {
-                entries.push((i as u32, t, mask));
-            }
-        }
-    }
-    entries.sort_by_key(|e| e.0); // stable: scene order within a pixel
+/// The fragments of one row grouped by pixel: `frags[start[i]..start[i + 1]]` are pixel
+/// `i`'s, in scene order. Buffers are reused from row to row.
+#[derive(Default)]
+struct RowFrags {
+    /// (pixel, fragment) in triangle (scene) order, as generated.
+    raw: Vec<(u32, Fragment)>,
+    /// Fragments sorted by pixel (stable: scene order within a pixel).
+    frags: Vec<Fragment>,
+    /// Start of each pixel's run in `frags`; `width + 1` entries.
+    start: Vec<u32>,
 }
 
-/// The end of the run of `entries` (sorted by pixel) that starts at `k`.
-fn run_end<T>(entries: &[(u32, T, u64)], k: usize) -> usize {
-    let i = entries[k].0;
-    let mut e = k;
-    while e < entries.len() && entries[e].0 == i {
-        e += 1;
+impl RowFrags {
+    /// Generates the non-empty fraction masks of row `j` of the triangles `tris` (scene
+    /// order) with their fragments, and groups them by pixel (a counting sort, stable).
+    fn build<'a>(
+        &mut self,
+        j: i64,
+        width: u32,
+        tris: impl Iterator<Item = &'a FragSetup>,
+        size: MaskSize,
+    ) {
+        self.raw.clear();
+        let full = size.full();
+        for t in tris {
+            let Some(rc) = t.edges.row_coverage(j, width) else {
+                continue;
+            };
+            let mut st = t.row_steps(rc.touched.0, j);
+            for i in rc.touched.0..=rc.touched.1 {
+                let mask = match rc.full {
+                    Some((a, b)) if a <= i && i <= b => full,
+                    _ => t.edges.fraction_mask(i, j),
+                };
+                if mask != 0 {
+                    self.raw.push((i as u32, t.fragment_from(&st, mask)));
+                }
+                for s in st.iter_mut() {
+                    s.advance();
+                }
+            }
+        }
+        let w = width as usize;
+        self.start.clear();
+        self.start.resize(w + 1, 0);
+        for (i, _) in &self.raw {
+            self.start[*i as usize + 1] += 1;
+        }
+        for i in 0..w {
+            self.start[i + 1] += self.start[i];
+        }
+        self.frags.clear();
+        self.frags.extend(self.raw.iter().map(|e| e.1));
+        // Scatter with a running cursor per pixel (the first w entries of `start` are
+        // advanced and then shifted back).
+        for (i, f) in &self.raw {
+            let at = &mut self.start[*i as usize];
+            self.frags[*at as usize] = *f;
+            *at += 1;
+        }
+        for i in (1..=w).rev() {
+            self.start[i] = self.start[i - 1];
+        }
+        self.start[0] = 0;
     }
-    e
+
+    /// The fragments of pixel `i`.
+    #[inline]
+    fn pixel(&self, i: usize) -> &[Fragment] {
+        &self.frags[self.start[i] as usize..self.start[i + 1] as usize]
+    }
 }
 
 /// A pixel with two or more fragments (where the depth selection runs).
@@ -345,32 +416,16 @@ pub fn multi_fragment_pixels(
         .into_par_iter()
         .map(|j| {
             let band = bands.members(bands.of_row(j));
-            let mut entries = Vec::new();
-            row_entries(
-                j,
-                width,
-                band.iter().map(|&k| &setups[k as usize]),
-                size,
-                &mut entries,
-            );
-            let mut out = Vec::new();
-            let mut k = 0;
-            while k < entries.len() {
-                let e = run_end(&entries, k);
-                if e - k >= 2 {
-                    let x = entries[k].0;
-                    out.push(MultiFragmentPixel {
-                        x,
-                        y: j as u32,
-                        fragments: entries[k..e]
-                            .iter()
-                            .map(|(_, t, m)| t.fragment(x as i64, j, *m))
-                            .collect(),
-                    });
-                }
-                k = e;
-            }
-            out
+            let mut rf = RowFrags::default();
+            rf.build(j, width, band.iter().map(|&k| &setups[k as usize]), size);
+            (0..width as usize)
+                .filter(|&i| rf.pixel(i).len() >= 2)
+                .map(|i| MultiFragmentPixel {
+                    x: i as u32,
+                    y: j as u32,
+                    fragments: rf.pixel(i).to_vec(),
+                })
+                .collect()
         })
         .collect();
     Ok(per_row.into_iter().flatten().collect())
@@ -399,21 +454,25 @@ pub fn render_abuffer(
         .zip(fragments.par_chunks_mut(w))
         .zip(visible.par_chunks_mut(w))
         .enumerate()
-        .map(|(j, (((rgb_row, cov_row), frag_row), vis_row))| {
-            let band = bands.members(bands.of_row(j as i64));
-            render_row(
-                j as i64,
-                width,
-                band.iter().map(|&k| &setups[k as usize]),
-                &sel,
-                params,
-                bg,
-                rgb_row,
-                cov_row,
-                frag_row,
-                vis_row,
-            )
-        })
+        .map_init(
+            RowScratch::default,
+            |scratch, (j, (((rgb_row, cov_row), frag_row), vis_row))| {
+                let band = bands.members(bands.of_row(j as i64));
+                render_row(
+                    j as i64,
+                    width,
+                    band.iter().map(|&k| &setups[k as usize]),
+                    &sel,
+                    params,
+                    bg,
+                    rgb_row,
+                    cov_row,
+                    frag_row,
+                    vis_row,
+                    scratch,
+                )
+            },
+        )
         .reduce(AbufferStats::default, |mut a, b| {
             a.add(&b);
             a
@@ -427,19 +486,6 @@ pub fn render_abuffer(
         visible,
         stats,
     })
-}
-
-/// The triangle with the most visible subpixels (lowest index on a tie), or −1 when the
-/// free subpixels are at least as many.
-fn dominant(frags: &[Fragment], packed: &Packed) -> i32 {
-    let mut best = (-1i32, packed.free.count_ones());
-    for (f, v) in frags.iter().zip(&packed.visible) {
-        let n = v.count_ones();
-        if n > best.1 || (n == best.1 && best.0 >= 0 && (f.prim as i32) < best.0) {
-            best = (f.prim as i32, n);
-        }
-    }
-    best.0
 }
 
 /// Runs every depth-selection variant on one multi-fragment pixel and counts, per variant,
@@ -478,46 +524,42 @@ fn render_row<'a>(
     cov_row: &mut [u16],
     frag_row: &mut [u16],
     vis_row: &mut [i32],
+    scratch: &mut RowScratch,
 ) -> AbufferStats {
     let size = params.size;
     let full = size.full();
     let mut st = AbufferStats::default();
-    // (pixel, triangle, mask) in scene order per pixel.
-    let mut entries: Vec<(u32, &FragSetup, u64)> = Vec::new();
-    row_entries(j, width, tris, size, &mut entries);
+    let RowScratch { rows, pixel } = scratch;
+    rows.build(j, width, tris, size);
     for px in rgb_row.chunks_mut(3) {
         px.copy_from_slice(&bg);
     }
-    let mut frags: Vec<Fragment> = Vec::new();
-    let mut k = 0;
-    while k < entries.len() {
-        let i = entries[k].0;
-        let e = run_end(&entries, k);
-        let run = &entries[k..e];
-        k = e;
-        let iu = i as usize;
-        st.fragments += run.len() as u64;
-        frag_row[iu] = run.len() as u16;
-        if run.len() == 1 && run[0].2 == full {
+    for iu in 0..width as usize {
+        let frags = rows.pixel(iu);
+        if frags.is_empty() {
+            continue;
+        }
+        st.fragments += frags.len() as u64;
+        frag_row[iu] = frags.len() as u16;
+        if frags.len() == 1 && frags[0].mask == full {
             // Fast path: one triangle covers the whole pixel.
-            let f = run[0].1.fragment(i as i64, j, full);
-            let packed = Packed {
-                order: vec![0],
-                visible: vec![full],
-                free: 0,
-            };
-            rgb_row[3 * iu..3 * iu + 3].copy_from_slice(&resolve(&[f], &packed, bg, size));
+            let f = &frags[0];
+            rgb_row[3 * iu..3 * iu + 3].copy_from_slice(&pixel::resolve_bits(
+                frags,
+                &[full],
+                0,
+                bg,
+                size,
+            ));
             cov_row[iu] = size.bits() as u16;
             vis_row[iu] = f.prim as i32;
             st.fast_pixels += 1;
             continue;
         }
-        frags.clear();
-        frags.extend(run.iter().map(|(_, t, m)| t.fragment(i as i64, j, *m)));
-        let out = process_pixel(&frags, sel, params.depth, params.interpenetrating, bg, size);
+        let out = pixel.process(frags, sel, params.depth, params.interpenetrating, bg, size);
         rgb_row[3 * iu..3 * iu + 3].copy_from_slice(&out.rgb);
         cov_row[iu] = out.covered.count_ones() as u16;
-        vis_row[iu] = dominant(&frags, &out.packed);
+        vis_row[iu] = pixel::dominant_bits(frags, pixel.visible(), out.free);
         st.merges += out.merges as u64;
         st.depth_evals += out.evals as u64;
         st.search_steps += out.steps as u64;
@@ -525,11 +567,18 @@ fn render_row<'a>(
             st.multi_pixels += 1;
             st.sorted_fragments += frags.len() as u64;
             if params.compare_variants {
-                compare_variants(&frags, sel, params.interpenetrating, bg, size, &mut st);
+                compare_variants(frags, sel, params.interpenetrating, bg, size, &mut st);
             }
         }
     }
     st
+}
+
+/// Buffers one rendering thread reuses from row to row.
+#[derive(Default)]
+struct RowScratch {
+    rows: RowFrags,
+    pixel: pixel::PixelScratch,
 }
 
 #[cfg(test)]

@@ -170,8 +170,21 @@ pub fn occluders(ls: &LoadedScene) -> Vec<Occluder> {
         }
         let (pos, faces) = weld(m);
         let edge_faces = edge_faces(&faces);
-        for fl in components(faces.len(), &edge_faces) {
-            out.push(occluder(&pos, &faces, &edge_faces, &fl));
+        let comps = components(faces.len(), &edge_faces);
+        // Each component's edges (those whose first face is in it), in one pass over the
+        // edges rather than one per component.
+        let mut comp_of = vec![0usize; faces.len()];
+        for (c, fl) in comps.iter().enumerate() {
+            for &f in fl {
+                comp_of[f] = c;
+            }
+        }
+        let mut comp_edges: Vec<Vec<&(usize, usize)>> = vec![Vec::new(); comps.len()];
+        for (e, fs) in &edge_faces {
+            comp_edges[comp_of[fs[0]]].push(e);
+        }
+        for (fl, keys) in comps.iter().zip(comp_edges) {
+            out.push(occluder(&pos, &faces, &edge_faces, fl, keys));
         }
     }
     out
@@ -246,14 +259,17 @@ fn components(n: usize, edge_faces: &EdgeFaces) -> Vec<Vec<usize>> {
 }
 
 /// One component as an occluder: its faces, welded edges, closed and convex tests.
-fn occluder(pos: &[DVec3], faces: &[[usize; 3]], edge_faces: &EdgeFaces, fl: &[usize]) -> Occluder {
+/// `keys` are the component's edges: those whose first face is in `fl`.
+fn occluder(
+    pos: &[DVec3],
+    faces: &[[usize; 3]],
+    edge_faces: &EdgeFaces,
+    fl: &[usize],
+    mut keys: Vec<&(usize, usize)>,
+) -> Occluder {
     let local: HashMap<usize, usize> = fl.iter().enumerate().map(|(k, &f)| (f, k)).collect();
     let mut edges = Vec::new();
     let mut closed = true;
-    let mut keys: Vec<&(usize, usize)> = edge_faces
-        .keys()
-        .filter(|e| local.contains_key(&edge_faces[e][0]))
-        .collect();
     keys.sort_unstable();
     for e in keys {
         let fs: Vec<usize> = edge_faces[e].iter().map(|f| local[f]).collect();

@@ -37,9 +37,10 @@
 //!
 //! Coverage, depth and intensity per sample come from [`super::sampler`].
 
-use super::sampler::{rasterize, Lattice, SampleBuf};
+use super::sampler::{rasterize, Lattice};
 use super::{AaError, AaFrame, AaStats};
 use crate::setup::SnappedTri;
+use rayon::prelude::*;
 
 /// Sample pattern.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -193,7 +194,31 @@ pub fn lattices(p: &CornerParams, width: u32, height: u32) -> Vec<Lattice> {
 
 /// The samples of pixel `(i, j)`: `(lattice, a, b, weight)`, pattern samples first.
 pub fn pixel_samples(p: &CornerParams, i: u32, j: u32) -> Vec<(usize, u32, u32, u32)> {
-    let mut out = Vec::with_capacity(5);
+    let mut out = PixelSamples::default();
+    pixel_samples_into(p, i, j, &mut out);
+    out.as_slice().to_vec()
+}
+
+/// Up to five samples of one pixel, on the stack.
+#[derive(Default)]
+struct PixelSamples {
+    s: [(usize, u32, u32, u32); 5],
+    n: usize,
+}
+
+impl PixelSamples {
+    fn push(&mut self, v: (usize, u32, u32, u32)) {
+        self.s[self.n] = v;
+        self.n += 1;
+    }
+    fn as_slice(&self) -> &[(usize, u32, u32, u32)] {
+        &self.s[..self.n]
+    }
+}
+
+/// [`pixel_samples`] into a buffer without allocating.
+fn pixel_samples_into(p: &CornerParams, i: u32, j: u32, out: &mut PixelSamples) {
+    out.n = 0;
     let lats_n = match p.pattern {
         Pattern::Corner => {
             for (ci, cj) in [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)] {
@@ -228,7 +253,6 @@ pub fn pixel_samples(p: &CornerParams, i: u32, j: u32) -> Vec<(usize, u32, u32, 
     if p.centre {
         out.push((lats_n, i, j, p.weights.centre));
     }
-    out
 }
 
 fn check(p: &CornerParams) -> Result<u64, AaError> {
@@ -279,52 +303,41 @@ pub fn render(
     let w = width as usize;
     let mut rgb = vec![0u8; w * height as usize * 3];
     let mut visible = vec![-1i32; w * height as usize];
-    let mut reads = 0u64;
-    // Sample-memory read (counted).
-    let mut read = |l: usize, a: u32, b: u32, bufs: &[SampleBuf]| {
-        reads += 1;
-        let s = bufs[l].idx(a, b);
-        (bufs[l].rgb[s], bufs[l].tri[s])
-    };
     let corner = p.pattern == Pattern::Corner;
-    // Row buffer: the corner samples of the current pixel row's top edge (corner row j).
-    let mut row_buf: Vec<Sample> = Vec::new();
-    if corner {
-        for ci in 0..=width {
-            row_buf.push(read((ci % 2) as usize, ci / 2, 0, &bufs));
-        }
-    }
-    let mut next_row: Vec<Sample> = Vec::with_capacity(w + 1);
-    let mut wsum: Vec<(i32, u64)> = Vec::new();
-    for j in 0..height {
-        next_row.clear();
-        for i in 0..width {
-            let smp = pixel_samples(p, i, j);
-            let mut vals: Vec<(Sample, u32)> = Vec::with_capacity(smp.len());
-            for (n, &(l, a, b, wt)) in smp.iter().enumerate() {
-                let v = match n {
-                    0 if corner => row_buf[i as usize],
-                    1 if corner => row_buf[i as usize + 1],
-                    // Past the first pixel, sample 2 is the previous pixel's bottom-right.
-                    2 if corner && i > 0 => next_row[i as usize],
-                    2 | 3 if corner => {
-                        let v = read(l, a, b, &bufs);
-                        next_row.push(v);
-                        v
+    // The hardware reads each corner sample once: the samples of a pixel row's top edge
+    // come from a row buffer (the first row's are read before it), sample 2 of every
+    // pixel but the first is the previous pixel's sample 3. Rows run in parallel reading
+    // the sample memory directly (the same values) and count the reads that order makes.
+    let first_row_reads = if corner { width as u64 + 1 } else { 0 };
+    let reads: u64 = rgb
+        .par_chunks_mut(3 * w)
+        .zip(visible.par_chunks_mut(w))
+        .enumerate()
+        .map_init(
+            || (PixelSamples::default(), Vec::new()),
+            |(smp, wsum), (j, (rgb_row, vis_row))| {
+                let mut reads = 0u64;
+                let mut vals = [(([0u32; 3], -1i32), 0u32); 5];
+                for i in 0..width {
+                    pixel_samples_into(p, i, j as u32, smp);
+                    for (n, &(l, a, b, wt)) in smp.as_slice().iter().enumerate() {
+                        reads += match n {
+                            0 | 1 if corner => 0,
+                            2 if corner && i > 0 => 0,
+                            _ => 1,
+                        };
+                        let s = bufs[l].idx(a, b);
+                        vals[n] = ((bufs[l].rgb[s], bufs[l].tri[s]), wt);
                     }
-                    _ => read(l, a, b, &bufs),
-                };
-                vals.push((v, wt));
-            }
-            let px = j as usize * w + i as usize;
-            let (c, t) = resolve_pixel(&vals, total, &mut wsum);
-            rgb[3 * px..3 * px + 3].copy_from_slice(&c);
-            visible[px] = t;
-        }
-        if corner {
-            std::mem::swap(&mut row_buf, &mut next_row);
-        }
-    }
+                    let (c, t) = resolve_pixel(&vals[..smp.n], total, wsum);
+                    rgb_row[3 * i as usize..3 * i as usize + 3].copy_from_slice(&c);
+                    vis_row[i as usize] = t;
+                }
+                reads
+            },
+        )
+        .sum::<u64>()
+        + first_row_reads;
     Ok(AaFrame {
         width,
         height,

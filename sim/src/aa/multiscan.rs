@@ -68,7 +68,8 @@
 use rayon::prelude::*;
 
 use super::{AaError, AaFrame, AaStats};
-use crate::raster::{depth, round_div};
+use crate::raster::rows::Bands;
+use crate::raster::{depth, round_div, RoundDivSteps};
 use crate::setup::ExactPlane as Plane;
 use crate::setup::SnappedTri;
 
@@ -126,6 +127,38 @@ impl RowPlane {
     }
 }
 
+/// A plane's [`RowPlane`]s for every sub-scanline of one denominator: `k` is linear in
+/// `ynum`, `k = k0 + ky·ynum`, so it is set up once per triangle instead of once per
+/// sub-scanline (the same integers as [`Plane::subscanline_row`]).
+#[derive(Clone, Copy, Debug)]
+struct RowPlanes {
+    k0: i128,
+    ky: i128,
+    s: i128,
+    d: i128,
+}
+
+impl RowPlanes {
+    fn new(p: &Plane, yden: i64) -> RowPlanes {
+        let at0 = p.subscanline_row(0, yden);
+        RowPlanes {
+            k0: at0.k,
+            ky: p.ny * 256 * 256,
+            s: at0.s,
+            d: at0.d,
+        }
+    }
+
+    #[inline]
+    fn row(&self, ynum: i64) -> RowPlane {
+        RowPlane {
+            k: self.k0 + self.ky * ynum as i128,
+            s: self.s,
+            d: self.d,
+        }
+    }
+}
+
 impl Plane {
     /// v = v0 + (nx·(x16/256 − x0) + ny·(256·ynum/yden − y0)) / area2, over the common
     /// denominator 256·yden·area2.
@@ -148,25 +181,31 @@ struct MsTri {
     v: [[i64; 2]; 3],
     ymin: i64,
     ymax: i64,
-    z: Plane,
-    c: [Plane; 3],
+    /// Depth (the host face's plane for a decal) and colour planes on the sub-scanlines
+    /// of the frame's denominator.
+    rows: [RowPlanes; 4],
     decal: bool,
 }
 
-fn prepare(k: usize, t: &SnappedTri) -> Option<MsTri> {
+fn prepare(k: usize, t: &SnappedTri, yden: i64) -> Option<MsTri> {
     let v = t.v;
     let zp = match &t.host {
         Some(h) => Plane::new(h.v, h.z.map(|x| x as i64))?,
         None => Plane::new(v, t.z.map(|x| x as i64))?,
     };
     let cp = |ch: usize| Plane::new(v, [0, 1, 2].map(|q| t.c[q][ch] as i64));
+    let c = [cp(0)?, cp(1)?, cp(2)?];
     Some(MsTri {
         idx: k as i32,
         v: v.map(|p| [p[0] as i64, p[1] as i64]),
         ymin: v.iter().map(|p| p[1]).min().unwrap() as i64,
         ymax: v.iter().map(|p| p[1]).max().unwrap() as i64,
-        z: zp,
-        c: [cp(0)?, cp(1)?, cp(2)?],
+        rows: [
+            RowPlanes::new(&zp, yden),
+            RowPlanes::new(&c[0], yden),
+            RowPlanes::new(&c[1], yden),
+            RowPlanes::new(&c[2], yden),
+        ],
         decal: t.host.is_some(),
     })
 }
@@ -233,9 +272,20 @@ fn tie_front(a: &MsTri, b: &MsTri) -> bool {
 
 /// The walk of one sub-scanline over `[xa, xb)`: visible pieces in order, and the number
 /// of depth evaluations.
-fn walk(act: &[Active], xa: i64, xb: i64, inter: bool, out: &mut Vec<Piece>) -> u64 {
+fn walk(
+    act: &[Active],
+    xa: i64,
+    xb: i64,
+    inter: bool,
+    out: &mut Vec<Piece>,
+    ws: &mut WalkScratch,
+) -> u64 {
     out.clear();
-    let mut ev: Vec<(i64, u8, u8, i32, usize)> = Vec::with_capacity(2 * act.len());
+    let WalkScratch { ev, next, zcache } = ws;
+    ev.clear();
+    next.clear();
+    zcache.clear();
+    zcache.resize(act.len(), [(i64::MIN, 0); 2]);
     for (s, a) in act.iter().enumerate() {
         if a.xr <= xa || a.xl >= xb {
             continue;
@@ -246,25 +296,28 @@ fn walk(act: &[Active], xa: i64, xb: i64, inter: bool, out: &mut Vec<Piece>) -> 
         ev.push((a.xr.min(xb), 0, 1 - d, a.t.idx, s));
     }
     ev.sort_unstable();
-    let mut wk = Walker { act, evals: 0 };
+    let mut wk = Walker {
+        act,
+        evals: 0,
+        zcache,
+    };
     let mut cur: Option<usize> = None;
-    let mut next: Vec<usize> = Vec::new();
     let mut x = xa;
-    for &(ex, kind, _, _, s) in &ev {
+    for &(ex, kind, _, _, s) in ev.iter() {
         // Between crossings: a polygon of NEXT may pass in front of the current one.
         if inter {
             while let Some(c) = cur {
                 if ex <= x || next.is_empty() {
                     break;
                 }
-                match wk.first_pass(c, &next, x, ex) {
+                match wk.first_pass(c, next, x, ex) {
                     Some(xs) if xs < ex => {
                         emit(out, act, x, xs, cur);
                         x = xs;
                         // The front-most of NEXT and the old current becomes current
                         // (a decal on the passing polygon's plane comes with it).
                         next.push(c);
-                        cur = wk.nearest(&next, xs).map(|b| next.swap_remove(b));
+                        cur = wk.nearest(next, xs).map(|b| next.swap_remove(b));
                     }
                     _ => break,
                 }
@@ -286,7 +339,7 @@ fn walk(act: &[Active], xa: i64, xb: i64, inter: bool, out: &mut Vec<Piece>) -> 
             }
         } else if cur == Some(s) {
             // The nearest polygon in NEXT becomes current.
-            cur = wk.nearest(&next, ex).map(|b| next.swap_remove(b));
+            cur = wk.nearest(next, ex).map(|b| next.swap_remove(b));
         } else if let Some(p) = next.iter().position(|&q| q == s) {
             next.swap_remove(p);
         }
@@ -307,17 +360,44 @@ fn emit(out: &mut Vec<Piece>, act: &[Active], x0: i64, x1: i64, cur: Option<usiz
     }
 }
 
-/// Depth comparisons of one sub-scanline walk, counting plane evaluations.
-struct Walker<'a, 'b> {
-    act: &'a [Active<'b>],
-    evals: u64,
+/// Buffers of [`walk`], reused from sub-scanline to sub-scanline.
+#[derive(Default)]
+struct WalkScratch {
+    /// Crossings.
+    ev: Vec<(i64, u8, u8, i32, usize)>,
+    /// The stack NEXT.
+    next: Vec<usize>,
+    /// Per active polygon, its last two depths `(x, z)` (older first).
+    zcache: Vec<[(i64, i64); 2]>,
 }
 
-impl Walker<'_, '_> {
+/// Depth comparisons of one sub-scanline walk, counting plane evaluations.
+struct Walker<'a, 'b, 'c> {
+    act: &'a [Active<'b>],
+    evals: u64,
+    /// Per active polygon, its last two depths: the walk asks for the same polygon at
+    /// the same crossing again and again (the count of evaluations is unchanged; only
+    /// the arithmetic is not repeated).
+    zcache: &'c mut [[(i64, i64); 2]],
+}
+
+impl Walker<'_, '_, '_> {
     /// Depth of active polygon `s` at `x` (one evaluation).
+    #[inline]
     fn zat(&mut self, s: usize, x: i64) -> i64 {
         self.evals += 1;
-        self.act[s].z.at(x, ZF)
+        let c = &mut self.zcache[s];
+        if c[1].0 == x {
+            return c[1].1;
+        }
+        if c[0].0 == x {
+            c.swap(0, 1);
+            return c[1].1;
+        }
+        let z = self.act[s].z.at(x, ZF);
+        c[0] = c[1];
+        c[1] = (x, z);
+        z
     }
 
     /// Is `p` in front of `q` at x (depth, then slope to the right, then tie order)?
@@ -467,18 +547,29 @@ struct MsFrame<'a> {
     bgc: [i64; 3],
     /// Filter tables (none for the box filter).
     tab: Option<Tables>,
+    /// `mt` binned by the pixel rows whose sub-scanlines they can reach.
+    bands: Bands,
 }
 
 impl MsFrame<'_> {
     /// Renders pixel row `j`: RGB8, visible triangles, depth evaluations and pieces of the
     /// sub-scanlines it owns.
-    fn render_row(&self, j: i64) -> (Vec<u8>, Vec<i32>, u64, u64) {
+    fn render_row(&self, j: i64, rs: &mut RowScratch) -> (Vec<u8>, Vec<i32>, u64, u64) {
         let (p, width, height) = (self.p, self.width, self.height);
         let n64 = p.subscanlines as i64;
         let yden = 2 * n64;
         let w = width as usize;
-        let mut acc = vec![PixAcc::default(); w];
-        let mut pieces = Vec::new();
+        let RowScratch {
+            acc,
+            pieces,
+            walk: ws,
+        } = rs;
+        acc.resize_with(w, PixAcc::default);
+        for a in acc.iter_mut() {
+            a.c = [0; 3];
+            a.w.clear();
+        }
+        let mut act: Vec<Active> = Vec::new();
         let (mut evals, mut npieces) = (0u64, 0u64);
         // Sub-scanlines reaching row j: (ynum, weight selector m, owned?).
         let lines: Vec<(i64, i64, bool)> = match p.filter {
@@ -495,8 +586,10 @@ impl MsFrame<'_> {
         // Triangles touching the rows' y range.
         let (ylo, yhi) = (256 * (j - 1), 256 * (j + 2));
         let cand: Vec<&MsTri> = self
-            .mt
+            .bands
+            .members(self.bands.of_row(j))
             .iter()
+            .map(|&k| &self.mt[k as usize])
             .filter(|t| t.ymax >= ylo && t.ymin <= yhi)
             .collect();
         let (xa, xb) = match p.filter {
@@ -506,20 +599,22 @@ impl MsFrame<'_> {
         for &(ynum, m, owned) in &lines {
             // The bottom boundary of a pixel row is seen from inside the row.
             let from_above = p.filter == Filter::Box && m == n64;
-            let act: Vec<Active> = cand
-                .iter()
-                .filter_map(|t| {
-                    let (xl, xr) = t.interval(ynum, yden, from_above)?;
-                    Some(Active {
-                        t,
-                        z: t.z.subscanline_row(ynum, yden),
-                        c: t.c.map(|c| c.subscanline_row(ynum, yden)),
-                        xl,
-                        xr,
-                    })
+            act.clear();
+            act.extend(cand.iter().filter_map(|t| {
+                let (xl, xr) = t.interval(ynum, yden, from_above)?;
+                Some(Active {
+                    t,
+                    z: t.rows[0].row(ynum),
+                    c: [
+                        t.rows[1].row(ynum),
+                        t.rows[2].row(ynum),
+                        t.rows[3].row(ynum),
+                    ],
+                    xl,
+                    xr,
                 })
-                .collect();
-            let e = walk(&act, xa, xb, p.intersections, &mut pieces);
+            }));
+            let e = walk(&act, xa, xb, p.intersections, pieces, ws);
             if owned {
                 evals += e;
                 npieces += pieces.len() as u64;
@@ -527,11 +622,11 @@ impl MsFrame<'_> {
             match &self.tab {
                 None => {
                     let wl = if m == 0 || m == n64 { 1 } else { 2 };
-                    accumulate_box(&mut acc, &pieces, &act, wl, self.bgc);
+                    accumulate_box(acc, pieces, &act, wl, self.bgc);
                 }
                 Some(tab) => {
                     let fm = &tab.f[m.unsigned_abs() as usize];
-                    accumulate_filtered(&mut acc, &pieces, &act, fm, width, self.bgc);
+                    accumulate_filtered(acc, pieces, &act, fm, width, self.bgc);
                 }
             }
         }
@@ -541,7 +636,7 @@ impl MsFrame<'_> {
         };
         let mut rgb = Vec::with_capacity(3 * w);
         let mut vis = Vec::with_capacity(w);
-        for a in &mut acc {
+        for a in acc.iter_mut() {
             for ch in 0..3 {
                 rgb.push((a.c[ch] / div).min(255) as u8);
             }
@@ -552,27 +647,75 @@ impl MsFrame<'_> {
     }
 }
 
-/// Colour of piece `pc` over `[x0, x1)`: the background, or the polygon's colour at the
-/// middle, Q8.12.
-fn piece_colour(act: &[Active], pc: &Piece, x0: i64, x1: i64, bgc: [i64; 3]) -> [i64; 3] {
-    if pc.tri < 0 {
-        bgc
-    } else {
+/// Buffers one rendering thread reuses from pixel row to pixel row.
+#[derive(Default)]
+struct RowScratch {
+    acc: Vec<PixAcc>,
+    pieces: Vec<Piece>,
+    walk: WalkScratch,
+}
+
+/// Colours of one piece's parts, left to right: the background, or the polygon's colour
+/// at the middle of the part, Q8.12. Parts one pixel wide in a row (the inside of a long
+/// piece) have middles one pixel apart, whose colours are stepped with additions.
+struct PieceColour<'p> {
+    plane: Option<&'p [RowPlane; 3]>,
+    bgc: [i64; 3],
+    /// Steppers at the middle `mid`, when set up.
+    steps: Option<([RoundDivSteps; 3], i64)>,
+}
+
+impl<'p> PieceColour<'p> {
+    fn new(act: &'p [Active], pc: &Piece, bgc: [i64; 3]) -> PieceColour<'p> {
+        PieceColour {
+            plane: (pc.tri >= 0).then(|| &act[pc.slot].c),
+            bgc,
+            steps: None,
+        }
+    }
+
+    /// The colour of the part `[x0, x1)`; `end` is the piece's end (how far steps go).
+    #[inline]
+    fn at(&mut self, x0: i64, x1: i64, end: i64) -> [i64; 3] {
+        let Some(c) = self.plane else {
+            return self.bgc;
+        };
         let mid = (x0 + x1).div_euclid(2);
-        act[pc.slot]
-            .c
-            .map(|c| c.at(mid, 0).clamp(0, (255 << 12) + 4095))
+        let clamp = |v: i128| (v as i64).clamp(0, (255 << 12) + 4095);
+        if let Some((st, m)) = &mut self.steps {
+            if *m == mid {
+                let v = [0, 1, 2].map(|k| clamp(st[k].value()));
+                for s in st.iter_mut() {
+                    s.advance();
+                }
+                *m += ONE16;
+                return v;
+            }
+        }
+        if x1 - x0 == ONE16 && end - x1 >= 2 * ONE16 {
+            // More whole parts follow: step from here.
+            let mut st =
+                c.map(|p| RoundDivSteps::new(p.k + p.s * mid as i128, p.s * ONE16 as i128, p.d));
+            let v = [0, 1, 2].map(|k| clamp(st[k].value()));
+            for s in st.iter_mut() {
+                s.advance();
+            }
+            self.steps = Some((st, mid + ONE16));
+            return v;
+        }
+        c.map(|p| p.at(mid, 0).clamp(0, (255 << 12) + 4095))
     }
 }
 
 /// Box filter: adds each piece, split at pixel boundaries, with line weight `wl`.
 fn accumulate_box(acc: &mut [PixAcc], pieces: &[Piece], act: &[Active], wl: i64, bgc: [i64; 3]) {
     for pc in pieces {
+        let mut pcol = PieceColour::new(act, pc, bgc);
         let mut x0 = pc.x0;
         while x0 < pc.x1 {
             let i = x0.div_euclid(ONE16);
             let x1 = pc.x1.min((i + 1) * ONE16);
-            let col = piece_colour(act, pc, x0, x1, bgc);
+            let col = pcol.at(x0, x1, pc.x1);
             acc[i as usize].add(wl * (x1 - x0), col, pc.tri);
             x0 = x1;
         }
@@ -590,12 +733,13 @@ fn accumulate_filtered(
     bgc: [i64; 3],
 ) {
     for pc in pieces {
+        let mut pcol = PieceColour::new(act, pc, bgc);
         let mut x0 = pc.x0;
         while x0 < pc.x1 {
             let i = (x0 - ONE16 / 2).div_euclid(ONE16);
             let cx = i * ONE16 + ONE16 / 2;
             let x1 = pc.x1.min(cx + ONE16);
-            let col = piece_colour(act, pc, x0, x1, bgc);
+            let col = pcol.at(x0, x1, pc.x1);
             let q = |x: i64| ((x - cx + 512) >> 10).clamp(0, 64) as usize;
             let (k1, k2) = (q(x0), q(x1));
             if i >= 0 {
@@ -626,9 +770,17 @@ pub fn render(
     let mt: Vec<MsTri> = tris
         .iter()
         .enumerate()
-        .filter_map(|(k, t)| prepare(k, t))
+        .filter_map(|(k, t)| prepare(k, t, 2 * n as i64))
         .collect();
+    // A triangle is a candidate of rows j with ymax ≥ 256(j − 1) and ymin ≤ 256(j + 2).
+    let bands = Bands::new(
+        8,
+        height,
+        mt.iter()
+            .map(|t| (t.ymin.div_euclid(256) - 2, t.ymax.div_euclid(256) + 1)),
+    );
     let f = MsFrame {
+        bands,
         mt: &mt,
         p,
         width,
@@ -639,7 +791,7 @@ pub fn render(
     let w = width as usize;
     let rows: Vec<(Vec<u8>, Vec<i32>, u64, u64)> = (0..height as i64)
         .into_par_iter()
-        .map(|j| f.render_row(j))
+        .map_init(RowScratch::default, |rs, j| f.render_row(j, rs))
         .collect();
     let mut rgb = Vec::with_capacity(3 * w * height as usize);
     let mut visible = Vec::with_capacity(w * height as usize);
@@ -678,7 +830,7 @@ mod tests {
             z: [100, 200, 300],
             ..Default::default()
         };
-        let (ta, tb) = (prepare(0, &a).unwrap(), prepare(1, &b).unwrap());
+        let (ta, tb) = (prepare(0, &a, 12).unwrap(), prepare(1, &b, 12).unwrap());
         for g in 0..100 {
             let (ia, ib) = (ta.interval(g, 12, false), tb.interval(g, 12, false));
             if let (Some(ia), Some(ib)) = (ia, ib) {

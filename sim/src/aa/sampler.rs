@@ -19,6 +19,7 @@
 //! and resolves truncate.
 
 use crate::raster::edge::{rewind, winding, EdgeFn};
+use crate::raster::rows::Bands;
 use crate::raster::{ceil_div, depth, round_div};
 use crate::setup::{ExactPlane as Plane, SnappedTri};
 use rayon::prelude::*;
@@ -135,12 +136,47 @@ pub fn rasterize(tris: &[SnappedTri], lats: &[Lattice], bg: [u8; 3]) -> Vec<Samp
     lats.iter().map(|l| rasterize_one(&st, l, bgq)).collect()
 }
 
+/// Lattice rows per bin band of [`rasterize_one`].
+const SAMPLE_BAND: i64 = 8;
+
+/// The range of `a ≥ a0` (up to `a1`) where an edge with value `e0` at `a0` and step
+/// `de` per sample is inside (the fill rule of [`EdgeFn::inside`]: `e > 0`, or `e ≥ 0`
+/// on a top-left edge), as an inclusive `(lo, hi)`, possibly empty (`lo > hi`).
+#[inline]
+fn inside_range(ed: &EdgeFn, e0: i64, de: i64, a0: i64, a1: i64) -> (i64, i64) {
+    // Integers: `inside(e)` is `e ≥ t`.
+    let t = if ed.top_left { 0 } else { 1 };
+    match de.cmp(&0) {
+        std::cmp::Ordering::Greater => (a0 + ceil_div(t - e0, de).max(0), a1),
+        std::cmp::Ordering::Less => (a0, a1.min(a0 + (e0 - t).div_euclid(-de))),
+        std::cmp::Ordering::Equal => {
+            if e0 >= t {
+                (a0, a1)
+            } else {
+                (a0 + 1, a0)
+            }
+        }
+    }
+}
+
 fn rasterize_one(st: &[SampTri], l: &Lattice, bgq: [u32; 3]) -> SampleBuf {
     let n = l.nx as usize * l.ny as usize;
     let mut z = vec![i64::MAX; n];
     let mut rgb = vec![bgq; n];
     let mut tri = vec![-1i32; n];
     let nx = l.nx as usize;
+    // Bin the triangles by the lattice rows their bounding boxes reach (scene order kept
+    // within a band): each row visits only the triangles that can cover it.
+    let bands = Bands::new(
+        SAMPLE_BAND,
+        l.ny,
+        st.iter().map(|t| {
+            // Rows b with bb[1]·den ≤ 256·(b·sy + oy) ≤ bb[3]·den.
+            let lo = ceil_div(t.bb[1] * l.den - 256 * l.oy, 256 * l.sy);
+            let hi = (t.bb[3] * l.den - 256 * l.oy).div_euclid(256 * l.sy);
+            (lo, hi)
+        }),
+    );
     let evals: u64 = z
         .par_chunks_mut(nx)
         .zip(rgb.par_chunks_mut(nx))
@@ -151,7 +187,8 @@ fn rasterize_one(st: &[SampTri], l: &Lattice, bgq: [u32; 3]) -> SampleBuf {
             // Sample y in Q.8·den.
             let yq = 256 * (b * l.sy + l.oy);
             let mut evals = 0u64;
-            for t in st {
+            for &ti in bands.members(bands.of_row(b)) {
+                let t = &st[ti as usize];
                 if yq < t.bb[1] * l.den || yq > t.bb[3] * l.den {
                     continue;
                 }
@@ -163,32 +200,34 @@ fn rasterize_one(st: &[SampTri], l: &Lattice, bgq: [u32; 3]) -> SampleBuf {
                 if a_lo > a_hi {
                     continue;
                 }
-                let mut e = [0i64; 3];
-                let mut de = [0i64; 3];
-                for (k, ed) in t.edges.iter().enumerate() {
-                    e[k] = ed.a * 256 * (a_lo * l.sx + l.ox) + ed.b * yq + ed.c * l.den;
-                    de[k] = ed.a * 256 * l.sx;
+                // Narrowed to the samples inside all three edges (the only ones that do
+                // anything).
+                let (mut lo, mut hi) = (a_lo, a_hi);
+                for ed in &t.edges {
+                    let e0 = ed.a * 256 * (a_lo * l.sx + l.ox) + ed.b * yq + ed.c * l.den;
+                    let (p, q) = inside_range(ed, e0, ed.a * 256 * l.sx, a_lo, a_hi);
+                    lo = lo.max(p);
+                    hi = hi.min(q);
                 }
+                if lo > hi {
+                    continue;
+                }
+                evals += (hi - lo + 1) as u64;
                 let (z0, dz) = t.z.lattice_row(l, b);
+                let mut zacc = z0 + lo as i128 * dz;
                 let mut cols: Option<[(i128, i128); 3]> = None;
-                for a in a_lo..=a_hi {
-                    let inside = (0..3).all(|k| t.edges[k].inside(e[k]));
-                    if inside {
-                        evals += 1;
-                        let zv = ((z0 + a as i128 * dz) >> 20) as i64;
-                        let s = a as usize;
-                        if depth::passes(zv, zr[s], t.decal) {
-                            zr[s] = zv;
-                            tr[s] = t.idx;
-                            let cc = *cols.get_or_insert_with(|| t.c.map(|p| p.lattice_row(l, b)));
-                            for ch in 0..3 {
-                                let v = (cc[ch].0 + a as i128 * cc[ch].1) >> 32;
-                                cr[s][ch] = v.clamp(0, (255 << 12) + 4095) as u32;
-                            }
+                for a in lo..=hi {
+                    let zv = (zacc >> 20) as i64;
+                    zacc += dz;
+                    let s = a as usize;
+                    if depth::passes(zv, zr[s], t.decal) {
+                        zr[s] = zv;
+                        tr[s] = t.idx;
+                        let cc = *cols.get_or_insert_with(|| t.c.map(|p| p.lattice_row(l, b)));
+                        for ch in 0..3 {
+                            let v = (cc[ch].0 + a as i128 * cc[ch].1) >> 32;
+                            cr[s][ch] = v.clamp(0, (255 << 12) + 4095) as u32;
                         }
-                    }
-                    for k in 0..3 {
-                        e[k] += de[k];
                     }
                 }
             }

@@ -10,6 +10,7 @@
 use super::sampler::{rasterize, Lattice};
 use super::{AaError, AaFrame, AaStats};
 use crate::setup::SnappedTri;
+use rayon::prelude::*;
 
 /// Bytes per lattice sample in [`super::sampler::SampleBuf`]: depth (8), Q8.12 RGB (12),
 /// owner (4).
@@ -98,32 +99,36 @@ fn resolve(
 ) {
     let (w, k) = (width as usize, k as usize);
     let n = (k * k) as u64;
-    let mut counts: Vec<(i32, u32)> = Vec::new();
-    for j in 0..visible.len() / w {
-        for i in 0..w {
-            let mut acc = [0u64; 3];
-            counts.clear();
-            for b in 0..k {
-                for a in 0..k {
-                    let s = buf.idx((i * k + a) as u32, (j * k + b) as u32);
-                    for (a, v) in acc.iter_mut().zip(buf.rgb[s]) {
-                        *a += v as u64;
+    rgb.par_chunks_mut(3 * w)
+        .zip(visible.par_chunks_mut(w))
+        .enumerate()
+        .for_each_init(
+            Vec::new,
+            |counts: &mut Vec<(i32, u32)>, (j, (rgb_row, vis_row))| {
+                for i in 0..w {
+                    let mut acc = [0u64; 3];
+                    counts.clear();
+                    for b in 0..k {
+                        for a in 0..k {
+                            let s = buf.idx((i * k + a) as u32, (j * k + b) as u32);
+                            for (a, v) in acc.iter_mut().zip(buf.rgb[s]) {
+                                *a += v as u64;
+                            }
+                            let t = buf.tri[s];
+                            match counts.iter_mut().find(|c| c.0 == t) {
+                                Some(c) => c.1 += 1,
+                                None => counts.push((t, 1)),
+                            }
+                        }
                     }
-                    let t = buf.tri[s];
-                    match counts.iter_mut().find(|c| c.0 == t) {
-                        Some(c) => c.1 += 1,
-                        None => counts.push((t, 1)),
+                    for (out, a) in rgb_row[3 * i..3 * i + 3].iter_mut().zip(acc) {
+                        *out = (a / (n * 4096)).min(255) as u8;
                     }
+                    counts.sort_by_key(|c| (std::cmp::Reverse(c.1), c.0));
+                    vis_row[i] = counts[0].0;
                 }
-            }
-            let px = 3 * (j * w + i);
-            for (out, a) in rgb[px..px + 3].iter_mut().zip(acc) {
-                *out = (a / (n * 4096)).min(255) as u8;
-            }
-            counts.sort_by_key(|c| (std::cmp::Reverse(c.1), c.0));
-            visible[j * w + i] = counts[0].0;
-        }
-    }
+            },
+        );
 }
 
 #[cfg(test)]

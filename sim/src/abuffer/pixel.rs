@@ -138,17 +138,42 @@ pub fn pack(frags: &[Fragment], picks: &[DepthPick], groups: &[Group], size: Mas
 /// Resolve: weights every fragment's colour by its visible bits and the background by the
 /// free bits, rounding half up to 8 bits.
 pub fn resolve(frags: &[Fragment], packed: &Packed, bg: [u8; 3], size: MaskSize) -> [u8; 3] {
+    resolve_bits(frags, &packed.visible, packed.free, bg, size)
+}
+
+/// [`resolve`] on the visible bits per fragment and the free bits.
+#[inline]
+pub(crate) fn resolve_bits(
+    frags: &[Fragment],
+    visible: &[u64],
+    free: u64,
+    bg: [u8; 3],
+    size: MaskSize,
+) -> [u8; 3] {
     let denom = (size.bits() as u64) << I_FRAC;
-    let free = packed.free.count_ones() as u64;
+    let free = free.count_ones() as u64;
     let mut out = [0u8; 3];
     for (ch, o) in out.iter_mut().enumerate() {
         let mut sum = free * ((bg[ch] as u64) << I_FRAC);
-        for (f, &v) in frags.iter().zip(&packed.visible) {
+        for (f, &v) in frags.iter().zip(visible) {
             sum += v.count_ones() as u64 * f.rgb_q12[ch] as u64;
         }
         *o = ((2 * sum + denom) / (2 * denom)).min(255) as u8;
     }
     out
+}
+
+/// The visible-surface AOV of a pixel: the triangle with the most visible subpixels
+/// (lowest index on a tie), or −1 when the free subpixels are at least as many.
+pub(crate) fn dominant_bits(frags: &[Fragment], visible: &[u64], free: u64) -> i32 {
+    let mut best = (-1i32, free.count_ones());
+    for (f, v) in frags.iter().zip(visible) {
+        let n = v.count_ones();
+        if n > best.1 || (n == best.1 && best.0 >= 0 && (f.prim as i32) < best.0) {
+            best = (f.prim as i32, n);
+        }
+    }
+    best.0
 }
 
 /// Everything the renderer learns about one pixel.
@@ -205,5 +230,239 @@ pub fn process_pixel(
         steps,
         merges: (frags.len() - groups.len()) as u32,
         packed,
+    }
+}
+
+/// What the renderer keeps of one pixel processed by [`PixelScratch::process`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct PixelSummary {
+    /// Resolved colour.
+    pub rgb: [u8; 3],
+    /// Union of the fragments' masks.
+    pub covered: u64,
+    /// Depth-calculator evaluations.
+    pub evals: u32,
+    /// Search-unit steps.
+    pub steps: u32,
+    /// Fragments absorbed by merging.
+    pub merges: u32,
+    /// Bits left free (background).
+    pub free: u64,
+}
+
+/// The packing key of a group: (zmin, zmax, not decal, first tie, first member).
+type GroupKey = (i64, i64, bool, i64, usize);
+
+/// One merged group as [`PixelScratch`] builds it (the fields of [`Group`] without the
+/// member list, plus the packing key's parts).
+#[derive(Clone, Copy, Debug)]
+struct GroupAcc {
+    mask: u64,
+    zmin: i64,
+    zmax: i64,
+    decal: bool,
+    first_tie: i64,
+    first: usize,
+}
+
+/// Reusable buffers for [`process_pixel`]'s work without allocating per pixel: the same
+/// depth picks, merge (the connected components of "same tag, overlapping range", which
+/// is what [`merge`]'s repeated pairwise merging produces, in order of first member), the
+/// same packing order and visible bits, and the same resolve.
+#[derive(Default)]
+pub(crate) struct PixelScratch {
+    picks: Vec<DepthPick>,
+    ranges: Vec<(i64, i64)>,
+    /// Sweep order of the merge: (tag, range start, fragment).
+    by_range: Vec<(u16, i64, usize)>,
+    comp: Vec<usize>,
+    groups: Vec<GroupAcc>,
+    /// Packing keys of the groups: ((zmin, zmax, not decal, first tie, first member), group).
+    gorder: Vec<(GroupKey, usize)>,
+    /// Rank in packing order per group.
+    rank: Vec<usize>,
+    grank: Vec<usize>,
+    /// Packing order: (group rank, zmin, zmax, not decal, tie, fragment).
+    order: Vec<(usize, i64, i64, bool, i64, usize)>,
+    visible: Vec<u64>,
+}
+
+impl PixelScratch {
+    /// Visible bits per fragment of the last pixel processed.
+    pub(crate) fn visible(&self) -> &[u64] {
+        &self.visible
+    }
+
+    /// [`process_pixel`] on one pixel's fragments (scene order).
+    pub(crate) fn process(
+        &mut self,
+        frags: &[Fragment],
+        sel: &DepthSelector,
+        variant: DepthSelect,
+        interpenetrating: bool,
+        bg: [u8; 3],
+        size: MaskSize,
+    ) -> PixelSummary {
+        let n = frags.len();
+        let covered = frags.iter().fold(0, |a, f| a | f.mask);
+        if n == 1 {
+            // One fragment, one group: its bits are visible, the rest free.
+            let free = size.full() & !frags[0].mask;
+            self.visible.clear();
+            self.visible.push(frags[0].mask & size.full());
+            return PixelSummary {
+                rgb: resolve_bits(frags, &self.visible, free, bg, size),
+                covered,
+                evals: 0,
+                steps: 0,
+                merges: 0,
+                free,
+            };
+        }
+        self.picks.clear();
+        let (mut evals, mut steps) = (0, 0);
+        if n >= 2 {
+            for f in frags {
+                let p = sel.select(variant, f.mask, &f.plane, interpenetrating);
+                evals += p.evals;
+                steps += p.steps;
+                self.picks.push(p);
+            }
+        } else {
+            self.picks.extend(frags.iter().map(|f| DepthPick {
+                zmin: f.plane.zc,
+                zmax: None,
+                evals: 0,
+                steps: 0,
+            }));
+        }
+        let picks = &self.picks;
+        // Merge: components of overlapping same-tag ranges, by a sweep in (tag, start)
+        // order; a group's range is the union of its members' (they overlap), so two
+        // groups overlap exactly when two of their members do.
+        self.ranges.clear();
+        self.ranges.extend(
+            frags
+                .iter()
+                .zip(picks)
+                .map(|(f, p)| merge_range(f, p, size, interpenetrating)),
+        );
+        let ranges = &self.ranges;
+        self.by_range.clear();
+        self.by_range
+            .extend((0..n).map(|k| (frags[k].tag, ranges[k].0, k)));
+        self.by_range.sort_unstable();
+        self.comp.clear();
+        self.comp.resize(n, 0);
+        let mut k = 0;
+        while k < n {
+            // A component: a run of the sweep whose ranges chain.
+            let head = self.by_range[k].2;
+            let (tag, mut hi) = (frags[head].tag, ranges[head].1);
+            let mut first = head;
+            let mut e = k + 1;
+            while e < n {
+                let q = self.by_range[e].2;
+                if frags[q].tag != tag || ranges[q].0 > hi {
+                    break;
+                }
+                hi = hi.max(ranges[q].1);
+                first = first.min(q);
+                e += 1;
+            }
+            for &(_, _, q) in &self.by_range[k..e] {
+                self.comp[q] = first;
+            }
+            k = e;
+        }
+        // Groups in order of first member.
+        let tie = |k: usize| {
+            let prim = frags[k].prim as i64;
+            if frags[k].decal {
+                -prim
+            } else {
+                prim
+            }
+        };
+        self.groups.clear();
+        self.grank.clear();
+        self.grank.resize(n, usize::MAX);
+        for k in 0..n {
+            let p = &picks[k];
+            let (zmin, zmax) = (p.zmin, p.zmax.unwrap_or(p.zmin));
+            let c = self.comp[k];
+            if c == k {
+                self.grank[k] = self.groups.len();
+                self.groups.push(GroupAcc {
+                    mask: frags[k].mask,
+                    zmin,
+                    zmax,
+                    decal: frags[k].decal,
+                    first_tie: tie(k),
+                    first: k,
+                });
+            } else {
+                let g = &mut self.groups[self.grank[c]];
+                g.mask |= frags[k].mask;
+                g.zmin = g.zmin.min(zmin);
+                g.zmax = g.zmax.max(zmax);
+                g.decal |= frags[k].decal;
+                g.first_tie = g.first_tie.min(tie(k));
+            }
+        }
+        // Group order: (zmin, zmax, decal first, first tie), stable in first-member order.
+        let groups = &self.groups;
+        self.gorder.clear();
+        self.gorder.extend(
+            groups
+                .iter()
+                .enumerate()
+                .map(|(g, gr)| ((gr.zmin, gr.zmax, !gr.decal, gr.first_tie, gr.first), g)),
+        );
+        self.gorder.sort_unstable();
+        // Rank of each group in packing order, then every fragment by (group rank, part
+        // key, index): the packing order.
+        self.rank.clear();
+        self.rank.resize(groups.len(), 0);
+        for (r, &(_, g)) in self.gorder.iter().enumerate() {
+            self.rank[g] = r;
+        }
+        self.order.clear();
+        for k in 0..n {
+            let p = &picks[k];
+            self.order.push((
+                self.rank[self.grank[self.comp[k]]],
+                p.zmin,
+                p.zmax.unwrap_or(p.zmin),
+                !frags[k].decal,
+                tie(k),
+                k,
+            ));
+        }
+        self.order.sort_unstable();
+        // Packing.
+        let mut free = size.full();
+        self.visible.clear();
+        self.visible.resize(n, 0);
+        let mut cur = usize::MAX;
+        let mut vis = 0;
+        for &(_, _, _, _, _, k) in &self.order {
+            let g = self.grank[self.comp[k]];
+            if g != cur {
+                cur = g;
+                vis = self.groups[g].mask & free;
+                free &= !self.groups[g].mask;
+            }
+            self.visible[k] = frags[k].mask & vis;
+            vis &= !frags[k].mask;
+        }
+        PixelSummary {
+            rgb: resolve_bits(frags, &self.visible, free, bg, size),
+            covered,
+            evals,
+            steps,
+            merges: (n - self.groups.len()) as u32,
+            free,
+        }
     }
 }

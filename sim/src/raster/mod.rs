@@ -43,7 +43,70 @@ pub fn floor_div(n: i64, d: i64) -> i64 {
 #[inline]
 pub fn round_div(n: i128, d: i128) -> i128 {
     let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
+    // The same quotient in 64-bit arithmetic when every intermediate fits (`|n|, d < 2^61`:
+    // `2n + d` and `2d` stay inside `i64`), which is most calls and much cheaper.
+    const LIM: i128 = 1 << 61;
+    if -LIM < n && n < LIM && d < LIM {
+        let (n, d) = (n as i64, d as i64);
+        return (2 * n + d).div_euclid(2 * d) as i128;
+    }
     (2 * n + d).div_euclid(2 * d)
+}
+
+/// `⌊n / d⌋` for `d > 0`, in 64-bit arithmetic when both fit.
+#[inline]
+fn floor_div_wide(n: i128, d: i128) -> i128 {
+    if i64::try_from(n).is_ok() && i64::try_from(d).is_ok() {
+        (n as i64).div_euclid(d as i64) as i128
+    } else {
+        n.div_euclid(d)
+    }
+}
+
+/// `round_div(n0 + k·dn, d)` for `k = 0, 1, 2, …`, stepped with additions only: the exact
+/// values of [`round_div`] along an arithmetic progression of numerators (a plane evaluated
+/// at successive pixels), without a 128-bit division per step.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RoundDivSteps {
+    q: i128,
+    r: i128,
+    dq: i128,
+    dr: i128,
+    den: i128,
+}
+
+impl RoundDivSteps {
+    /// Starts at `k = 0`; `d ≠ 0`.
+    pub(crate) fn new(n0: i128, dn: i128, d: i128) -> RoundDivSteps {
+        // round_div(n, d) = ⌊(2n + d) / 2d⌋ with d > 0 (signs moved to n).
+        let (n0, dn, d) = if d < 0 { (-n0, -dn, -d) } else { (n0, dn, d) };
+        let (num, den, step) = (2 * n0 + d, 2 * d, 2 * dn);
+        let (q, dq) = (floor_div_wide(num, den), floor_div_wide(step, den));
+        RoundDivSteps {
+            q,
+            r: num - q * den,
+            dq,
+            dr: step - dq * den,
+            den,
+        }
+    }
+
+    /// The current value, `round_div(n0 + k·dn, d)`.
+    #[inline]
+    pub(crate) fn value(&self) -> i128 {
+        self.q
+    }
+
+    /// Moves to `k + 1`.
+    #[inline]
+    pub(crate) fn advance(&mut self) {
+        self.q += self.dq;
+        self.r += self.dr;
+        if self.r >= self.den {
+            self.r -= self.den;
+            self.q += 1;
+        }
+    }
 }
 
 /// The consumer of span scan conversion: one call per span word. For every pixel, the
@@ -172,6 +235,49 @@ impl SpanSink for VisibleProbe {
             if depth::passes(z, self.zb[i], w.decal) {
                 self.zb[i] = z;
                 self.visible[i] = prim as i32;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The 128-bit reference of [`round_div`].
+    fn round_div_wide(n: i128, d: i128) -> i128 {
+        let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
+        (2 * n + d).div_euclid(2 * d)
+    }
+
+    #[test]
+    fn round_div_fast_path_and_steps_match_the_wide_division() {
+        let mut rng = crate::rng::Lcg64(0x1234_5678);
+        for k in 0..20_000 {
+            // Magnitudes on both sides of the 64-bit fast path's limit.
+            let bits = [8, 40, 60, 62, 90][k % 5];
+            let mut draw = |b: u32| {
+                let v = (rng.step() as i128) << 64 | rng.step() as i128;
+                let v = v % (1i128 << b);
+                if rng.step() & 1 == 0 {
+                    -v
+                } else {
+                    v
+                }
+            };
+            let (n0, dn, mut d) = (draw(bits), draw(bits.min(60)), draw(bits));
+            if d == 0 {
+                d = 7;
+            }
+            assert_eq!(round_div(n0, d), round_div_wide(n0, d), "{n0} / {d}");
+            let mut st = RoundDivSteps::new(n0, dn, d);
+            for i in 0..8 {
+                assert_eq!(
+                    st.value(),
+                    round_div_wide(n0 + i * dn, d),
+                    "{n0} + {i}·{dn} / {d}"
+                );
+                st.advance();
             }
         }
     }

@@ -1,0 +1,376 @@
+//! `pixelproc bench --all-methods`: the cost of every anti-aliasing method at its default
+//! setting, and of shadows, relative to the plain frame of the same scene.
+//!
+//! Scenes are generated in code at 1920×1080 ([`bench_scenes`]): a few large triangles
+//! (`large`), the built-in `@boxes` city (about 10k small triangles, hundreds of shadow
+//! volumes), and two tessellated grids with the same coverage and 10× apart in triangle
+//! count (`grid-1k`, `grid-10k`), which show whether a method's cost grows linearly with
+//! the work (spans, fragments) rather than with the triangles per row.
+//!
+//! Every case of a scene is rendered once as a warm-up, then the cases are timed in turn,
+//! `runs` rounds (interleaved, so a busy machine slows every case alike); the table gives
+//! each case's median wall time through the whole pipeline
+//! ([`pixelproc_sim::pipeline::render`]), its ratio to the plain frame, the time per unit
+//! of work the method counts (span word, fragment, shadow span word, sub-scanline piece,
+//! sample), and the peak resident memory of one render (Linux: the high-water mark is
+//! reset before each case; elsewhere not measured).
+
+use std::collections::BTreeMap;
+use std::fmt::Write;
+use std::time::Instant;
+
+use pixelproc_sim::pipeline::{render, AaReport, RenderOutput};
+use pixelproc_sim::plan::{AaKind, AaSpec, Effects, MultiscanSpec, Overrides, SsaaSpec};
+use pixelproc_sim::scene::{self, LoadedScene, MeshSource};
+
+/// One timed configuration.
+#[derive(Clone, Debug)]
+pub struct Case {
+    /// Short name (`plain`, `shadows`, `abuffer`, …).
+    pub name: &'static str,
+    /// What the case renders.
+    pub about: &'static str,
+    /// The overrides that select it.
+    pub overrides: Overrides,
+}
+
+/// The cases: plain, shadows (every light of the scene), then each anti-aliasing method at
+/// its default setting without shadows (multi-scanning with n = 4, supersampling 2×2: the
+/// settings the performance targets name).
+pub fn cases() -> Vec<Case> {
+    let aa = |kind: AaKind| Some(AaSpec::default_for(kind));
+    let no_shadows = |aa: Option<AaSpec>| Overrides {
+        aa: aa.or(Some(AaSpec::None)),
+        no_shadows: true,
+        ..Default::default()
+    };
+    vec![
+        Case {
+            name: "plain",
+            about: "no AA, no shadows",
+            overrides: no_shadows(None),
+        },
+        Case {
+            name: "shadows",
+            about: "no AA, the scene's lights",
+            overrides: Overrides {
+                aa: Some(AaSpec::None),
+                ..Default::default()
+            },
+        },
+        Case {
+            name: "abuffer",
+            about: "A-buffer 4x4, depth search",
+            overrides: no_shadows(aa(AaKind::Abuffer)),
+        },
+        Case {
+            name: "multiscan",
+            about: "multi-scanning n=4, box",
+            overrides: no_shadows(Some(AaSpec::Multiscan(MultiscanSpec {
+                subscanlines: 4,
+                ..Default::default()
+            }))),
+        },
+        Case {
+            name: "corner",
+            about: "corner sampling, 1 spp",
+            overrides: no_shadows(aa(AaKind::Corner)),
+        },
+        Case {
+            name: "ssaa",
+            about: "supersampling 2x2",
+            overrides: no_shadows(Some(AaSpec::Ssaa(SsaaSpec { ssaa: 2 }))),
+        },
+        Case {
+            name: "postfx",
+            about: "post-process, defaults",
+            overrides: no_shadows(aa(AaKind::PostFx)),
+        },
+    ]
+}
+
+/// A ground quad and `n` boxes on it at 1080p, one light: the scene JSON and its OBJ files.
+fn box_scene(boxes: &[([f64; 3], [f64; 3], f64)]) -> (String, BTreeMap<String, String>) {
+    let mut files = BTreeMap::new();
+    files.insert(
+        "ground.obj".to_string(),
+        "v -40 0 -40\nv 40 0 -40\nv 40 0 40\nv -40 0 40\nf 1 4 3 2\n".to_string(),
+    );
+    files.insert("box.obj".to_string(), box_obj());
+    let mut meshes = vec![
+        r#"{"obj": "ground.obj", "color": [0.55, 0.6, 0.5], "casts_shadows": false}"#.to_string(),
+    ];
+    for (k, (t, s, r)) in boxes.iter().enumerate() {
+        let c = 0.3 + 0.1 * (k % 6) as f64;
+        meshes.push(format!(
+            r#"{{"obj": "box.obj", "color": [{c:.2}, 0.45, 0.7], "translate": [{}, {}, {}], "scale": [{}, {}, {}], "rotate_y_deg": {r}}}"#,
+            t[0], t[1], t[2], s[0], s[1], s[2]
+        ));
+    }
+    (scene_json(&meshes), files)
+}
+
+/// A unit box (−0.5..0.5, 0..1, −0.5..0.5) as an OBJ.
+fn box_obj() -> String {
+    let mut s = String::new();
+    for (x, y, z) in [
+        (-0.5, 0.0, -0.5),
+        (0.5, 0.0, -0.5),
+        (0.5, 1.0, -0.5),
+        (-0.5, 1.0, -0.5),
+        (-0.5, 0.0, 0.5),
+        (0.5, 0.0, 0.5),
+        (0.5, 1.0, 0.5),
+        (-0.5, 1.0, 0.5),
+    ] {
+        let _ = writeln!(s, "v {x} {y} {z}");
+    }
+    for f in [
+        [1, 4, 3, 2],
+        [5, 6, 7, 8],
+        [1, 2, 6, 5],
+        [4, 8, 7, 3],
+        [1, 5, 8, 4],
+        [2, 3, 7, 6],
+    ] {
+        let _ = writeln!(s, "f {} {} {} {}", f[0], f[1], f[2], f[3]);
+    }
+    s
+}
+
+/// The scene JSON around a list of mesh entries: 1920×1080, the `@boxes` camera and light.
+fn scene_json(meshes: &[String]) -> String {
+    format!(
+        r#"{{"width": 1920, "height": 1080, "background": [0.5, 0.65, 0.85],
+  "camera": {{"eye": [0, 14, 22], "target": [0, 0, -6], "up": [0, 1, 0], "fov_y_deg": 50}},
+  "lights": [{{"position": [12, 30, 14]}}],
+  "meshes": [{}]}}"#,
+        meshes.join(",\n")
+    )
+}
+
+/// A `q × q` grid of quads (2q² triangles) over the same ground square, gently
+/// undulating so that neighbouring triangles differ in depth and shade, and three boxes on
+/// it that cast shadows: the coverage is the same for every `q`.
+fn grid_scene(q: usize) -> (String, BTreeMap<String, String>) {
+    let mut obj = String::new();
+    let size = 36.0;
+    for j in 0..=q {
+        for i in 0..=q {
+            let (u, v) = (i as f64 / q as f64, j as f64 / q as f64);
+            let (x, z) = (size * (u - 0.5), size * (v - 0.5) - 6.0);
+            let y = 0.4 * (x * 0.7).sin() * (z * 0.5).cos();
+            let _ = writeln!(obj, "v {x} {y} {z}");
+        }
+    }
+    for j in 0..q {
+        for i in 0..q {
+            let a = j * (q + 1) + i + 1;
+            let _ = writeln!(obj, "f {} {} {} {}", a, a + 1, a + q + 2, a + q + 1);
+        }
+    }
+    let (mut json, mut files) = box_scene(&[
+        ([-6.0, 0.0, -4.0], [3.0, 5.0, 3.0], 20.0),
+        ([5.0, 0.0, -8.0], [4.0, 7.0, 2.5], -35.0),
+        ([0.0, 0.0, 2.0], [2.5, 3.0, 2.5], 60.0),
+    ]);
+    files.insert("grid.obj".to_string(), obj);
+    json = json.replace(
+        r#"{"obj": "ground.obj", "color": [0.55, 0.6, 0.5], "casts_shadows": false}"#,
+        r#"{"obj": "grid.obj", "color": [0.55, 0.6, 0.5], "casts_shadows": false}"#,
+    );
+    (json, files)
+}
+
+/// The benchmark scenes: `large` (a ground and eight big boxes: a few large triangles),
+/// `boxes` (the built-in city), `grid-1k` and `grid-10k` (same coverage, 10× the
+/// triangles).
+pub fn bench_scenes() -> Result<Vec<LoadedScene>, scene::SceneError> {
+    let large = box_scene(&[
+        ([-9.0, 0.0, -10.0], [5.0, 8.0, 5.0], 15.0),
+        ([-2.0, 0.0, -14.0], [6.0, 11.0, 4.0], -20.0),
+        ([6.0, 0.0, -9.0], [4.0, 6.0, 7.0], 40.0),
+        ([12.0, 0.0, -16.0], [5.0, 12.0, 5.0], 5.0),
+        ([-13.0, 0.0, -3.0], [3.0, 4.0, 3.0], -50.0),
+        ([1.0, 0.0, -3.0], [3.5, 3.0, 3.5], 30.0),
+        ([9.0, 0.0, 0.0], [3.0, 5.0, 3.0], 65.0),
+        ([-5.0, 0.0, 4.0], [2.5, 2.0, 2.5], -10.0),
+    ]);
+    let mut out = Vec::new();
+    for (name, (json, files)) in [
+        ("large", large),
+        ("grid-1k", grid_scene(22)),
+        ("grid-10k", grid_scene(71)),
+    ] {
+        let s = scene::parse(&json, name)?;
+        out.push(scene::load_with(s, &MeshSource::Embedded(files), name)?);
+    }
+    out.insert(1, scene::load_builtin("boxes")?);
+    Ok(out)
+}
+
+/// One measured case of one scene.
+#[derive(Clone, Debug)]
+pub struct Measured {
+    /// Scene name.
+    pub scene: String,
+    /// Triangles fed to setup.
+    pub triangles: usize,
+    /// The case.
+    pub case: &'static str,
+    /// Median wall time, milliseconds.
+    pub median_ms: f64,
+    /// Ratio to the scene's plain frame.
+    pub ratio: f64,
+    /// The work the case counts, and its unit.
+    pub work: (u64, &'static str),
+    /// Peak resident memory of one render of the case, MiB (Linux).
+    pub peak_mib: Option<f64>,
+}
+
+impl Measured {
+    /// Nanoseconds per unit of work: for `shadows`, of the time added to the plain frame.
+    pub fn ns_per_unit(&self, plain_ms: f64) -> f64 {
+        let ms = if self.case == "shadows" {
+            self.median_ms - plain_ms
+        } else {
+            self.median_ms
+        };
+        ms * 1e6 / self.work.0.max(1) as f64
+    }
+}
+
+/// The unit of work a case counts: span words (plain), shadow span words (shadows),
+/// fragments (A-buffer), visible pieces on sub-scanlines (multi-scanning), samples
+/// written (the sampling methods and the post-process).
+fn work(case: &str, out: &RenderOutput) -> (u64, &'static str) {
+    match (case, &out.aa) {
+        ("shadows", _) => (out.shadow.span_words, "shadow span"),
+        (_, Some(AaReport::Abuffer(s))) => (s.fragments, "fragment"),
+        ("multiscan", Some(AaReport::Other(s))) => (s.samples_written, "piece"),
+        (_, Some(AaReport::Other(s))) => (s.samples_written, "sample"),
+        _ => (out.span_words, "span word"),
+    }
+}
+
+/// Resets the process's peak resident set size (Linux `clear_refs`); `false` elsewhere.
+fn reset_peak() -> bool {
+    std::fs::write("/proc/self/clear_refs", "5").is_ok()
+}
+
+/// The process's peak resident set size since the last reset, MiB (Linux).
+fn peak_mib() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = s.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib / 1024.0)
+}
+
+/// Renders every case of every scene `runs` times (after one warm-up render each, which
+/// also measures the peak memory) and returns the medians. `progress` is told each scene.
+pub fn run_all_methods(
+    scenes: &[LoadedScene],
+    runs: usize,
+    mut progress: impl FnMut(&str),
+) -> anyhow::Result<Vec<Measured>> {
+    let cases = cases();
+    let mut out = Vec::new();
+    for ls in scenes {
+        progress(&ls.name);
+        let fx: Vec<Effects> = cases
+            .iter()
+            .map(|c| Effects::resolve(ls, &c.overrides))
+            .collect::<Result<_, _>>()?;
+        let mut first = Vec::new();
+        for f in &fx {
+            let measured = reset_peak();
+            let o = render(ls, f)?;
+            first.push((o, if measured { peak_mib() } else { None }));
+        }
+        let mut times = vec![Vec::new(); cases.len()];
+        for _ in 0..runs {
+            for (k, f) in fx.iter().enumerate() {
+                let t0 = Instant::now();
+                render(ls, f)?;
+                times[k].push(t0.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+        let med: Vec<f64> = times
+            .into_iter()
+            .map(|mut v| {
+                v.sort_by(f64::total_cmp);
+                v[v.len() / 2]
+            })
+            .collect();
+        for (k, c) in cases.iter().enumerate() {
+            out.push(Measured {
+                scene: ls.name.clone(),
+                triangles: first[k].0.triangles,
+                case: c.name,
+                median_ms: med[k],
+                ratio: med[k] / med[0],
+                work: work(c.name, &first[k].0),
+                peak_mib: first[k].1,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// The results as a Markdown table, plus the growth from `grid-1k` to `grid-10k` per case.
+pub fn table(rows: &[Measured]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "| scene | tris | case | median ms | × plain | work | ns / unit | peak MiB |"
+    );
+    let _ = writeln!(s, "|---|---:|---|---:|---:|---:|---:|---:|");
+    let plain = |scene: &str| {
+        rows.iter()
+            .find(|r| r.scene == scene && r.case == "plain")
+            .map_or(f64::NAN, |r| r.median_ms)
+    };
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {:.1} | {:.2} | {} {} | {:.1} | {} |",
+            r.scene,
+            r.triangles,
+            r.case,
+            r.median_ms,
+            r.ratio,
+            r.work.0,
+            r.work.1,
+            r.ns_per_unit(plain(&r.scene)),
+            r.peak_mib.map_or("—".to_string(), |m| format!("{m:.0}")),
+        );
+    }
+    let find = |scene: &str, case: &str| {
+        rows.iter()
+            .find(|r| r.scene == scene && r.case == case)
+            .map(|r| r.median_ms)
+    };
+    let (t1, t10) = (
+        rows.iter()
+            .find(|r| r.scene == "grid-1k")
+            .map(|r| r.triangles),
+        rows.iter()
+            .find(|r| r.scene == "grid-10k")
+            .map(|r| r.triangles),
+    );
+    if let (Some(t1), Some(t10)) = (t1, t10) {
+        let _ = writeln!(
+            s,
+            "\nGrowth from grid-1k ({t1} triangles) to grid-10k ({t10}, {:.1}×), same coverage:\n",
+            t10 as f64 / t1.max(1) as f64
+        );
+        let _ = writeln!(s, "| case | grid-1k ms | grid-10k ms | growth |");
+        let _ = writeln!(s, "|---|---:|---:|---:|");
+        for c in cases() {
+            if let (Some(a), Some(b)) = (find("grid-1k", c.name), find("grid-10k", c.name)) {
+                let _ = writeln!(s, "| {} | {a:.1} | {b:.1} | {:.2}× |", c.name, b / a);
+            }
+        }
+    }
+    s
+}
