@@ -161,23 +161,13 @@ impl CoreStream {
         n: usize,
         table: Option<&FactorTable>,
     ) -> Result<CoreStream, CoreError> {
-        Self::build(s, n, table, true)
-    }
-
-    /// The same frame with every tile fed its whole row (no binning), for comparison.
-    pub fn unbinned(
-        s: &SceneStream,
-        n: usize,
-        table: Option<&FactorTable>,
-    ) -> Result<CoreStream, CoreError> {
-        Self::build(s, n, table, false)
+        Self::build(s, n, table)
     }
 
     fn build(
         s: &SceneStream,
         n: usize,
         table: Option<&FactorTable>,
-        binned: bool,
     ) -> Result<CoreStream, CoreError> {
         if n == 0 || n > pixelproc_formats::MAX_SCREEN as usize {
             return Err(CoreError::Width(n));
@@ -189,25 +179,9 @@ impl CoreStream {
         let table_beats = beats.len();
         let (w, h, nn) = (s.width(), s.height(), n as u32);
         for j in 0..h {
-            let whole = if binned { Vec::new() } else { s.row(j) };
             for base in (0..w).step_by(n) {
-                let cmds = if binned {
-                    s.tile(j, base, nn)
-                } else {
-                    Vec::new()
-                };
-                let last = (w - base).min(nn) - 1;
-                beats.push(Beat::with_fields(
-                    KIND_TILE,
-                    &[
-                        (TILE_BG, s.bg_packed() as u64),
-                        (TILE_BASE, base as u64),
-                        (TILE_LAST, last as u64),
-                        (TILE_SOF, (j == 0 && base == 0) as u64),
-                    ],
-                ));
-                let body = if binned { &cmds[1..] } else { &whole[..] };
-                for c in body {
+                beats.push(tile_beat(s, j, base, nn));
+                for c in &s.tile(j, base, nn)[1..] {
                     beats.push(Beat::of_command(c)?);
                 }
             }
@@ -236,6 +210,66 @@ impl CoreStream {
         let w = self.width as usize;
         ((k % w) as u32, (k / w) as u32)
     }
+}
+
+/// The TILE beat of row `j`'s tile at column `base` on an `n`-processor array.
+fn tile_beat(s: &SceneStream, j: u32, base: u32, n: u32) -> Beat {
+    let last = (s.width() - base).min(n) - 1;
+    Beat::with_fields(
+        KIND_TILE,
+        &[
+            (TILE_BG, s.bg_packed() as u64),
+            (TILE_BASE, base as u64),
+            (TILE_LAST, last as u64),
+            (TILE_SOF, (j == 0 && base == 0) as u64),
+        ],
+    )
+}
+
+/// The model's cycles, with no stalls, for the same frame **unbinned**: every tile fed its
+/// whole row (what a source without the golden model's binning would send). The stream is
+/// generated row by row, never held whole.
+pub fn unbinned_cycles(
+    s: &SceneStream,
+    n: usize,
+    table: Option<&FactorTable>,
+    debug: bool,
+    in_abits: u32,
+) -> Result<FrameCycles, CoreError> {
+    let mut m = CoreModel::new(n, table.is_some(), debug, in_abits)?;
+    let (w, h, nn) = (s.width(), s.height(), n as u32);
+    let head = match table {
+        Some(t) => table_beats(t)?,
+        None => Vec::new(),
+    };
+    // Every command converts (the same check the binned stream makes), so the lazy
+    // conversion below drops none.
+    for j in 0..h {
+        for c in s.row(j) {
+            Beat::of_command(&c)?;
+        }
+    }
+    let row_beats = |j: u32| -> Vec<Beat> {
+        s.row(j)
+            .iter()
+            .filter_map(|c| Beat::of_command(c).ok())
+            .collect()
+    };
+    let beats = head.into_iter().chain((0..h).flat_map(move |j| {
+        let body = row_beats(j);
+        (0..w)
+            .step_by(n)
+            .flat_map(move |base| std::iter::once(tile_beat(s, j, base, nn)).chain(body.clone()))
+    }));
+    let beats = beats.chain(std::iter::once(Beat::with_fields(
+        KIND_END,
+        &[(TILE_BG, s.bg_packed() as u64)],
+    )));
+    let pixels = w as usize * h as usize;
+    let max = 1u64 << 40;
+    run_frame_iter(&mut m, beats, pixels, &mut Stalls::new(1, 0, 0), max)
+        .map(|r| r.cycles)
+        .ok_or(CoreError::Width(n))
 }
 
 /// The TABLE beats of a factor table; an error if it does not fit the core's address.
@@ -709,31 +743,41 @@ pub fn run_frame(
     stalls: &mut Stalls,
     max_cycles: u64,
 ) -> Option<FrameRun> {
+    run_frame_iter(m, beats.iter().copied(), expect_pixels, stalls, max_cycles)
+}
+
+/// [`run_frame`] with the beats from an iterator (a stream too large to hold).
+pub fn run_frame_iter(
+    m: &mut CoreModel,
+    beats: impl Iterator<Item = Beat>,
+    expect_pixels: usize,
+    stalls: &mut Stalls,
+    max_cycles: u64,
+) -> Option<FrameRun> {
+    let mut beats = beats.peekable();
     m.step(&CoreInputs {
         rst: true,
         ..Default::default()
     });
-    let mut next = 0usize;
     let mut pixels = Vec::with_capacity(expect_pixels);
-    let mut c = FrameCycles {
-        beats: beats.len() as u64,
-        ..Default::default()
-    };
+    let mut c = FrameCycles::default();
     while pixels.len() < expect_pixels {
         if c.cycles >= max_cycles {
             return None;
         }
-        let (valid, ready) = stalls.next(next < beats.len());
+        let head = beats.peek().copied();
+        let (valid, ready) = stalls.next(head.is_some());
         let inp = CoreInputs {
             rst: false,
             s_valid: valid,
-            s_beat: beats.get(next).copied().unwrap_or_default(),
+            s_beat: head.unwrap_or_default(),
             m_ready: ready,
         };
         let o = m.step(&inp);
         c.cycles += 1;
         if valid && o.s_ready {
-            next += 1;
+            beats.next();
+            c.beats += 1;
             stalls.taken();
         }
         c.in_stall += (valid && !o.s_ready) as u64;

@@ -122,8 +122,9 @@ pub struct FrameResult {
 pub struct FramePlan {
     /// The binned stream.
     pub stream: CoreStream,
-    /// The same frame unbinned (every tile fed its whole row), for the cycle comparison.
-    pub unbinned: CoreStream,
+    /// The model's cycles, no stalls, for the same frame unbinned (every tile fed its
+    /// whole row).
+    pub unbinned_cycles: u64,
     /// Shadows on.
     pub shadows: bool,
 }
@@ -148,10 +149,13 @@ pub fn plan_frame(ls: &LoadedScene, fx: &Effects, n: usize) -> Result<FramePlan,
     };
     let core_err = |e: pixelproc_sim::core_model::CoreError| TbError::Unsupported(e.to_string());
     let stream = CoreStream::of_scene(&s, n, table.as_ref()).map_err(core_err)?;
-    let unbinned = CoreStream::unbinned(&s, n, table.as_ref()).map_err(core_err)?;
+    let unbinned_cycles =
+        pixelproc_sim::core_model::unbinned_cycles(&s, n, table.as_ref(), false, DEFAULT_IN_ABITS)
+            .map_err(core_err)?
+            .cycles;
     Ok(FramePlan {
         stream,
-        unbinned,
+        unbinned_cycles,
         shadows,
     })
 }
@@ -452,11 +456,6 @@ pub fn run_frame_check(
     let stalls = || Stalls::new(spec.seed, spec.gap_pct, spec.stall_pct);
     let model = model_run(&cs.beats, cs.pixels(), &mut stalls())?;
     let free = model_run(&cs.beats, cs.pixels(), &mut Stalls::new(1, 0, 0))?;
-    let unbinned = model_run(
-        &plan.unbinned.beats,
-        plan.unbinned.pixels(),
-        &mut Stalls::new(1, 0, 0),
-    )?;
     let module = pixelproc_rtl::core_top::core_module_name(n, plan.shadows, spec.debug);
     let mut r = FrameResult {
         identical: false,
@@ -464,7 +463,7 @@ pub fn run_frame_check(
         cycles: FrameCycles::default(),
         model_cycles: model.cycles.clone(),
         free_cycles: free.cycles,
-        unbinned_cycles: unbinned.cycles.cycles,
+        unbinned_cycles: plan.unbinned_cycles,
         tile_lines: (h as u64) * (w as u64).div_ceil(n as u64),
         build_seconds: 0.0,
         build_cached: false,
