@@ -119,15 +119,7 @@ fn set_ports(uut: &mut PixelProcessorArray, v: &PortVector) {
 /// Drives one clock cycle of the RustHDL model with the direct `simulate()` loop.
 pub fn drive(uut: &mut PixelProcessorArray, v: &PortVector) -> Result<(), TbError> {
     set_ports(uut, v);
-    uut.clock.next = Clock { clk: true };
-    if !simulate(uut, 200) {
-        return Err(TbError::NoConvergence);
-    }
-    uut.clock.next = Clock { clk: false };
-    if !simulate(uut, 200) {
-        return Err(TbError::NoConvergence);
-    }
-    Ok(())
+    crate::sim_tools::clock_cycle(uut, |u| &mut u.clock)
 }
 
 /// The first disagreement between RTL and golden model.

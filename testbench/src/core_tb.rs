@@ -100,17 +100,6 @@ pub fn compare_core<const IA: usize, const IA1: usize>(
         beats: beats.len() as u64,
         ..Default::default()
     };
-    let edge = |u: &mut PixelprocCore<IA, IA1>| -> Result<(), TbError> {
-        u.clock.next = Clock { clk: true };
-        if !simulate(u, 200) {
-            return Err(TbError::NoConvergence);
-        }
-        u.clock.next = Clock { clk: false };
-        if !simulate(u, 200) {
-            return Err(TbError::NoConvergence);
-        }
-        Ok(())
-    };
     let mut mismatch = None;
     let mut cycle = 0u64;
     let mut first = true;
@@ -148,7 +137,7 @@ pub fn compare_core<const IA: usize, const IA1: usize>(
         }
         let got = outputs(uut);
         let want = model.step(&inp);
-        edge(uut)?;
+        crate::sim_tools::clock_cycle(uut, |u| &mut u.clock)?;
         if visible(&want) != visible(&got) {
             mismatch = Some(CoreMismatch {
                 cycle,

@@ -333,6 +333,37 @@ fn core_build(
     )
 }
 
+/// The cycle figures a harness printed (`CYCLES`, `TAKEN`, `IN_STALL`, `OUT_STALL`,
+/// `ERR`), with the hazard and issue counts only the model sees; and `proto_err`.
+fn harness_report(out: &str, model: &pixelproc_sim::core_model::FrameRun) -> (FrameCycles, bool) {
+    let field = |k: &str| stat(out, k).unwrap_or(0.0) as u64;
+    (
+        FrameCycles {
+            cycles: field("CYCLES"),
+            beats: field("TAKEN"),
+            in_stall: field("IN_STALL"),
+            hazard_stall: model.cycles.hazard_stall,
+            out_stall: field("OUT_STALL"),
+            issued: model.cycles.issued,
+        },
+        stat(out, "ERR").unwrap_or(1.0) != 0.0,
+    )
+}
+
+/// Writes the core's Verilog into the work folder; returns the folder, the text and the
+/// module name.
+fn write_core(
+    cs: &CoreStream,
+    plan: &FramePlan,
+    spec: &FrameSpec,
+) -> Result<(PathBuf, String, String), TbError> {
+    std::fs::create_dir_all(&spec.work)?;
+    let work = spec.work.canonicalize()?;
+    let (verilog, module) = core_verilog(cs.array_width as usize, plan.shadows, spec.debug)?;
+    std::fs::write(work.join(format!("{module}.v")), &verilog)?;
+    Ok((work, verilog, module))
+}
+
 fn stat(out: &str, key: &str) -> Option<f64> {
     let mut it = out.split_whitespace();
     while let Some(w) = it.next() {
@@ -562,10 +593,7 @@ fn run_verilator(
     r: &mut FrameResult,
     say: &mut dyn FnMut(&str),
 ) -> Result<Vec<(PixelBeat, u64)>, TbError> {
-    std::fs::create_dir_all(&spec.work)?;
-    let work = spec.work.canonicalize()?;
-    let (verilog, module) = core_verilog(cs.array_width as usize, plan.shadows, spec.debug)?;
-    std::fs::write(work.join(format!("{module}.v")), &verilog)?;
+    let (work, verilog, module) = write_core(cs, plan, spec)?;
     say(&format!(
         "building {module} in Verilator (cached by the Verilog's hash) ..."
     ));
@@ -597,16 +625,7 @@ fn run_verilator(
     let got = read_pixels(&pixels_path)?;
     let _ = std::fs::remove_file(&pixels_path);
     let _ = std::fs::remove_file(work.join("beats.bin"));
-    let field = |k: &str| stat(&out, k).unwrap_or(0.0) as u64;
-    r.cycles = FrameCycles {
-        cycles: field("CYCLES"),
-        beats: field("TAKEN"),
-        in_stall: field("IN_STALL"),
-        hazard_stall: model.cycles.hazard_stall,
-        out_stall: field("OUT_STALL"),
-        issued: model.cycles.issued,
-    };
-    r.proto_err = stat(&out, "ERR").unwrap_or(1.0) != 0.0;
+    (r.cycles, r.proto_err) = harness_report(&out, model);
     Ok(got)
 }
 
@@ -736,11 +755,8 @@ fn run_icarus(
     say: &mut dyn FnMut(&str),
 ) -> Result<Vec<(PixelBeat, u64)>, TbError> {
     use std::fmt::Write as _;
-    std::fs::create_dir_all(&spec.work)?;
-    let work = spec.work.canonicalize()?;
-    let (verilog, module) = core_verilog(cs.array_width as usize, plan.shadows, spec.debug)?;
+    let (work, _, module) = write_core(cs, plan, spec)?;
     let vfile = work.join(format!("{module}.v"));
-    std::fs::write(&vfile, &verilog)?;
     let mut hex = String::with_capacity(cs.beats.len() * 66);
     for b in &cs.beats {
         let d = b.data;
@@ -787,15 +803,6 @@ fn run_icarus(
         };
         got.push(parse().ok_or_else(|| TbError::Sim(format!("bad pixel line `{line}`")))?);
     }
-    let field = |k: &str| stat(&out, k).unwrap_or(0.0) as u64;
-    r.cycles = FrameCycles {
-        cycles: field("CYCLES"),
-        beats: field("TAKEN"),
-        in_stall: field("IN_STALL"),
-        hazard_stall: model.cycles.hazard_stall,
-        out_stall: field("OUT_STALL"),
-        issued: model.cycles.issued,
-    };
-    r.proto_err = stat(&out, "ERR").unwrap_or(1.0) != 0.0;
+    (r.cycles, r.proto_err) = harness_report(&out, model);
     Ok(got)
 }

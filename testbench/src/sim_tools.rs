@@ -1,6 +1,26 @@
-//! Pieces shared by the Verilog vector testbenches of the external simulators (Icarus
-//! Verilog, Verilator): the golden model writes `stim.hex` and `expect.hex`, one line per
-//! clock, and a generated testbench replays them against the exported module.
+//! Pieces shared by the testbenches: the clock cycle of a RustHDL block driven with the
+//! direct `simulate()` loop ([`clock_cycle`]), and for the Verilog vector testbenches of
+//! the external simulators (Icarus Verilog, Verilator) the replay loop: the golden model
+//! writes `stim.hex` and `expect.hex`, one line per clock, and a generated testbench
+//! replays them against the exported module.
+
+use crate::TbError;
+use rust_hdl::prelude::*;
+
+/// One clock cycle of a RustHDL block whose clock input is `clk(u)`: a rising edge, then
+/// a falling one, each settled with the direct `simulate()` loop.
+pub fn clock_cycle<B: Block>(
+    u: &mut B,
+    clk: fn(&mut B) -> &mut Signal<In, Clock>,
+) -> Result<(), TbError> {
+    for level in [true, false] {
+        clk(u).next = Clock { clk: level };
+        if !simulate(u, 200) {
+            return Err(TbError::NoConvergence);
+        }
+    }
+    Ok(())
+}
 
 /// The end of a vector testbench module: the clock, loading of `stim.hex` and
 /// `expect.hex`, a VCD of the testbench `tb`, then for every cycle `t` the `drive`

@@ -39,17 +39,7 @@ macro_rules! stream_loop {
         let mut u =
             <$ty>::new($size, SearchFamily::DIAGONAL).map_err(|e| TbError::Sim(e.to_string()))?;
         u.connect_all();
-        let clock = |u: &mut $ty| -> Result<(), TbError> {
-            u.clock.next = Clock { clk: true };
-            if !simulate(u, 200) {
-                return Err(TbError::NoConvergence);
-            }
-            u.clock.next = Clock { clk: false };
-            if !simulate(u, 200) {
-                return Err(TbError::NoConvergence);
-            }
-            Ok(())
-        };
+        let clock = |u: &mut $ty| crate::sim_tools::clock_cycle(u, |u| &mut u.clock);
         let n = words.input.len();
         let t0 = std::time::Instant::now();
         u.rst.next = true;
