@@ -20,10 +20,14 @@ lint() {
   kinds=$(grep -o '^%Warning-[A-Z]*' <<<"$out" | sort | uniq -c | tr '\n' ' ' || true)
 }
 
-# generic_flow V TOP OUT OK_TEXT: Yosys generic flow with `check -assert` into
-# OUT/TOP.generic.log; sets g to OK_TEXT or a FAILED note.
+# generic_flow V TOP OUT OK_TEXT [coarse]: Yosys generic flow with `check -assert` into
+# OUT/TOP.generic.log; sets g to OK_TEXT or a FAILED note. With `coarse` the flow stops
+# before memory mapping (`synth -run begin:fine`): the core's FIFOs and shading table
+# stay memories instead of becoming flip-flops (the FPGA flows map them to block RAM).
 generic_flow() {
-  yosys -p "read_verilog $1; hierarchy -check -top $2; proc; flatten; synth -top $2; check -assert; stat" > "$3/$2.generic.log" 2>&1 \
+  local stages=""
+  [ "${5:-}" = coarse ] && stages=" -run begin:fine"
+  yosys -p "read_verilog $1; hierarchy -check -top $2; proc; flatten; synth -top $2$stages; check -assert; stat" > "$3/$2.generic.log" 2>&1 \
     && g="$4" || g="generic: FAILED (see $3/$2.generic.log)"
 }
 
