@@ -439,10 +439,17 @@ pub fn rerun_verilator(
         )));
     }
     write_hex(words, size, dir)?;
+    // The model built for this testbench, from the build cache (the same sources: no
+    // rebuild).
+    let (name, text) =
+        mask_search_stream_verilog(variant, size).map_err(|e| TbError::Sim(e.to_string()))?;
+    let files = [
+        ("tb_search_stream.v".to_string(), tb),
+        (format!("{name}.v"), text),
+    ];
+    let (exe, _) = crate::external::verilator_build_cached("tb_search_stream", &files, "", &[])?;
     let t0 = std::time::Instant::now();
-    let o = std::process::Command::new(dir.join("obj_dir").join("Vtb_search_stream"))
-        .current_dir(dir)
-        .output()?;
+    let o = std::process::Command::new(exe).current_dir(dir).output()?;
     let out = String::from_utf8_lossy(&o.stdout).into_owned();
     let mut s = StreamSummary {
         variant,
