@@ -574,10 +574,14 @@ fn cmd_verilog(a: &VerilogArgs) -> Result<()> {
     let fx = Effects::resolve(&ls, &overrides(&a.fx, &[])?)?;
     let top = top_config(&fx);
     say!(
-        "{}: top = pixel-processor array of {} processors, {} span-parity logic",
+        "{}: top (pixelproc_top) = the streaming core around a pixel-processor array of {} processors, {} (docs/core.md)",
         ls.name,
         top.width,
-        if top.shadows { "with" } else { "without" }
+        if top.shadows {
+            "with span-parity logic and the shading table"
+        } else {
+            "without shadow logic"
+        }
     );
     let mut texts = verilog_files(top)?;
     if matches!(fx.aa, AaMethod::Abuffer(_)) {
