@@ -133,21 +133,21 @@ pub struct FramePlan {
 /// error here, before any simulation.
 pub fn plan_frame(ls: &LoadedScene, fx: &Effects, n: usize) -> Result<FramePlan, TbError> {
     if !matches!(fx.aa, AaMethod::None) {
-        return Err(TbError::Unsupported(
-            "an anti-aliased frame: the core renders the no-AA image (use --aa none)".into(),
+        return Err(TbError::Core(
+            "--frame: the core renders the image without anti-aliasing; use --aa none".into(),
         ));
     }
     let s = SceneStream::of_scene(ls, &fx.shadow_lights, fx.shadow_form)
         .map_err(pixelproc_sim::pipeline::RenderError::from)?;
     let shadows = !fx.shadow_lights.is_empty();
     let table = if shadows {
-        let lights = shadow_lights(ls, &fx.shadow_lights)
-            .map_err(|e| TbError::Unsupported(e.to_string()))?;
+        let lights =
+            shadow_lights(ls, &fx.shadow_lights).map_err(|e| TbError::Core(e.to_string()))?;
         Some(FactorTable::new(ls, &lights))
     } else {
         None
     };
-    let core_err = |e: pixelproc_sim::core_model::CoreError| TbError::Unsupported(e.to_string());
+    let core_err = |e: pixelproc_sim::core_model::CoreError| TbError::Core(e.to_string());
     let stream = CoreStream::of_scene(&s, n, table.as_ref()).map_err(core_err)?;
     let unbinned_cycles =
         pixelproc_sim::core_model::unbinned_cycles(&s, n, table.as_ref(), false, DEFAULT_IN_ABITS)
@@ -392,7 +392,7 @@ fn golden_pixels(ls: &LoadedScene, fx: &Effects) -> Result<(Vec<ProcState>, Vec<
     let golden = render(ls, fx)?;
     let gframe = golden
         .frame
-        .ok_or_else(|| TbError::Unsupported("the plan ran no pixel-processor array".into()))?;
+        .ok_or_else(|| TbError::Core("the plan ran no pixel-processor array".into()))?;
     let px = gframe
         .px
         .iter()
@@ -478,7 +478,7 @@ pub fn run_frame_check(
     let max_cycles = 64 * (cs.beats.len() as u64 + cs.pixels() as u64) + 10_000;
     let new_model = || {
         CoreModel::new(n, plan.shadows, spec.debug, DEFAULT_IN_ABITS)
-            .map_err(|e| TbError::Unsupported(e.to_string()))
+            .map_err(|e| TbError::Core(e.to_string()))
     };
     let model_run = |beats: &[Beat], px: usize, st: &mut Stalls| -> Result<_, TbError> {
         run_frame(&mut new_model()?, beats, px, st, max_cycles)

@@ -45,6 +45,10 @@ pub enum TbError {
     /// column 4095).
     #[error("the RTL array cannot encode {0}")]
     Unsupported(String),
+    /// A scene or plan the core (`pixelproc_rtl::core_top`) cannot take: more shadowing
+    /// lights or area-light samples than its shading table's address, an anti-aliased plan.
+    #[error("{0}")]
+    Core(String),
 }
 
 use pixelproc_sim::pixel_array::Command;
