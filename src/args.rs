@@ -5,7 +5,7 @@ use anyhow::{bail, Result};
 use clap::builder::PossibleValuesParser;
 use clap::{Args, Parser, Subcommand};
 use pixelproc_sim::plan::{parse_mask, parse_param, AaKind, AaSpec, Key, Named, Overrides};
-use pixelproc_sim::shadow::ShadowForm;
+use pixelproc_sim::shadow::{Shading, ShadowForm};
 use std::ffi::OsString;
 use std::path::PathBuf;
 
@@ -195,6 +195,11 @@ pub(crate) struct EffectArgs {
     /// `check` (software form of seed 001: a dummy check span over the volume's range).
     #[arg(long, value_name = "FORM", value_parser = PossibleValuesParser::new(ShadowForm::names()))]
     pub(crate) shadow_form: Option<String>,
+    /// How shadowed pixels are shaded: `exact` (spans carry each polygon's intensity
+    /// without each shadowing light; the default) or `table` (seed 001 §6: a factor from
+    /// the normal class and the light mask).
+    #[arg(long, value_name = "MODE", value_parser = PossibleValuesParser::new(Shading::names()))]
+    pub(crate) shading: Option<String>,
 }
 
 #[derive(Args)]
@@ -321,6 +326,7 @@ pub(crate) fn overrides(fx: &EffectArgs, aovs: &[String]) -> Result<Overrides> {
         aovs: aovs.iter().map(|a| a.parse()).collect::<Result<_, _>>()?,
         array_width: fx.array_width,
         shadow_form: fx.shadow_form.as_deref().map(str::parse).transpose()?,
+        shading: fx.shading.as_deref().map(str::parse).transpose()?,
     })
 }
 

@@ -26,6 +26,7 @@ fn scene(seed: u64, n: usize, w: f64, h: f64) -> Vec<SnappedTri> {
             let z = [0, 1, 2].map(|_| r.range(10_000.0, 2_000_000.0) as u32);
             let col = [0, 1, 2].map(|_| (r.range(0.0, 255.0) * 4096.0).floor() as u32 + 2048);
             SnappedTri {
+                chan: 0,
                 v,
                 z,
                 c: [col; 3],

@@ -14,6 +14,7 @@ fn q8(x: f64) -> i32 {
 
 fn tri(v: [[f64; 2]; 3], z: [f64; 3], rgb: [f64; 3], tag: u16) -> SnappedTri {
     SnappedTri {
+        chan: 0,
         v: v.map(|p| p.map(q8)),
         z: z.map(|d| (d.clamp(0.0, 1.0) * 16_000_000.0) as u32 + 16),
         c: [rgb.map(|c| (c * 255.0 * 4096.0) as u32); 3],

@@ -74,6 +74,7 @@ fn cq(c: f64) -> u32 {
 /// A triangle with a depth function and per-vertex colours.
 fn tri_f(v: [[f64; 2]; 3], z: impl Fn([f64; 2]) -> f64, c: [[f64; 3]; 3], tag: u16) -> SnappedTri {
     SnappedTri {
+        chan: 0,
         v: v.map(|p| [q8(p[0]), q8(p[1])]),
         z: v.map(|p| zq(z(p))),
         c: c.map(|k| k.map(cq)),

@@ -93,8 +93,10 @@ pub const LATCH_BIT: Field = Field::first("BIT", 3);
 pub const TABLE_ADDR: Field = Field::first("ADDR", SHADE_ADDR_BITS);
 /// TABLE field: the factor, Q0.8 (256 = 1).
 pub const TABLE_FACTOR: Field = TABLE_ADDR.then("FACTOR", FACTOR_BITS);
+/// TABLE field: the drop weight, Q0.8 (256 = all of shade channel 1's difference).
+pub const TABLE_DROP: Field = TABLE_FACTOR.then("DROP", FACTOR_BITS);
 /// The TABLE beat's `tdata`, LSB first.
-pub const TABLE_FIELDS: &[Field] = &[TABLE_ADDR, TABLE_FACTOR];
+pub const TABLE_FIELDS: &[Field] = &[TABLE_ADDR, TABLE_FACTOR, TABLE_DROP];
 
 /// Width of a shading factor (Q0.8, 0 ..= 256).
 pub const FACTOR_BITS: usize = 9;
@@ -124,10 +126,23 @@ pub fn shade_addr(nclass: u8, mask: u8, count: u8) -> u32 {
     w as u32
 }
 
-/// A pixel's channels after shading by factor `f` (Q0.8): `min((c·f + 128) >> 8, 255)`.
-pub fn shade_rgb(rgb: u32, f: u32) -> u32 {
-    let ch = |v: u8| ((v as u32 * f + 128) >> 8).min(255) as u8;
-    crate::pack_rgb(crate::unpack_rgb(rgb).map(ch))
+/// A pixel's channels after shading, per channel `c` of `rgb` and `s` of `sh` (shade
+/// register 1), with the table entry's factor `f` and drop weight `g` (both Q0.8):
+///
+/// `out = max(0, min((c·f + 128) >> 8, 255) − ((max(0, c − s)·g + 128) >> 8))`.
+///
+/// The seed's table mode (§6) has `g = 0`: `out = min((c·f + 128) >> 8, 255)`. Exact
+/// shading has `f = 256`, and `g` the shadowed share of light 0 (256 for a point light
+/// that shadows the pixel, `round(256·count/k)` for an area light of `k` samples): a fully
+/// shadowed pixel gets exactly `s`, the intensity without the light.
+pub fn shade_rgb(rgb: u32, sh: u32, f: u32, g: u32) -> u32 {
+    let (c, s) = (crate::unpack_rgb(rgb), crate::unpack_rgb(sh));
+    let ch = |k: usize| {
+        let lit = ((c[k] as u32 * f + 128) >> 8).min(255);
+        let d = (c[k] as u32).saturating_sub(s[k] as u32);
+        lit.saturating_sub((d * g + 128) >> 8) as u8
+    };
+    crate::pack_rgb([ch(0), ch(1), ch(2)])
 }
 
 /// Output `tuser` field: start of frame (first pixel of a TILE with `SOF`).
@@ -210,11 +225,17 @@ mod tests {
 
     #[test]
     fn shading_rounds_and_saturates() {
-        assert_eq!(shade_rgb(0x80FF01, 256), 0x80FF01);
+        assert_eq!(shade_rgb(0x80FF01, 0, 256, 0), 0x80FF01);
         // 0x80·128 = 16384 → (16384 + 128) >> 8 = 64; 0xFF·128 → 128 (127.5 rounds up).
-        assert_eq!(shade_rgb(0x80FF01, 128), 0x408001);
-        assert_eq!(shade_rgb(0x000000, 300), 0);
-        assert_eq!(shade_rgb(0xFF0000, 300), 0xFF0000);
+        assert_eq!(shade_rgb(0x80FF01, 0, 128, 0), 0x408001);
+        assert_eq!(shade_rgb(0x000000, 0, 300, 0), 0);
+        assert_eq!(shade_rgb(0xFF0000, 0, 300, 0), 0xFF0000);
+        // Exact mode: a full drop gives the shade register; half a drop the midpoint
+        // (0x80 − ((0x80 − 0x20)·128 + 128) >> 8 = 0x80 − 48 = 0x50); a shade register
+        // above the lit value drops nothing.
+        assert_eq!(shade_rgb(0x80FF01, 0x204002, 256, 256), 0x204001);
+        assert_eq!(shade_rgb(0x800000, 0x200000, 256, 128), 0x500000);
+        assert_eq!(shade_rgb(0x100000, 0x200000, 256, 256), 0x100000);
         assert_eq!(shade_addr(0xAB, 0b101, 9), 0xAB << 7 | 0b101 << 4 | 9);
     }
 }

@@ -77,6 +77,12 @@ pub const DI_BITS: u32 = 21;
 pub const TAG_BITS: u32 = 16;
 /// Width of the normal-class field (seed 001 section 6, several lights).
 pub const NCLASS_BITS: u32 = 8;
+/// Width of the shade-channel field: 0 for a polygon's own span, `1..=MAX_SHADE_CHANNELS`
+/// for the span carrying its intensity with one shadowing light removed.
+pub const CHAN_BITS: u32 = 4;
+/// Largest shade channel a span word can name (one per shadowing light: eight point lights
+/// and one area light).
+pub const MAX_SHADE_CHANNELS: u8 = 9;
 /// Width of a packed span word (the remaining top bits are zero, reserved).
 pub const SPAN_WORD_BITS: u32 = 256;
 
@@ -108,6 +114,8 @@ pub const SPAN_TAG: Field = SPAN_DI_B.then("tag", TAG_BITS as usize);
 pub const SPAN_NCLASS: Field = SPAN_TAG.then("nclass", NCLASS_BITS as usize);
 /// Span word field `decal`.
 pub const SPAN_DECAL: Field = SPAN_NCLASS.then("decal", 1);
+/// Span word field `chan` (shade channel).
+pub const SPAN_CHAN: Field = SPAN_DECAL.then("chan", CHAN_BITS as usize);
 /// The `IL` fields, R, G, B.
 pub const SPAN_IL: [Field; 3] = [SPAN_IL_R, SPAN_IL_G, SPAN_IL_B];
 /// The `dI` fields, R, G, B.
@@ -129,6 +137,7 @@ pub const SPAN_FIELDS: &[Field] = &[
     SPAN_TAG,
     SPAN_NCLASS,
     SPAN_DECAL,
+    SPAN_CHAN,
 ];
 const _: () = assert!(fields::table_end(SPAN_FIELDS) <= SPAN_WORD_BITS as usize);
 
@@ -207,6 +216,11 @@ pub struct SpanWord {
     /// test passes on equality (`Z <= ZB`) so it wins over the face it lies on
     /// (seed 002 section 3: a pattern lies in front of its face).
     pub decal: bool,
+    /// Shade channel (exact shading in shadow): 0 for the polygon's own span; `c ≥ 1` for a
+    /// span that follows its polygon's span with the same `XL`, `XR` and carries, in `IL`
+    /// and `dI`, the polygon's intensity with shadowing light `c − 1` removed. It has no
+    /// depth test: it writes shade register `c` where the polygon's span just won.
+    pub chan: u8,
 }
 
 fn fits_unsigned(v: i64, bits: u32) -> bool {
@@ -232,6 +246,9 @@ impl SpanWord {
         }
         if !fits_signed(self.dz, DZ_BITS) {
             return err("dZ", self.dz, DZ_BITS);
+        }
+        if self.chan > MAX_SHADE_CHANNELS {
+            return err("chan", self.chan as i64, CHAN_BITS);
         }
         for c in 0..3 {
             if !fits_unsigned(self.il[c] as i64, IL_BITS) {
@@ -280,6 +297,7 @@ impl SpanWord {
         SPAN_TAG.put(&mut l, self.tag as u64);
         SPAN_NCLASS.put(&mut l, self.nclass as u64);
         SPAN_DECAL.put(&mut l, self.decal as u64);
+        SPAN_CHAN.put(&mut l, self.chan as u64);
         Ok(l)
     }
 
@@ -297,6 +315,7 @@ impl SpanWord {
             tag: SPAN_TAG.get(limbs) as u16,
             nclass: SPAN_NCLASS.get(limbs) as u8,
             decal: SPAN_DECAL.get(limbs) == 1,
+            chan: SPAN_CHAN.get(limbs) as u8,
         }
     }
 
@@ -331,6 +350,7 @@ mod tests {
 
     fn sample() -> SpanWord {
         SpanWord {
+            chan: 0,
             attr: Attr::Ev,
             xl: 17,
             xr: MAX_X,

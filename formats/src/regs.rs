@@ -7,7 +7,7 @@
 //! re-exports it) and the RTL probes (`pixelproc_rtl::pixel_processor::ProcRegs` is the
 //! same type), so the two are compared field for field without conversion.
 //!
-//! The readout word ([`READOUT_FIELDS`], [`READOUT_BITS`] = 74 bits, LSB first) is what
+//! The readout word ([`READOUT_FIELDS`], [`READOUT_BITS`] = 99 bits, LSB first) is what
 //! each RTL processor drives onto the array's OR-combined readout bus, what the array
 //! slices into its `rd_*` ports, and what the external testbench's `expect.hex` holds
 //! (`docs/formats.md` prints the table).
@@ -32,6 +32,12 @@ pub struct ProcState {
     pub mask: u8,
     /// Normal class of the visible surface (from the span word's `nclass`, section 6).
     pub nclass: u8,
+    /// Shade register 1, RGB888: the visible surface's intensity with shadowing light 0
+    /// removed (written by span words with `chan = 1`; exact shading in shadow).
+    pub sh: u32,
+    /// The last polygon span (`chan = 0`) covering this processor passed its depth test:
+    /// the shade-channel spans that follow it may write.
+    pub won: bool,
 }
 
 /// Width of the intensity register (RGB888).
@@ -55,8 +61,14 @@ pub const RD_ZB: Field = RD_RGB.then("ZB", Z_BITS as usize);
 pub const RD_MASK: Field = RD_ZB.then("MASK", MASK_BITS);
 /// Readout field `NCLASS`.
 pub const RD_NCLASS: Field = RD_MASK.then("NCLASS", NCLASS_BITS as usize);
+/// Readout field `SH` (shade register 1).
+pub const RD_SH: Field = RD_NCLASS.then("SH", RGB_BITS);
+/// Readout field `WON`.
+pub const RD_WON: Field = RD_SH.then("WON", 1);
 /// The readout word, LSB first.
-pub const READOUT_FIELDS: &[Field] = &[RD_COUNT, RD_FSF, RD_DSF, RD_RGB, RD_ZB, RD_MASK, RD_NCLASS];
+pub const READOUT_FIELDS: &[Field] = &[
+    RD_COUNT, RD_FSF, RD_DSF, RD_RGB, RD_ZB, RD_MASK, RD_NCLASS, RD_SH, RD_WON,
+];
 /// Width of the readout word.
 pub const READOUT_BITS: usize = table_end(READOUT_FIELDS);
 
@@ -70,6 +82,8 @@ pub const SAMPLE_STATE: ProcState = ProcState {
     count: 200,
     mask: 0x81,
     nclass: 7,
+    sh: 0x9A8B7C,
+    won: true,
 };
 
 impl ProcState {
@@ -83,6 +97,8 @@ impl ProcState {
             self.zb as u64,
             self.mask as u64,
             self.nclass as u64,
+            self.sh as u64,
+            self.won as u64,
         ];
         let mut w = 0u128;
         for (f, v) in READOUT_FIELDS.iter().zip(values) {
@@ -101,16 +117,28 @@ impl ProcState {
             count: RD_COUNT.get_u128(w) as u8,
             mask: RD_MASK.get_u128(w) as u8,
             nclass: RD_NCLASS.get_u128(w) as u8,
+            sh: RD_SH.get_u128(w) as u32,
+            won: RD_WON.get_u128(w) == 1,
         }
     }
 
-    /// The same registers with the shadow registers (DSF, FSF, COUNT, MASK) cleared:
-    /// what a processor built without the shadow logic reads.
+    /// The same registers with the shade channel (SH, WON) cleared: what the core's debug
+    /// `tuser` carries (SH reaches the output only through the shaded colour).
+    pub fn without_shade_channel(mut self) -> ProcState {
+        self.sh = 0;
+        self.won = false;
+        self
+    }
+
+    /// The same registers with the shadow registers (DSF, FSF, COUNT, MASK, SH, WON)
+    /// cleared: what a processor built without the shadow logic reads.
     pub fn without_shadow_regs(mut self) -> ProcState {
         self.dsf = false;
         self.fsf = false;
         self.count = 0;
         self.mask = 0;
+        self.sh = 0;
+        self.won = false;
         self
     }
 }
@@ -121,12 +149,14 @@ mod tests {
     use crate::fields::{parse_doc_table, table_rows};
 
     #[test]
-    fn readout_is_74_bits_and_round_trips() {
-        assert_eq!(READOUT_BITS, 74);
+    fn readout_is_99_bits_and_round_trips() {
+        assert_eq!(READOUT_BITS, 99);
         let s = SAMPLE_STATE;
         assert_eq!(ProcState::unpack_readout(s.pack_readout()), s);
-        // The historical layout `{NCLASS, MASK, ZB, RGB, DSF, FSF, COUNT}`.
-        let old = (7u128 << 66)
+        // The layout `{WON, SH, NCLASS, MASK, ZB, RGB, DSF, FSF, COUNT}`.
+        let old = (1u128 << 98)
+            | (0x9A8B7Cu128 << 74)
+            | (7u128 << 66)
             | (0x81u128 << 58)
             | (0xABCDEFu128 << 34)
             | (0x123456u128 << 10)

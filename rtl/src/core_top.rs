@@ -330,7 +330,7 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
         // ---- Shading-table writes.
         self.shade.tw_en.next = self.l_issue.val() & self.l_table.val();
         self.shade.tw_addr.next = self.l_data.val().get_value_taddr();
-        self.shade.tw_data.next = self.l_data.val().get_value_factor();
+        self.shade.tw_data.next = self.l_data.val().get_value_tentry();
         // ---- Tile framing: a TILE or END starts the readout of the pending tile-line.
         if self.l_issue.val() & self.l_tile.val() {
             self.base_r.d.next = self.l_data.val().get_value_base();
@@ -387,6 +387,8 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
         self.l_rdw.next.set_value_count(self.array.rd_count.val());
         self.l_rdw.next.set_value_mask(self.array.rd_mask.val());
         self.l_rdw.next.set_value_nclass(self.array.rd_nclass.val());
+        self.l_rdw.next.set_value_sh(self.array.rd_sh.val());
+        self.l_rdw.next.set_value_won(self.array.rd_won.val());
         self.shade.in_valid.next = self.t3.q.val().get_bit(0);
         self.shade.in_word.next = self.l_rdw.val();
         self.shade.in_meta.next = self.t3.q.val().get_bits::<META_W>(1);

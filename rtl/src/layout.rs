@@ -1,6 +1,6 @@
 //! The packed words of `pixelproc-formats` as named slices inside `#[hdl_gen]` kernels:
 //! the span word of seed 001 section 3 (`attr, XL, XR, ZL, dZ, IL, dI`, plus tag, normal
-//! class and decal; [`pixelproc_formats::SPAN_FIELDS`]) and the 74-bit readout word of a
+//! class and decal; [`pixelproc_formats::SPAN_FIELDS`]) and the 99-bit readout word of a
 //! processor ([`pixelproc_formats::regs::READOUT_FIELDS`]).
 //!
 //! A kernel cannot name a Rust constant as a bit offset: the code generator would emit
@@ -16,16 +16,16 @@ use crate::pixel_processor::REL_W;
 use pixelproc_formats::core_stream::{
     BEAT_DATA_BITS, KIND_BITS, OUT_COUNT, OUT_DSF, OUT_FSF, OUT_MASK, OUT_NCLASS, OUT_SOF,
     OUT_USER_BITS, OUT_ZB, SHADE_ADDR_BITS, SHADE_COUNT, SHADE_MASK, SHADE_NCLASS, TABLE_ADDR,
-    TABLE_FACTOR, TILE_BASE, TILE_BG, TILE_LAST, TILE_SOF,
+    TABLE_DROP, TABLE_FACTOR, TILE_BASE, TILE_BG, TILE_LAST, TILE_SOF,
 };
 use pixelproc_formats::fields::table_end;
 use pixelproc_formats::regs::{
-    RD_COUNT, RD_DSF, RD_FSF, RD_MASK, RD_NCLASS, RD_RGB, RD_ZB, READOUT_BITS,
+    RD_COUNT, RD_DSF, RD_FSF, RD_MASK, RD_NCLASS, RD_RGB, RD_SH, RD_WON, RD_ZB, READOUT_BITS,
 };
 use pixelproc_formats::Field;
 use pixelproc_formats::{
-    SPAN_ATTR, SPAN_DECAL, SPAN_DI_B, SPAN_DI_G, SPAN_DI_R, SPAN_DZ, SPAN_IL_B, SPAN_IL_G,
-    SPAN_IL_R, SPAN_NCLASS, SPAN_WORD_BITS, SPAN_XL, SPAN_XR, SPAN_ZL,
+    SPAN_ATTR, SPAN_CHAN, SPAN_DECAL, SPAN_DI_B, SPAN_DI_G, SPAN_DI_R, SPAN_DZ, SPAN_IL_B,
+    SPAN_IL_G, SPAN_IL_R, SPAN_NCLASS, SPAN_WORD_BITS, SPAN_XL, SPAN_XR, SPAN_ZL,
 };
 use rust_hdl::prelude::*;
 
@@ -49,6 +49,8 @@ pub const HEAD_NCLASS: Field = HEAD_DECAL.then("nclass", SPAN_NCLASS.width);
 pub const HEAD_REL_L: Field = HEAD_NCLASS.then("rel_l", REL_W);
 /// Token header field: `XR − col` (two's complement).
 pub const HEAD_REL_R: Field = HEAD_REL_L.then("rel_r", REL_W);
+/// Token header field: the span's shade channel.
+pub const HEAD_CHAN: Field = HEAD_REL_R.then("chan", SPAN_CHAN.width);
 /// Width of a token header: the part of the token that is not interpolated.
 pub const HEAD_W: usize = table_end(&[
     HEAD_OP,
@@ -57,6 +59,7 @@ pub const HEAD_W: usize = table_end(&[
     HEAD_NCLASS,
     HEAD_REL_L,
     HEAD_REL_R,
+    HEAD_CHAN,
 ]);
 
 /// Width of the readout bus and of each processor's `rdo` output.
@@ -141,6 +144,7 @@ field_slices! {
         get_value_di_g, set_value_di_g, get_my_width_di_g, get_my_offset_di_g: SPAN_DI_G;
         get_value_di_b, set_value_di_b, get_my_width_di_b, get_my_offset_di_b: SPAN_DI_B;
         get_value_nclass, set_value_nclass, get_my_width_nclass, get_my_offset_nclass: SPAN_NCLASS;
+        get_value_chan, set_value_chan, get_my_width_chan, get_my_offset_chan: SPAN_CHAN;
         get_value_il, set_value_il, get_my_width_il, get_my_offset_il: SPAN_IL3;
         get_value_di, set_value_di, get_my_width_di, get_my_offset_di: SPAN_DI3;
     }
@@ -159,6 +163,7 @@ field_slices! {
         get_value_nclass, set_value_nclass, get_my_width_nclass, get_my_offset_nclass: HEAD_NCLASS;
         get_value_rel_l, set_value_rel_l, get_my_width_rel_l, get_my_offset_rel_l: HEAD_REL_L;
         get_value_rel_r, set_value_rel_r, get_my_width_rel_r, get_my_offset_rel_r: HEAD_REL_R;
+        get_value_chan, set_value_chan, get_my_width_chan, get_my_offset_chan: HEAD_CHAN;
     }
     flags {
         get_value_decal, set_value_decal, get_my_width_decal, get_my_offset_decal: HEAD_DECAL;
@@ -174,10 +179,12 @@ field_slices! {
         get_value_zb, set_value_zb, get_my_width_zb, get_my_offset_zb: RD_ZB;
         get_value_mask, set_value_mask, get_my_width_mask, get_my_offset_mask: RD_MASK;
         get_value_nclass, set_value_nclass, get_my_width_nclass, get_my_offset_nclass: RD_NCLASS;
+        get_value_sh, set_value_sh, get_my_width_sh, get_my_offset_sh: RD_SH;
     }
     flags {
         get_value_fsf, set_value_fsf, get_my_width_fsf, get_my_offset_fsf: RD_FSF;
         get_value_dsf, set_value_dsf, get_my_width_dsf, get_my_offset_dsf: RD_DSF;
+        get_value_won, set_value_won, get_my_width_won, get_my_offset_won: RD_WON;
     }
 }
 
@@ -196,6 +203,11 @@ pub const PIX_USER: Field = PIX_RGB.then("user", OUT_USER_BITS);
 pub const PIX_LAST: Field = PIX_USER.then("last", 1);
 /// Width of a pixel-stream beat as the output FIFO stores it.
 pub const PIX_W: usize = PIX_LAST.end();
+
+/// TABLE beat: the whole entry, `{DROP, FACTOR}` (what the shading table stores).
+pub const TABLE_ENTRY: Field = TABLE_ADDR.then("entry", TABLE_FACTOR.width + TABLE_DROP.width);
+const _: () =
+    assert!(TABLE_DROP.lsb == TABLE_FACTOR.end() && TABLE_ENTRY.end() == TABLE_DROP.end());
 
 field_slices! {
     /// A stored command beat: data and kind.
@@ -216,6 +228,7 @@ field_slices! {
         get_value_last, set_value_last, get_my_width_last, get_my_offset_last: TILE_LAST;
         get_value_taddr, set_value_taddr, get_my_width_taddr, get_my_offset_taddr: TABLE_ADDR;
         get_value_factor, set_value_factor, get_my_width_factor, get_my_offset_factor: TABLE_FACTOR;
+        get_value_tentry, set_value_tentry, get_my_width_tentry, get_my_offset_tentry: TABLE_ENTRY;
     }
     flags {
         get_value_sof, set_value_sof, get_my_width_sof, get_my_offset_sof: TILE_SOF;
@@ -294,6 +307,7 @@ mod tests {
     #[test]
     fn span_slices_read_what_pack_wrote() {
         let w = SpanWord {
+            chan: 0,
             attr: Attr::Ev,
             xl: 17,
             xr: 4000,
@@ -331,9 +345,11 @@ mod tests {
         b.set_value_dsf(true);
         b.set_value_fsf(false);
         b.set_value_count(200u64.to_bits());
+        b.set_value_sh(0x9A8B7Cu64.to_bits());
+        b.set_value_won(true);
         let w = s.pack_readout();
         let lo: u64 = b.get_bits::<64>(0).to_u64();
-        let hi: u64 = b.get_bits::<10>(64).to_u64();
+        let hi: u64 = b.get_bits::<{ READOUT_W - 64 }>(64).to_u64();
         assert_eq!(((hi as u128) << 64) | lo as u128, w);
         assert_eq!(b.get_value_zb().to_u64(), 0xABCDEF);
     }

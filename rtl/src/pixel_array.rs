@@ -13,7 +13,7 @@
 //! | `cmd_word` | in | 256 | packed span word (`SpanWord::pack` layout) for SPAN; `XL`/`XR` fields for CHECK |
 //! | `tile_base` | in | 12 | first screen column of the tile, sampled with each command |
 //! | `rd_addr` | in | 12 | processor index to read out |
-//! | `rd_zb`, `rd_rgb`, `rd_dsf`, `rd_fsf`, `rd_count`, `rd_mask`, `rd_nclass` | out | 24, 24, 1, 1, 8, 8, 8 | readout registers of processor `rd_addr` |
+//! | `rd_zb`, `rd_rgb`, `rd_dsf`, `rd_fsf`, `rd_count`, `rd_mask`, `rd_nclass`, `rd_sh`, `rd_won` | out | 24, 24, 1, 1, 8, 8, 8, 24, 1 | readout registers of processor `rd_addr` |
 //!
 //! The array accepts one command on every clock; there is no back-pressure (`ready` is
 //! always 1), so a source simply drives `cmd_valid` high for each command.
@@ -118,6 +118,10 @@ pub struct PixelProcessorArray {
     pub rd_mask: Signal<Out, Bits<MASK_BITS>>,
     /// Readout: normal class.
     pub rd_nclass: Signal<Out, Bits<NCLASS_W>>,
+    /// Readout: shade register 1 (RGB888).
+    pub rd_sh: Signal<Out, Bits<RGB_BITS>>,
+    /// Readout: the WON flag.
+    pub rd_won: Signal<Out, Bit>,
     /// The processors, processor 0 (column `tile_base`) first.
     pub procs: Vec<PixelProcessor>,
     // E1: input registers.
@@ -203,6 +207,8 @@ impl PixelProcessorArray {
             rd_count: Default::default(),
             rd_mask: Default::default(),
             rd_nclass: Default::default(),
+            rd_sh: Default::default(),
+            rd_won: Default::default(),
             procs: (0..width).map(|_| PixelProcessor::new(shadows)).collect(),
             e1_op: Default::default(),
             e1_bg: Default::default(),
@@ -306,6 +312,9 @@ impl Logic for PixelProcessorArray {
             .set_value_nclass(self.e1_word.q.val().get_value_nclass());
         self.l_head
             .next
+            .set_value_chan(self.e1_word.q.val().get_value_chan());
+        self.l_head
+            .next
             .set_value_rel_l((self.l_xl.val() - self.l_base.val()) - self.k_one14.val());
         self.l_head
             .next
@@ -401,5 +410,7 @@ impl Logic for PixelProcessorArray {
         self.rd_count.next = self.rd_r.q.val().get_value_count();
         self.rd_mask.next = self.rd_r.q.val().get_value_mask();
         self.rd_nclass.next = self.rd_r.q.val().get_value_nclass();
+        self.rd_sh.next = self.rd_r.q.val().get_value_sh();
+        self.rd_won.next = self.rd_r.q.val().get_value_won();
     }
 }

@@ -37,6 +37,13 @@
 //! `i_c` is Q22.12 two's complement, 34 bits: `|k·dI| < 2^32` and `IL < 2^20`, so the
 //! covered values never wrap and the clamp sees their true sign.
 //!
+//! **Shade channel** (exact shading in shadow; only with shadows): an OP span with
+//! `chan = 0` also stores in `WON` whether it passed (where it covers the processor); an
+//! OP span with `chan = 1` does no depth test and writes `SH := clamp(I >> 12)` where
+//! `WON` is set; `chan ≥ 2` spans do nothing here (the core has one shade register). The
+//! two updates use the registered decision (stage B), so a channel span directly behind
+//! its polygon's span sees the `WON` that span wrote.
+//!
 //! **Other commands.** CLEAR_LINE carries the background in `z[23:0]`, LATCH_SHADOW its
 //! light bit in `z[2:0]`, CHECK its range in `rel_l`/`rel_r`. RESET (the `rst` input,
 //! travelling down the chain as a token so that no net fans out to every processor) sets
@@ -103,7 +110,7 @@ pub struct PixelProcessor {
     pub t_di: Signal<In, Bits<DI3_W>>,
     /// Readout select (this processor is addressed), registered here.
     pub rd_sel: Signal<In, Bit>,
-    /// Readout registers, packed `{NCLASS, MASK, ZB, RGB, DSF, FSF, COUNT}` (74 bits), if
+    /// Readout registers, packed `{WON, SH, NCLASS, MASK, ZB, RGB, DSF, FSF, COUNT}` (99 bits), if
     /// selected at the last edge, else 0 (the array ORs all processors' values).
     pub rdo: Signal<Out, Bits<READOUT_W>>,
     /// Token out (for processor `p + 1`): the header with `rel_l − 1`, `rel_r − 1`.
@@ -135,6 +142,14 @@ pub struct PixelProcessor {
     b_z: DFF<Bits<ZB_W>>,
     b_rgb: DFF<Bits<RGB_BITS>>,
     b_nclass: DFF<Bits<NCLASS_W>>,
+    b_won_upd: DFF<Bit>,
+    b_sh_write: DFF<Bit>,
+    won_r: DFF<Bit>,
+    sh_r: DFF<Bits<RGB_BITS>>,
+    k_shade: Constant<Bit>,
+    k_chan0: Constant<Bits<4>>,
+    k_chan1: Constant<Bits<4>>,
+    is_op_span: Signal<Local, Bit>,
     zb_r: DFF<Bits<ZB_W>>,
     rgb_r: DFF<Bits<RGB_BITS>>,
     nclass_r: DFF<Bits<NCLASS_W>>,
@@ -143,7 +158,7 @@ pub struct PixelProcessor {
     l_cap: Signal<Local, Bits<READOUT_W>>,
     k_cap_reset: Constant<Bits<READOUT_W>>,
     rdsel_r: DFF<Bit>,
-    k_zero74: Constant<Bits<READOUT_W>>,
+    k_zero_rd: Constant<Bits<READOUT_W>>,
     k_clear_line: Constant<Bits<OP_BITS>>,
     k_span: Constant<Bits<OP_BITS>>,
     k_reset: Constant<Bits<OP_BITS>>,
@@ -211,6 +226,14 @@ impl PixelProcessor {
             b_z: Default::default(),
             b_rgb: Default::default(),
             b_nclass: Default::default(),
+            b_won_upd: Default::default(),
+            b_sh_write: Default::default(),
+            won_r: Default::default(),
+            sh_r: Default::default(),
+            k_shade: Constant::new(shadows),
+            k_chan0: Constant::new(0u64.to_bits()),
+            k_chan1: Constant::new(1u64.to_bits()),
+            is_op_span: Default::default(),
             zb_r: Default::default(),
             rgb_r: Default::default(),
             nclass_r: Default::default(),
@@ -225,7 +248,7 @@ impl PixelProcessor {
                 .to_bits(),
             ),
             rdsel_r: Default::default(),
-            k_zero74: Constant::new(0u64.to_bits()),
+            k_zero_rd: Constant::new(0u64.to_bits()),
             k_clear_line: Constant::new(OP_CLEAR_LINE.to_bits()),
             k_span: Constant::new(OP_SPAN.to_bits()),
             k_reset: Constant::new(OP_RESET.to_bits()),
@@ -274,6 +297,8 @@ impl PixelProcessor {
             count,
             mask,
             nclass: self.nclass_r.q.val().to_u8(),
+            sh: self.sh_r.q.val().to_u32(),
+            won: self.won_r.q.val(),
         }
     }
 
@@ -291,7 +316,8 @@ impl Logic for PixelProcessor {
     fn update(&mut self) {
         dff_setup!(
             self, clock, tok_head, tok_z, tok_dz, tok_i, tok_di, b_op, b_attr, b_covered, b_zlt,
-            b_write, b_z, b_rgb, b_nclass, zb_r, rgb_r, nclass_r, cap_r, rdsel_r
+            b_write, b_z, b_rgb, b_nclass, zb_r, rgb_r, nclass_r, cap_r, rdsel_r, b_won_upd,
+            b_sh_write, won_r, sh_r
         );
         // ---- Stage A: the token register, loaded every clock.
         self.tok_head.d.next = self.t_head.val();
@@ -342,6 +368,13 @@ impl Logic for PixelProcessor {
         }
         // ---- Stage B: apply the decision registered at the last edge. `zb_next` is the
         // value ZB takes at the coming edge.
+        // Shade channel: WON after a polygon span, SH from a channel-1 span where WON.
+        if self.b_won_upd.q.val() & self.k_shade.val() {
+            self.won_r.d.next = self.b_write.q.val();
+        }
+        if self.b_sh_write.q.val() & self.won_r.q.val() & self.k_shade.val() {
+            self.sh_r.d.next = self.b_rgb.q.val();
+        }
         self.zb_next.next = self.zb_r.q.val();
         if self.b_write.q.val() {
             self.zb_next.next = self.b_z.q.val();
@@ -368,7 +401,7 @@ impl Logic for PixelProcessor {
         }
         // New scanline: copy the finished line into the readout registers (the fields of
         // `pixelproc_formats::regs::READOUT_FIELDS`), then clear.
-        self.l_cap.next = self.k_zero74.val();
+        self.l_cap.next = self.k_zero_rd.val();
         self.l_cap.next.set_value_nclass(self.nclass_r.q.val());
         self.l_cap.next.set_value_mask(self.mask_now.val());
         self.l_cap.next.set_value_zb(self.zb_r.q.val());
@@ -376,13 +409,19 @@ impl Logic for PixelProcessor {
         self.l_cap.next.set_value_dsf(self.dsf_now.val());
         self.l_cap.next.set_value_fsf(self.fsf_now.val());
         self.l_cap.next.set_value_count(self.count_now.val());
+        self.l_cap.next.set_value_sh(self.sh_r.q.val());
+        self.l_cap.next.set_value_won(self.won_r.q.val());
         if self.b_op.q.val() == self.k_clear_line.val() {
+            self.won_r.d.next = false;
+            self.sh_r.d.next = self.k_zero24.val();
             self.cap_r.d.next = self.l_cap.val();
             self.zb_next.next = self.k_zfar.val();
             self.rgb_r.d.next = self.b_rgb.q.val();
             self.nclass_r.d.next = self.k_zero8.val();
         }
         if self.b_op.q.val() == self.k_reset.val() {
+            self.won_r.d.next = false;
+            self.sh_r.d.next = self.k_zero24.val();
             self.zb_next.next = self.k_zfar.val();
             self.rgb_r.d.next = self.k_zero24.val();
             self.nclass_r.d.next = self.k_zero8.val();
@@ -402,11 +441,19 @@ impl Logic for PixelProcessor {
         self.b_attr.d.next = self.tok_head.q.val().get_value_attr();
         self.b_covered.d.next = self.covered.val();
         self.b_zlt.d.next = self.z_lt.val() & self.z_hi_ok.val();
-        self.b_write.d.next = (self.tok_head.q.val().get_value_op() == self.k_span.val())
-            & (self.tok_head.q.val().get_value_attr() == self.k_attr_op.val())
+        self.is_op_span.next = (self.tok_head.q.val().get_value_op() == self.k_span.val())
+            & (self.tok_head.q.val().get_value_attr() == self.k_attr_op.val());
+        self.b_write.d.next = self.is_op_span.val()
+            & (self.tok_head.q.val().get_value_chan() == self.k_chan0.val())
             & self.covered.val()
             & self.z_pass.val()
             & self.z_hi_ok.val();
+        self.b_won_upd.d.next = self.is_op_span.val()
+            & (self.tok_head.q.val().get_value_chan() == self.k_chan0.val())
+            & self.covered.val();
+        self.b_sh_write.d.next = self.is_op_span.val()
+            & (self.tok_head.q.val().get_value_chan() == self.k_chan1.val())
+            & self.covered.val();
         self.b_z.d.next = self.zv.val();
         self.b_nclass.d.next = self.tok_head.q.val().get_value_nclass();
         self.b_rgb.d.next = self.l_rgb.val();
@@ -416,7 +463,7 @@ impl Logic for PixelProcessor {
         }
         // ---- Outputs.
         self.rdsel_r.d.next = self.rd_sel.val();
-        self.rdo.next = self.k_zero74.val();
+        self.rdo.next = self.k_zero_rd.val();
         if self.rdsel_r.q.val() {
             self.rdo.next = self.cap_r.q.val();
         }

@@ -5,10 +5,13 @@
 //! Each pixel read out of the array passes through two registers. Stage 1 registers the
 //! readout word and reads the shading table at `{NCLASS, MASK[2:0], COUNT[3:0]}`
 //! (`pixelproc_formats::core_stream::SHADE_ADDR_FIELDS`; a synchronous-read RAM of
-//! 2^15 × 9 bits, written through `tw_*`). Stage 2 multiplies each channel by the factor
-//! `F` (Q0.8) and stores `min((c·F + 128) >> 8, 255)`; a background pixel
-//! (`ZB = Z_FAR`) and every pixel of a unit built without shading keep their colour. This
-//! is `pixelproc_formats::core_stream::shade_rgb`, the golden model's
+//! 2^15 × 18 bits holding `{G, F}`, written through `tw_*`). Stage 2 computes, per channel
+//! `c` with `s` the same channel of shade register `SH`,
+//! `max(0, min((c·F + 128) >> 8, 255) − ((max(0, c − s)·G + 128) >> 8))`: the seed's
+//! factor `F` (table mode, `G = 0`) or the exact removal of the shadowed share `G` of
+//! light 0 (exact mode, `F = 256`). A background pixel (`ZB = Z_FAR`) and every pixel of
+//! a unit built without shading keep their colour. This is
+//! `pixelproc_formats::core_stream::shade_rgb`, the golden model's
 //! `pixelproc_sim::shadow::shade`.
 //!
 //! # Ports
@@ -17,9 +20,9 @@
 //! |---|---|---|---|
 //! | `clock` | in | 1 | rising edge |
 //! | `rst` | in | 1 | synchronous: no pixel leaves for the next two edges |
-//! | `in_valid`, `in_word`, `in_meta` | in | 1, 74, 2 | a pixel: readout word, and two flags carried along |
-//! | `tw_en`, `tw_addr`, `tw_data` | in | 1, 15, 9 | table write (ignored without shading) |
-//! | `out_valid`, `out_word`, `out_meta` | out | 1, 74, 2 | the pixel two edges later, its RGB shaded |
+//! | `in_valid`, `in_word`, `in_meta` | in | 1, 99, 2 | a pixel: readout word, and two flags carried along |
+//! | `tw_en`, `tw_addr`, `tw_data` | in | 1, 15, 18 | table write `{G, F}` (ignored without shading) |
+//! | `out_valid`, `out_word`, `out_meta` | out | 1, 99, 2 | the pixel two edges later, its RGB shaded |
 //!
 //! Latency: a pixel on the inputs before edge `E` is on the outputs after edge `E + 1`.
 
@@ -48,15 +51,15 @@ pub struct ShadeUnit {
     pub tw_en: Signal<In, Bit>,
     /// Table write address.
     pub tw_addr: Signal<In, Bits<SHADE_ADDR_BITS>>,
-    /// Table write data: a factor, Q0.8.
-    pub tw_data: Signal<In, Bits<FACTOR_BITS>>,
+    /// Table write data: `{G, F}`, each Q0.8 (F in the low bits).
+    pub tw_data: Signal<In, Bits<ENTRY_W>>,
     /// The shaded pixel is on `out_word`.
     pub out_valid: Signal<Out, Bit>,
     /// The readout word with its RGB shaded.
     pub out_word: Signal<Out, Bits<READOUT_W>>,
     /// The flags.
     pub out_meta: Signal<Out, Bits<META_W>>,
-    ftab: RAM<Bits<FACTOR_BITS>, SHADE_ADDR_BITS>,
+    ftab: RAM<Bits<ENTRY_W>, SHADE_ADDR_BITS>,
     s1_v: DFF<Bit>,
     s1_word: DFF<Bits<READOUT_W>>,
     s1_meta: DFF<Bits<META_W>>,
@@ -65,8 +68,13 @@ pub struct ShadeUnit {
     s2_meta: DFF<Bits<META_W>>,
     l_addr: Signal<Local, Bits<SHADE_ADDR_BITS>>,
     l_f: Signal<Local, Bits<16>>,
+    l_g: Signal<Local, Bits<16>>,
     l_rgb: Signal<Local, Bits<24>>,
+    l_sh: Signal<Local, Bits<24>>,
     l_ch: Signal<Local, Bits<8>>,
+    l_sc: Signal<Local, Bits<8>>,
+    l_d: Signal<Local, Bits<16>>,
+    l_drop: Signal<Local, Bits<32>>,
     l_c: Signal<Local, Bits<32>>,
     l_out: Signal<Local, Bits<24>>,
     l_word: Signal<Local, Bits<READOUT_W>>,
@@ -74,11 +82,16 @@ pub struct ShadeUnit {
     k_far: Constant<Bits<24>>,
     k_one: Constant<Bits<16>>,
     k_half: Constant<Bits<32>>,
-    k_sat: Constant<Bits<32>>,
     k_max: Constant<Bits<32>>,
     k_zero_addr: Constant<Bits<SHADE_ADDR_BITS>>,
     k_zero24: Constant<Bits<24>>,
+    k_zero16: Constant<Bits<16>>,
+    k_zero32: Constant<Bits<32>>,
 }
+
+/// Width of a table entry `{G, F}`.
+pub const ENTRY_W: usize = 2 * FACTOR_BITS;
+const _: () = assert!(FACTOR_BITS == 9);
 
 impl ShadeUnit {
     /// A unit that shades (`shading`) or passes colours through with the same latency.
@@ -104,8 +117,13 @@ impl ShadeUnit {
             s2_meta: Default::default(),
             l_addr: Default::default(),
             l_f: Default::default(),
+            l_g: Default::default(),
             l_rgb: Default::default(),
+            l_sh: Default::default(),
             l_ch: Default::default(),
+            l_sc: Default::default(),
+            l_d: Default::default(),
+            l_drop: Default::default(),
             l_c: Default::default(),
             l_out: Default::default(),
             l_word: Default::default(),
@@ -113,10 +131,11 @@ impl ShadeUnit {
             k_far: Constant::new((Z_FAR as u64).to_bits()),
             k_one: Constant::new(256u64.to_bits()),
             k_half: Constant::new(128u64.to_bits()),
-            k_sat: Constant::new(0xFFFFu64.to_bits()),
             k_max: Constant::new(255u64.to_bits()),
             k_zero_addr: Constant::new(0u64.to_bits()),
             k_zero24: Constant::new(0u64.to_bits()),
+            k_zero16: Constant::new(0u64.to_bits()),
+            k_zero32: Constant::new(0u64.to_bits()),
         }
     }
 }
@@ -145,19 +164,38 @@ impl Logic for ShadeUnit {
         self.s1_v.d.next = self.in_valid.val();
         self.s1_word.d.next = self.in_word.val();
         self.s1_meta.d.next = self.in_meta.val();
-        // ---- Stage 2: c·F + 128 >> 8, saturated at 255, per channel.
-        self.l_f.next = bit_cast::<16, FACTOR_BITS>(self.ftab.read_data.val());
+        // ---- Stage 2, per channel: lit = min((c·F + 128) >> 8, 255), drop =
+        // (max(0, c − s)·G + 128) >> 8, out = max(0, lit − drop).
+        self.l_f.next =
+            bit_cast::<16, FACTOR_BITS>(self.ftab.read_data.val().get_bits::<FACTOR_BITS>(0));
+        self.l_g.next = bit_cast::<16, FACTOR_BITS>(
+            self.ftab.read_data.val().get_bits::<FACTOR_BITS>(9), // a kernel takes literal offsets: FACTOR_BITS
+        );
         if !self.k_on.val() | (self.s1_word.q.val().get_value_zb() == self.k_far.val()) {
             self.l_f.next = self.k_one.val();
+            self.l_g.next = self.k_zero16.val();
         }
         self.l_rgb.next = self.s1_word.q.val().get_value_rgb();
+        self.l_sh.next = self.s1_word.q.val().get_value_sh();
         self.l_out.next = self.k_zero24.val();
         for c in 0..3 {
             self.l_ch.next = self.l_rgb.val().get_bits::<8>(8 * c);
+            self.l_sc.next = self.l_sh.val().get_bits::<8>(8 * c);
             self.l_c.next =
                 ((bit_cast::<16, 8>(self.l_ch.val()) * self.l_f.val()) + self.k_half.val()) >> 8;
             if self.l_c.val() > self.k_max.val() {
-                self.l_c.next = self.k_sat.val();
+                self.l_c.next = self.k_max.val();
+            }
+            self.l_d.next = self.k_zero16.val();
+            if self.l_ch.val() > self.l_sc.val() {
+                self.l_d.next =
+                    bit_cast::<16, 8>(self.l_ch.val()) - bit_cast::<16, 8>(self.l_sc.val());
+            }
+            self.l_drop.next = ((self.l_d.val() * self.l_g.val()) + self.k_half.val()) >> 8;
+            if self.l_drop.val() > self.l_c.val() {
+                self.l_c.next = self.k_zero32.val();
+            } else {
+                self.l_c.next = self.l_c.val() - self.l_drop.val();
             }
             self.l_out.next = (self.l_out.val() >> 8)
                 | (bit_cast::<24, 8>(self.l_c.val().get_bits::<8>(0)) << 16);
@@ -193,31 +231,44 @@ mod tests {
     fn word(s: &ProcState) -> Bits<READOUT_W> {
         let w = s.pack_readout();
         let mut b: Bits<READOUT_W> = (w as u64).to_bits();
-        b.set_bits::<10>(64, ((w >> 64) as u64).to_bits());
+        b.set_bits::<{ READOUT_W - 64 }>(64, ((w >> 64) as u64).to_bits());
         b
     }
 
-    /// Every channel value times a spread of factors, through the RAM, equals
-    /// `shade_rgb`; background pixels and the unshaded unit pass colours through.
+    /// Every channel value against a spread of shade registers, factors and drop weights,
+    /// through the RAM, equals `shade_rgb`; background pixels and the unshaded unit pass
+    /// colours through.
     #[test]
     fn shades_like_the_formula() {
         for shading in [true, false] {
             let mut u = ShadeUnit::new(shading);
             u.connect_all();
-            let factors = [0u32, 1, 77, 128, 200, 255, 256, 300, 511];
-            for (i, f) in factors.iter().enumerate() {
+            let entries = [
+                (0u32, 0u32),
+                (1, 0),
+                (77, 0),
+                (128, 0),
+                (255, 0),
+                (256, 0),
+                (256, 256),
+                (256, 128),
+                (256, 1),
+                (200, 100),
+            ];
+            for (i, (f, g)) in entries.iter().enumerate() {
                 u.tw_en.next = true;
                 u.tw_addr.next = (shade_addr(i as u8, 5, 3) as u64).to_bits();
-                u.tw_data.next = (*f as u64).to_bits();
+                u.tw_data.next = ((*g as u64) << FACTOR_BITS | *f as u64).to_bits();
                 edge(&mut u);
             }
             u.tw_en.next = false;
             let mut want = Vec::new();
             for v in (0..=255u32).step_by(3) {
-                for (i, f) in factors.iter().enumerate() {
+                for (i, (f, g)) in entries.iter().enumerate() {
                     let s = ProcState {
                         zb: if v % 7 == 0 { Z_FAR } else { v * 1000 },
                         rgb: v << 16 | (255 - v) << 8 | (v * 5 % 256),
+                        sh: (v / 2) << 16 | (v * 7 % 256) << 8 | (255 - v / 3),
                         mask: 5,
                         count: 3,
                         nclass: i as u8,
@@ -225,7 +276,7 @@ mod tests {
                     };
                     let mut out = s;
                     if shading && s.zb != Z_FAR {
-                        out.rgb = shade_rgb(s.rgb, *f);
+                        out.rgb = shade_rgb(s.rgb, s.sh, *f, *g);
                     }
                     want.push(out);
                     u.in_valid.next = true;

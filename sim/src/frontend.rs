@@ -58,6 +58,12 @@ pub struct Projected {
     pub tris: Vec<SnappedTri>,
     /// Origin of each triangle.
     pub origin: Vec<Origin>,
+    /// Exact shading: for each triangle `i`, its copies `shade[i·K + c]` (`K` =
+    /// [`Projected::channels`]) with the intensities the lighting model gives without
+    /// shadowing light `c` (`chan = c + 1`). Empty without exact shading.
+    pub shade: Vec<SnappedTri>,
+    /// Number of shade channels `K` (the shadowing lights' count in exact shading, else 0).
+    pub channels: usize,
     /// Triangles dropped because they were entirely clipped away.
     pub clipped_away: usize,
 }
@@ -177,8 +183,22 @@ fn snap_vertex(x: f64, y: f64) -> Result<[i32; 2], SetupError> {
 /// Lambert shading of a surface point (linear RGB, unclamped above by the sum of lights,
 /// then clamped to 1): `colour · (ambient + Σ intensity_l · max(0, n·l̂))`.
 pub fn lambert(ls: &LoadedScene, p: DVec3, n: DVec3, colour: [f64; 3]) -> DVec3 {
+    lambert_without(ls, p, n, colour, None)
+}
+
+/// [`lambert`] with light `skip`'s term left out (the intensity in that light's shadow).
+pub fn lambert_without(
+    ls: &LoadedScene,
+    p: DVec3,
+    n: DVec3,
+    colour: [f64; 3],
+    skip: Option<usize>,
+) -> DVec3 {
     let mut k = ls.scene.ambient;
-    for l in &ls.scene.lights {
+    for (i, l) in ls.scene.lights.iter().enumerate() {
+        if Some(i) == skip {
+            continue;
+        }
         let d = (DVec3::from(l.position) - p).normalize_or_zero();
         k += l.intensity * n.dot(d).max(0.0);
     }
@@ -187,10 +207,33 @@ pub fn lambert(ls: &LoadedScene, p: DVec3, n: DVec3, colour: [f64; 3]) -> DVec3 
 
 /// Runs the front end on a loaded scene.
 pub fn project(ls: &LoadedScene) -> Result<Projected, FrontError> {
+    project_shaded(ls, &[])
+}
+
+/// Runs the front end with exact-shading channels: for each triangle, one copy per light
+/// in `channels` (scene light indices, in channel order) lit without that light.
+pub fn project_shaded(ls: &LoadedScene, channels: &[usize]) -> Result<Projected, FrontError> {
     if ls.is_3d() {
-        project_3d(ls)
+        project_3d(ls, channels)
     } else {
         project_screen(ls)
+    }
+}
+
+impl Projected {
+    /// The triangles the pixel-processor array draws: each triangle followed by its
+    /// shade-channel copies (the same as [`Projected::tris`] without exact shading).
+    pub fn array_tris(&self) -> std::borrow::Cow<'_, [SnappedTri]> {
+        if self.channels == 0 {
+            return std::borrow::Cow::Borrowed(&self.tris);
+        }
+        let k = self.channels;
+        let mut out = Vec::with_capacity(self.tris.len() * (k + 1));
+        for (i, t) in self.tris.iter().enumerate() {
+            out.push(*t);
+            out.extend_from_slice(&self.shade[i * k..(i + 1) * k]);
+        }
+        std::borrow::Cow::Owned(out)
     }
 }
 
@@ -241,6 +284,7 @@ fn project_screen(ls: &LoadedScene) -> Result<Projected, FrontError> {
         });
         let tag = t.tag.unwrap_or(((k + 1) % 65536) as u16);
         out.tris.push(SnappedTri {
+            chan: 0,
             v,
             z,
             c,
@@ -288,6 +332,7 @@ fn emit(
     for i in 1..sv.len() - 1 {
         let (a, b, c) = (sv[0], sv[i], sv[i + 1]);
         out.push(SnappedTri {
+            chan: 0,
             v: [a.0, b.0, c.0],
             z: [a.1, b.1, c.1],
             c: [a.2, b.2, c.2],
@@ -299,14 +344,58 @@ fn emit(
     Ok(out)
 }
 
-fn project_3d(ls: &LoadedScene) -> Result<Projected, FrontError> {
+fn project_3d(ls: &LoadedScene, channels: &[usize]) -> Result<Projected, FrontError> {
     let pj = Projector::new(ls);
-    let mut out = Projected::default();
-    let first_piece = project_meshes(ls, &pj, &mut out)?;
+    let mut out = Projected {
+        channels: channels.len(),
+        ..Default::default()
+    };
+    let first_piece = project_meshes(ls, &pj, channels, &mut out)?;
     for k in 0..ls.scene.patterns.len() {
-        project_pattern(ls, &pj, k, &first_piece, &mut out)?;
+        project_pattern(ls, &pj, k, &first_piece, channels, &mut out)?;
     }
     Ok(out)
+}
+
+/// Emits a world triangle (with `a` its lit vertex intensities) and, per shade channel,
+/// its copy lit without that channel's light; pushes all into `out`.
+#[allow(clippy::too_many_arguments)]
+fn emit_shaded(
+    pj: &Projector,
+    wt: &WorldTri,
+    shade: impl Fn(usize, Option<usize>) -> DVec3,
+    channels: &[usize],
+    tag: u16,
+    host: Option<HostPlane>,
+    nclass: u8,
+    origin: Origin,
+    out: &mut Projected,
+) -> Result<Vec<SnappedTri>, FrontError> {
+    let err = |out: &Projected, e| FrontError::Setup {
+        index: out.tris.len(),
+        source: e,
+    };
+    let tris = emit(pj, wt, tag, host, nclass).map_err(|e| err(out, e))?;
+    let mut copies = Vec::with_capacity(channels.len());
+    for (c, &l) in channels.iter().enumerate() {
+        let a = [0, 1, 2].map(|k| shade(k, Some(l)));
+        let ct = emit(pj, &WorldTri { p: wt.p, a }, tag, host, nclass).map_err(|e| err(out, e))?;
+        debug_assert_eq!(ct.len(), tris.len());
+        copies.push((c, ct));
+    }
+    for (i, st) in tris.iter().enumerate() {
+        out.tris.push(*st);
+        out.origin.push(origin);
+        for (c, ct) in &copies {
+            let mut t = ct[i];
+            // The same clipped and snapped geometry as the polygon (the clip depends on
+            // positions only); only the intensities differ.
+            debug_assert_eq!((t.v, t.z), (st.v, st.z));
+            t.chan = *c as u8 + 1;
+            out.shade.push(t);
+        }
+    }
+    Ok(tris)
 }
 
 /// The first snapped piece of each face of each mesh (a pattern on the face takes its
@@ -317,6 +406,7 @@ type FacePlanes = Vec<Vec<Option<HostPlane>>>;
 fn project_meshes(
     ls: &LoadedScene,
     pj: &Projector,
+    channels: &[usize],
     out: &mut Projected,
 ) -> Result<FacePlanes, FrontError> {
     let mut first_piece = Vec::new();
@@ -330,22 +420,23 @@ fn project_meshes(
                 Some(ns) => DVec3::from(ns[t[k] as usize]).normalize_or_zero(),
                 None => fnorm,
             };
-            let a = [0, 1, 2].map(|k| lambert(ls, p[k], n(k), mr.color));
-            let tris =
-                emit(pj, &WorldTri { p, a }, tag, None, normal_class(fnorm)).map_err(|e| {
-                    FrontError::Setup {
-                        index: out.tris.len(),
-                        source: e,
-                    }
-                })?;
+            let shade = |k: usize, skip| lambert_without(ls, p[k], n(k), mr.color, skip);
+            let a = [0, 1, 2].map(|k| shade(k, None));
+            let tris = emit_shaded(
+                pj,
+                &WorldTri { p, a },
+                shade,
+                channels,
+                tag,
+                None,
+                normal_class(fnorm),
+                Origin::Mesh { mesh: mi, face: fi },
+                out,
+            )?;
             if tris.is_empty() {
                 out.clipped_away += 1;
             }
             pieces.push(tris.first().map(|t| HostPlane { v: t.v, z: t.z }));
-            for st in tris {
-                out.tris.push(st);
-                out.origin.push(Origin::Mesh { mesh: mi, face: fi });
-            }
         }
         first_piece.push(pieces);
     }
@@ -359,6 +450,7 @@ fn project_pattern(
     pj: &Projector,
     k: usize,
     first_piece: &FacePlanes,
+    channels: &[usize],
     out: &mut Projected,
 ) -> Result<(), FrontError> {
     let pat = &ls.scene.patterns[k];
@@ -376,22 +468,19 @@ fn project_pattern(
         };
         for i in 1..piece.len() - 1 {
             let tri = [piece[0], piece[i], piece[i + 1]];
-            let a = tri.map(|q| lambert(ls, q, n, pat.color));
-            let tris = emit(
+            let shade = |i: usize, skip| lambert_without(ls, tri[i], n, pat.color, skip);
+            let a = [0, 1, 2].map(|i| shade(i, None));
+            emit_shaded(
                 pj,
                 &WorldTri { p: tri, a },
+                shade,
+                channels,
                 0x8000 | k as u16,
                 Some(hp),
                 normal_class(n),
-            )
-            .map_err(|e| FrontError::Setup {
-                index: out.tris.len(),
-                source: e,
-            })?;
-            for st in tris {
-                out.tris.push(st);
-                out.origin.push(Origin::Pattern(k));
-            }
+                Origin::Pattern(k),
+                out,
+            )?;
         }
     }
     if !placed {

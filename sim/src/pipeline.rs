@@ -127,7 +127,9 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
     let lights: Vec<ShadowLight> = shadow::shadow_lights(ls, &fx.shadow_lights)?;
     let shape = Plan::new(fx);
     let mut timings = Timings::new();
-    let projected = timed(&mut timings, Stage::FrontEnd, || frontend::project(ls))?;
+    let projected = timed(&mut timings, Stage::FrontEnd, || {
+        frontend::project_shaded(ls, fx.shade_channels())
+    })?;
     let (data, array, aa) = match &shape {
         Plan::Array(a) => {
             let arr = run_array(ls, fx, a, &projected, bg, &lights, &mut timings)?;
@@ -147,7 +149,7 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
             }) = &arr
             {
                 timed(&mut timings, Stage::ShadowApply, || {
-                    shadow::apply_to_rgb8(&mut out.rgb, &frame.px, t)
+                    shadow::apply_to_rgb8(&mut out.rgb, frame, t)
                 });
             }
             (std::mem::take(&mut out.rgb), arr, Some(out))
@@ -211,7 +213,7 @@ fn run_array(
 ) -> Result<ArrayOut, RenderError> {
     let (w, h) = (ls.scene.width, ls.scene.height);
     let src = timed(timings, Stage::SpanSetup, || {
-        SpanSource::new(&projected.tris, w, h)
+        SpanSource::new(&projected.array_tris(), w, h)
     })?;
     let mut shadow_rows: Vec<Vec<Command>> = vec![Vec::new(); h as usize];
     let mut stats = ShadowStats::default();
@@ -227,8 +229,8 @@ fn run_array(
     });
     let table = (!a.shadow_lights.is_empty()).then(|| {
         timed(timings, Stage::ShadowShade, || {
-            let t = FactorTable::new(ls, lights);
-            shadow::shade(&mut frame.px, &t);
+            let t = FactorTable::for_mode(ls, lights, fx.shading);
+            shadow::shade(&mut frame, &t);
             t
         })
     });

@@ -22,8 +22,13 @@
 //!   mask; the OP write also stores the span's normal class, which with the mask indexes
 //!   the attenuation table at readout (`crate::shadow::FactorTable`).
 //! - Software form (section 5): `Check { xl, xr }` replaces EV, checking only its range.
+//! - Exact shading in shadow (this project's extension, `docs/shadows.md`): an OP span with
+//!   `chan = 0` also records in WON whether it passed; the span words with `chan = c ≥ 1`
+//!   that follow it (same `XL`, `XR`) do no depth test and write shade register `c`
+//!   (`I(p)`, clamped like the intensity) where WON is set. Register 1 is the state's `sh`;
+//!   registers 2.. are [`PixelArray::shade_regs`].
 
-use pixelproc_formats::{pack_rgb, Attr, SpanWord, I_FRAC, Z_FAR, Z_FRAC};
+use pixelproc_formats::{pack_rgb, Attr, SpanWord, I_FRAC, MAX_SHADE_CHANNELS, Z_FAR, Z_FRAC};
 
 /// One clock's input to the array.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -67,7 +72,12 @@ pub use pixelproc_formats::regs::ProcState;
 pub struct PixelArray {
     base: u32,
     procs: Vec<ProcState>,
+    /// Shade registers 2..=`MAX_SHADE_CHANNELS` per processor (allocated on first use).
+    more: Vec<u32>,
 }
+
+/// Shade registers per processor beyond the first (kept outside [`ProcState`]).
+pub const MORE_SHADE: usize = MAX_SHADE_CHANNELS as usize - 1;
 
 impl PixelArray {
     /// An array of `width` processors for the tile starting at column `base`.
@@ -82,7 +92,15 @@ impl PixelArray {
                 };
                 width
             ],
+            more: Vec::new(),
         }
+    }
+
+    /// Shade registers 2..=[`MAX_SHADE_CHANNELS`] of each processor ([`MORE_SHADE`] per
+    /// processor, processor 0 first), or an empty slice if no span has written one since
+    /// the array was built.
+    pub fn shade_regs(&self) -> &[u32] {
+        &self.more
     }
 
     /// Number of processors.
@@ -116,6 +134,7 @@ impl PixelArray {
                         ..Default::default()
                     };
                 }
+                self.more.fill(0);
             }
             Command::ClearFlags => {
                 for s in &mut self.procs {
@@ -155,7 +174,8 @@ impl PixelArray {
     #[inline]
     pub fn step_span(&mut self, w: &SpanWord) {
         match w.attr {
-            Attr::Op => self.op_span(w),
+            Attr::Op if w.chan == 0 => self.op_span(w),
+            Attr::Op => self.chan_span(w),
             _ => self.shadow_span(w),
         }
     }
@@ -186,12 +206,40 @@ impl PixelArray {
         let mut c: [i64; 3] = std::array::from_fn(|k| w.il[k] as i64 + off * w.di[k] as i64);
         for s in &mut self.procs[lo..=hi] {
             let zp = (z >> Z_FRAC) as u32;
-            if crate::raster::depth::passes(zp, s.zb, w.decal) {
+            s.won = crate::raster::depth::passes(zp, s.zb, w.decal);
+            if s.won {
                 s.zb = zp;
                 s.nclass = w.nclass;
                 s.rgb = pack_rgb(c.map(|v| (v >> I_FRAC).clamp(0, 255) as u8));
             }
             z += w.dz;
+            for (ck, dk) in c.iter_mut().zip(w.di) {
+                *ck += dk as i64;
+            }
+        }
+    }
+
+    /// A shade-channel span: shade register `chan` := `I(p)` where WON is set.
+    fn chan_span(&mut self, w: &SpanWord) {
+        let Some((lo, hi)) = self.tile_range(w) else {
+            return;
+        };
+        let ch = w.chan as usize;
+        assert!(ch <= MAX_SHADE_CHANNELS as usize, "shade channel {ch}");
+        if ch >= 2 && self.more.is_empty() {
+            self.more = vec![0; self.procs.len() * MORE_SHADE];
+        }
+        let off = self.base as i64 + lo as i64 - w.xl as i64;
+        let mut c: [i64; 3] = std::array::from_fn(|k| w.il[k] as i64 + off * w.di[k] as i64);
+        for p in lo..=hi {
+            if self.procs[p].won {
+                let v = pack_rgb(c.map(|v| (v >> I_FRAC).clamp(0, 255) as u8));
+                if ch == 1 {
+                    self.procs[p].sh = v;
+                } else {
+                    self.more[p * MORE_SHADE + ch - 2] = v;
+                }
+            }
             for (ck, dk) in c.iter_mut().zip(w.di) {
                 *ck += dk as i64;
             }

@@ -115,6 +115,8 @@ pub struct Overrides {
     pub aovs: Vec<Aov>,
     /// `--array-width N`.
     pub array_width: Option<usize>,
+    /// `--shading exact|table`.
+    pub shading: Option<crate::shadow::Shading>,
 }
 
 /// Default number of processors in the array (one tile).
@@ -137,6 +139,8 @@ pub struct Effects {
     pub array_width: usize,
     /// How a shadow volume's end is marked (EV in hardware, a check span in software).
     pub shadow_form: crate::shadow::ShadowForm,
+    /// How shadowed pixels are shaded (exact by default, or the seed's table).
+    pub shading: crate::shadow::Shading,
 }
 
 impl Effects {
@@ -176,7 +180,17 @@ impl Effects {
             aovs,
             array_width,
             shadow_form: ov.shadow_form.unwrap_or_default(),
+            shading: ov.shading.unwrap_or_default(),
         })
+    }
+
+    /// The scene lights whose exact-shading channels the spans carry, in channel order:
+    /// the shadowing lights under [`crate::shadow::Shading::Exact`], else none.
+    pub fn shade_channels(&self) -> &[usize] {
+        match self.shading {
+            crate::shadow::Shading::Exact => &self.shadow_lights,
+            crate::shadow::Shading::Table => &[],
+        }
     }
 }
 
@@ -333,6 +347,7 @@ mod tests {
             aovs: vec![],
             array_width: 64,
             shadow_form: Default::default(),
+            shading: Default::default(),
         };
         assert_eq!(
             plan(&e),
@@ -367,6 +382,7 @@ mod tests {
             aovs: vec![Aov::Coverage],
             array_width: 64,
             shadow_form: Default::default(),
+            shading: Default::default(),
         };
         assert_eq!(
             plan(&with(AaKind::Abuffer)),

@@ -6,7 +6,7 @@
 //! read out. Rows are independent, so they run in
 //! parallel (rayon) with bit-identical results.
 
-use crate::pixel_array::{Command, PixelArray, ProcState};
+use crate::pixel_array::{Command, PixelArray, ProcState, MORE_SHADE};
 use crate::raster::{SpanRaster, SpanSink};
 use crate::setup::{SetupError, SnappedTri};
 use crate::stream::feed_tile;
@@ -22,6 +22,9 @@ pub struct Frame {
     pub height: u32,
     /// Row-major per-pixel state (depth, intensity, shadow flags, counter).
     pub px: Vec<ProcState>,
+    /// Shade registers 2.. per pixel ([`MORE_SHADE`] each, row-major), when the frame's
+    /// spans used more than one shade channel; else empty.
+    pub more: Vec<u32>,
 }
 
 impl Frame {
@@ -45,6 +48,7 @@ pub struct SpanSource {
     height: u32,
     rows: Vec<Vec<SpanWord>>,
     triangles: usize,
+    max_chan: u8,
 }
 
 /// Collects one band's span words per row (the array feed's [`SpanSink`]).
@@ -84,6 +88,7 @@ impl SpanSource {
             height,
             rows,
             triangles: raster.triangles(),
+            max_chan: tris.iter().map(|t| t.chan).max().unwrap_or(0),
         })
     }
 
@@ -110,6 +115,11 @@ impl SpanSource {
     pub fn visible_triangles(&self) -> usize {
         self.triangles
     }
+
+    /// The largest shade channel of the input triangles (0 without exact shading).
+    pub fn max_chan(&self) -> u8 {
+        self.max_chan
+    }
 }
 
 /// Renders every row on an array of `array_width` processors; a wider line is processed
@@ -125,40 +135,57 @@ where
     let bg = pixelproc_formats::pack_rgb(bg);
     let tiles = (w as usize).div_ceil(array_width);
     let mut px = vec![ProcState::default(); (w * h) as usize];
-    px.par_chunks_mut(w as usize).enumerate().for_each_init(
-        || {
-            (
-                PixelArray::new(array_width, 0),
-                Vec::new(),
-                vec![Vec::new(); tiles],
-            )
-        },
-        |(arr, cmds, per_tile), (j, row)| {
-            cmds.clear();
-            extra(j as u32, cmds);
-            for t in per_tile.iter_mut() {
-                t.clear();
-            }
-            let spans = src.row_spans(j as u32);
-            for (k, s) in spans.iter().enumerate() {
-                let (a, b) = (s.xl as usize / array_width, s.xr as usize / array_width);
-                for t in per_tile.iter_mut().take(b.min(tiles - 1) + 1).skip(a) {
-                    t.push(k as u32);
+    let more_stride = if src.max_chan >= 2 { MORE_SHADE } else { 0 };
+    let mut more = vec![0u32; (w * h) as usize * more_stride];
+    let mut more_rows: Vec<&mut [u32]> = if more_stride > 0 {
+        more.chunks_mut(w as usize * more_stride).collect()
+    } else {
+        (0..h).map(|_| &mut [][..]).collect()
+    };
+    px.par_chunks_mut(w as usize)
+        .zip(more_rows.par_iter_mut())
+        .enumerate()
+        .for_each_init(
+            || {
+                (
+                    PixelArray::new(array_width, 0),
+                    Vec::new(),
+                    vec![Vec::new(); tiles],
+                )
+            },
+            |(arr, cmds, per_tile), (j, (row, mrow))| {
+                cmds.clear();
+                extra(j as u32, cmds);
+                for t in per_tile.iter_mut() {
+                    t.clear();
                 }
-            }
-            for (t, list) in per_tile.iter().enumerate() {
-                let base = (t * array_width) as u32;
-                arr.set_base(base);
-                let ops = list.iter().map(|&k| &spans[k as usize]);
-                feed_tile(arr, bg, ops, cmds, base, array_width as u32);
-                let n = (w - base).min(array_width as u32) as usize;
-                row[base as usize..base as usize + n].copy_from_slice(&arr.state()[..n]);
-            }
-        },
-    );
+                let spans = src.row_spans(j as u32);
+                for (k, s) in spans.iter().enumerate() {
+                    let (a, b) = (s.xl as usize / array_width, s.xr as usize / array_width);
+                    for t in per_tile.iter_mut().take(b.min(tiles - 1) + 1).skip(a) {
+                        t.push(k as u32);
+                    }
+                }
+                for (t, list) in per_tile.iter().enumerate() {
+                    let base = (t * array_width) as u32;
+                    arr.set_base(base);
+                    let ops = list.iter().map(|&k| &spans[k as usize]);
+                    feed_tile(arr, bg, ops, cmds, base, array_width as u32);
+                    let n = (w - base).min(array_width as u32) as usize;
+                    row[base as usize..base as usize + n].copy_from_slice(&arr.state()[..n]);
+                    if more_stride > 0 && !arr.shade_regs().is_empty() {
+                        let b = base as usize * more_stride;
+                        mrow[b..b + n * more_stride]
+                            .copy_from_slice(&arr.shade_regs()[..n * more_stride]);
+                    }
+                }
+            },
+        );
+    drop(more_rows);
     Frame {
         width: w,
         height: h,
         px,
+        more,
     }
 }

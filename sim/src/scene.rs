@@ -111,7 +111,7 @@ pub struct Light {
     /// Whether the light casts shadows (default true).
     #[serde(default = "yes")]
     pub shadows: bool,
-    /// Area light: radius of a disc facing the scene centre; 0 = point light.
+    /// Area light: radius of a horizontal disc facing down (−y); 0 = point light.
     #[serde(default)]
     pub radius: f64,
     /// Area light: number of point lights sampling the disc (default 8 when radius > 0).

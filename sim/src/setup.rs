@@ -100,6 +100,10 @@ pub struct SnappedTri {
     pub host: Option<HostPlane>,
     /// Quantized normal class for the several-lights attenuation table (seed 001 §6).
     pub nclass: u8,
+    /// Shade channel: 0 for a polygon; `c ≥ 1` for the copy of the polygon before it
+    /// whose intensities are those without shadowing light `c − 1` (its span words carry
+    /// `chan = c`; see [`pixelproc_formats::SpanWord::chan`]).
+    pub chan: u8,
 }
 
 /// The snapped vertices and depths of a decal's host face.
@@ -225,6 +229,7 @@ pub struct TriSetup {
     pub tag: u16,
     decal: bool,
     nclass: u8,
+    chan: u8,
     /// Row-invariant slopes: dZ (Q26.12) and dI per channel (Q9.12) per pixel.
     dz: i64,
     di: [i64; 3],
@@ -264,6 +269,7 @@ impl TriSetup {
             tag: t.tag,
             decal: t.host.is_some(),
             nclass: t.nclass,
+            chan: t.chan,
         }))
     }
 
@@ -358,6 +364,7 @@ impl TriSetup {
             tag: self.tag,
             nclass: self.nclass,
             decal: self.decal,
+            chan: self.chan,
         };
         debug_assert!(w.check().is_ok(), "span word out of range: {w:?}");
         debug_assert!(

@@ -31,10 +31,12 @@
 //! boundary, crossings between the eye and the near plane are lost.
 
 use crate::frontend::{class_normal, ClipVert, Projector};
+use crate::pixel_array::MORE_SHADE;
 use crate::pixel_array::{Command, ProcState};
 use crate::scene::LoadedScene;
 use crate::setup::{SetupError, SnappedTri, TriSetup};
 use glam::{DVec3, DVec4};
+use pixelproc_formats::core_stream::shade_rgb;
 use pixelproc_formats::{Attr, SpanWord, Z_FAR};
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -92,6 +94,18 @@ pub fn disc_samples(c: DVec3, r: f64, k: u32, towards: DVec3) -> Vec<DVec3> {
         .collect()
 }
 
+/// The point samples of a scene light: its position for a point light; for an area light
+/// (`radius > 0`) `samples` (default 8) points on a horizontal disc facing down (−y), so
+/// they depend on the light alone.
+pub fn light_samples(l: &crate::scene::Light) -> Vec<DVec3> {
+    let p = DVec3::from(l.position);
+    if l.radius > 0.0 {
+        disc_samples(p, l.radius, l.samples.unwrap_or(8), p - DVec3::Y)
+    } else {
+        vec![p]
+    }
+}
+
 /// Scene centre: the middle of all mesh vertices' bounding box.
 pub fn scene_centre(ls: &LoadedScene) -> DVec3 {
     let mut lo = DVec3::splat(f64::INFINITY);
@@ -111,8 +125,10 @@ pub fn scene_centre(ls: &LoadedScene) -> DVec3 {
 
 /// The shadowing lights of a scene for the given light indices: point lights get mask
 /// bits; at most one area light (radius > 0) uses the per-pixel counter.
+///
+/// An area light's disc is horizontal, facing down (−y, like a ceiling panel): its samples
+/// depend on the light alone, never on where the scene's geometry is.
 pub fn shadow_lights(ls: &LoadedScene, which: &[usize]) -> Result<Vec<ShadowLight>, ShadowError> {
-    let centre = scene_centre(ls);
     let mut out = Vec::new();
     let (mut bits, mut areas) = (0u8, 0);
     for &i in which {
@@ -125,10 +141,9 @@ pub fn shadow_lights(ls: &LoadedScene, which: &[usize]) -> Result<Vec<ShadowLigh
                     "at most one area light may cast shadows (one per-pixel counter)".into(),
                 ));
             }
-            let k = l.samples.unwrap_or(8);
             out.push(ShadowLight {
                 index: i,
-                samples: disc_samples(p, l.radius, k, centre),
+                samples: light_samples(l),
                 bit: None,
             });
         } else {
@@ -624,30 +639,93 @@ fn emit_volume_row(
     }
 }
 
+/// How a shadowed pixel is shaded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Hash)]
+pub enum Shading {
+    /// Exact (the default): each polygon's spans carry, per shadowing light, its
+    /// intensity without that light (span words with `chan ≥ 1`, shade registers per
+    /// processor), and the readout removes the shadowed share of each light's difference.
+    /// Depends on nothing but the pixel's own surface and lights.
+    #[default]
+    Exact,
+    /// The seed's §6 table: the summed intensity times a factor indexed by (normal class,
+    /// light mask, counter), computed with one direction per light from the scene centre.
+    Table,
+}
+
 /// Attenuation table of seed 001 §6, indexed by (normal class, light mask, area count):
 /// `F = (a + Σ_l w(c,l)·(1 − s_l)) / (a + Σ_l w(c,l))`, with `w(c,l) = I_l·max(0, n_c·d_l)`,
 /// `d_l` the direction from the scene centre to light l (the distant-light assumption),
 /// `s_l` = 1 if light l's mask bit is set (point light) or `count/k` (the area light), and
 /// `a` the ambient level. Entries are Q0.8 (256 = 1), computed once per frame like a ROM.
+///
+/// In [`Shading::Exact`] the same table holds `F = 256` and, in its drop column, the
+/// shadowed share `s_0` of the first shadowing light in Q0.8 (`G`); the readout then
+/// computes `c − Σ_l ((max(0, c − sh_l)·G_l + 128) >> 8)` over the pixel's shade
+/// registers `sh_l` (the intensity without light `l`), see
+/// [`pixelproc_formats::core_stream::shade_rgb`].
 #[derive(Clone, Debug)]
 pub struct FactorTable {
     bits: u32,
     counts: u32,
     entries: Vec<u16>,
+    drops: Vec<u16>,
+    /// Per shade channel, the light's mask bit (`None`: the area light's counter).
+    channels: Vec<Option<u8>>,
     /// Number of samples of the area light (0 if none).
     pub area_samples: u32,
     /// Number of point lights with mask bits.
     pub point_lights: u32,
+    /// The shading mode the table implements.
+    pub shading: Shading,
 }
 
 impl FactorTable {
-    /// Builds the table for the scene's lights.
-    pub fn new(ls: &LoadedScene, lights: &[ShadowLight]) -> FactorTable {
-        let centre = scene_centre(ls);
+    /// The table of `shading` for the scene's shadowing lights (in channel order).
+    pub fn for_mode(ls: &LoadedScene, lights: &[ShadowLight], shading: Shading) -> FactorTable {
+        match shading {
+            Shading::Table => FactorTable::new(ls, lights),
+            Shading::Exact => FactorTable::exact(lights),
+        }
+    }
+
+    /// Shape of the table for `lights`: mask bits, counter values, area samples.
+    fn shape(lights: &[ShadowLight]) -> (u32, u32, u32) {
         let bits = lights.iter().filter(|l| l.bit.is_some()).count() as u32;
         let area = lights.iter().find(|l| l.bit.is_none());
         let k = area.map(|l| l.samples.len() as u32).unwrap_or(0);
-        let counts = k + 1;
+        (bits, k + 1, k)
+    }
+
+    /// The exact-shading table: `F = 256`, `G` = shadowed share of channel 1's light.
+    pub fn exact(lights: &[ShadowLight]) -> FactorTable {
+        let (bits, counts, k) = FactorTable::shape(lights);
+        let n = 256 * (1usize << bits) * counts as usize;
+        let channels: Vec<Option<u8>> = lights.iter().map(|l| l.bit).collect();
+        let mut drops = vec![0u16; n];
+        for (i, d) in drops.iter_mut().enumerate() {
+            let cnt = (i % counts as usize) as u8;
+            let mask = ((i / counts as usize) & ((1 << bits) - 1)) as u8;
+            if let Some(&first) = channels.first() {
+                *d = share(first, mask, cnt, k);
+            }
+        }
+        FactorTable {
+            bits,
+            counts,
+            entries: vec![256; n],
+            drops,
+            channels,
+            area_samples: k,
+            point_lights: bits,
+            shading: Shading::Exact,
+        }
+    }
+
+    /// Builds the seed's table (§6) for the scene's lights.
+    pub fn new(ls: &LoadedScene, lights: &[ShadowLight]) -> FactorTable {
+        let centre = scene_centre(ls);
+        let (bits, counts, k) = FactorTable::shape(lights);
         let dir =
             |i: usize| (DVec3::from(ls.scene.lights[i].position) - centre).normalize_or(DVec3::Y);
         let mut entries = vec![0u16; 256 * (1usize << bits) * counts as usize];
@@ -681,20 +759,38 @@ impl FactorTable {
                 }
             }
         }
+        let n = entries.len();
         FactorTable {
             bits,
             counts,
             entries,
+            drops: vec![0; n],
+            channels: Vec::new(),
             area_samples: k,
             point_lights: bits,
+            shading: Shading::Table,
         }
+    }
+
+    fn index(&self, s: &ProcState) -> usize {
+        let mask = (s.mask as usize) & ((1 << self.bits) - 1);
+        let cnt = (s.count as usize).min(self.counts as usize - 1);
+        ((s.nclass as usize) << self.bits | mask) * self.counts as usize + cnt
     }
 
     /// The factor (Q0.8, 256 = 1) for a pixel's state.
     pub fn factor(&self, s: &ProcState) -> u16 {
-        let mask = (s.mask as usize) & ((1 << self.bits) - 1);
-        let cnt = (s.count as usize).min(self.counts as usize - 1);
-        self.entries[((s.nclass as usize) << self.bits | mask) * self.counts as usize + cnt]
+        self.entries[self.index(s)]
+    }
+
+    /// The drop weight of shade register 1 (Q0.8) for a pixel's state (0 in table mode).
+    pub fn drop_weight(&self, s: &ProcState) -> u16 {
+        self.drops[self.index(s)]
+    }
+
+    /// Number of shade channels the exact mode uses (0 in table mode).
+    pub fn channels(&self) -> usize {
+        self.channels.len()
     }
 
     /// Light-mask bits the table is indexed by (one per shadowing point light).
@@ -707,15 +803,19 @@ impl FactorTable {
         self.counts
     }
 
-    /// Every entry as `(nclass, mask, count, factor)`: what a hardware table holds.
-    pub fn entries(&self) -> impl Iterator<Item = (u8, u8, u8, u16)> + '_ {
+    /// Every entry as `(nclass, mask, count, factor, drop)`: what a hardware table holds.
+    pub fn entries(&self) -> impl Iterator<Item = (u8, u8, u8, u16, u16)> + '_ {
         let (bits, counts) = (self.bits, self.counts as usize);
-        self.entries.iter().enumerate().map(move |(i, &f)| {
-            let cnt = i % counts;
-            let rest = i / counts;
-            let mask = rest & ((1 << bits) - 1);
-            ((rest >> bits) as u8, mask as u8, cnt as u8, f)
-        })
+        self.entries
+            .iter()
+            .zip(&self.drops)
+            .enumerate()
+            .map(move |(i, (&f, &g))| {
+                let cnt = i % counts;
+                let rest = i / counts;
+                let mask = rest & ((1 << bits) - 1);
+                ((rest >> bits) as u8, mask as u8, cnt as u8, f, g)
+            })
     }
 
     /// Shadowed fraction of the pixel's lights, 0..=255, for the shadow AOV.
@@ -732,33 +832,70 @@ impl FactorTable {
         };
         (((pts + area) / n as f64) * 255.0).round() as u8
     }
+
+    /// The shaded colour of one covered pixel of intensity `rgb` (RGB888) with state `s`
+    /// and shade registers 2.. `more` (empty if unused).
+    pub fn shade_pixel(&self, rgb: u32, s: &ProcState, more: &[u32]) -> u32 {
+        if self.channels.len() <= 1 {
+            return shade_rgb(rgb, s.sh, self.factor(s) as u32, self.drop_weight(s) as u32);
+        }
+        let c = pixelproc_formats::unpack_rgb(rgb);
+        let mut out = c.map(|v| v as u32);
+        for (l, &bit) in self.channels.iter().enumerate() {
+            let g = share(bit, s.mask, s.count, self.area_samples) as u32;
+            let sh = if l == 0 {
+                s.sh
+            } else {
+                more.get(l - 1).copied().unwrap_or(0)
+            };
+            let sv = pixelproc_formats::unpack_rgb(sh);
+            for k in 0..3 {
+                let d = (c[k] as u32).saturating_sub(sv[k] as u32);
+                out[k] = out[k].saturating_sub((d * g + 128) >> 8);
+            }
+        }
+        pixelproc_formats::pack_rgb(out.map(|v| v as u8))
+    }
+}
+
+/// The shadowed share of one light, Q0.8: 256 if a point light's mask bit is set,
+/// `round(256·count/k)` for the area light (`bit = None`) of `k` samples.
+fn share(bit: Option<u8>, mask: u8, count: u8, k: u32) -> u16 {
+    match bit {
+        Some(b) => ((mask >> b) & 1) as u16 * 256,
+        None if k > 0 => ((256 * count.min(k as u8) as u32 + k / 2) / k) as u16,
+        None => 0,
+    }
 }
 
 /// "Correct the intensity and store it in the frame buffer" (§2): every covered pixel's
-/// channels become `(c·F + 128) >> 8`.
-pub fn shade(px: &mut [ProcState], table: &FactorTable) {
-    px.par_iter_mut().for_each(|s| {
+/// colour becomes [`FactorTable::shade_pixel`] of it (table mode: `(c·F + 128) >> 8`).
+pub fn shade(frame: &mut crate::render::Frame, table: &FactorTable) {
+    let stride = if frame.more.is_empty() { 0 } else { MORE_SHADE };
+    let more = &frame.more;
+    frame.px.par_iter_mut().enumerate().for_each(|(i, s)| {
         if s.zb == Z_FAR {
             return;
         }
-        let f = table.factor(s) as u32;
-        let ch = |v: u32| ((v * f + 128) >> 8).min(255);
-        let c = pixelproc_formats::unpack_rgb(s.rgb).map(|x| ch(x as u32) as u8);
-        s.rgb = pixelproc_formats::pack_rgb(c);
+        let m = &more[i * stride..(i + 1) * stride];
+        s.rgb = table.shade_pixel(s.rgb, s, m);
     });
 }
 
-/// Applies each pixel centre's shadow factor to an anti-aliased RGB8 image (the shadow
-/// flags are those of the surface visible at the pixel centre; an approximation at shadow
-/// and object edges, documented in `docs/shadows.md`).
-pub fn apply_to_rgb8(rgb: &mut [u8], px: &[ProcState], table: &FactorTable) {
-    rgb.par_chunks_mut(3).zip(px.par_iter()).for_each(|(c, s)| {
-        if s.zb == Z_FAR {
-            return;
-        }
-        let f = table.factor(s) as u32;
-        for v in c.iter_mut() {
-            *v = ((*v as u32 * f + 128) >> 8).min(255) as u8;
-        }
-    });
+/// Applies each pixel centre's shadow shading to an anti-aliased RGB8 image (the shadow
+/// flags and shade registers are those of the surface visible at the pixel centre; an
+/// approximation at shadow and object edges, documented in `docs/shadows.md`).
+pub fn apply_to_rgb8(rgb: &mut [u8], frame: &crate::render::Frame, table: &FactorTable) {
+    let stride = if frame.more.is_empty() { 0 } else { MORE_SHADE };
+    rgb.par_chunks_mut(3)
+        .zip(frame.px.par_iter())
+        .enumerate()
+        .for_each(|(i, (c, s))| {
+            if s.zb == Z_FAR {
+                return;
+            }
+            let m = &frame.more[i * stride..(i + 1) * stride];
+            let out = table.shade_pixel(pixelproc_formats::pack_rgb([c[0], c[1], c[2]]), s, m);
+            c.copy_from_slice(&pixelproc_formats::unpack_rgb(out));
+        });
 }

@@ -19,7 +19,7 @@ use crate::pixel_array::{Command, PixelArray};
 use crate::render::{render_frame, Frame, SpanSource};
 use crate::scene::LoadedScene;
 use crate::setup::SetupError;
-use crate::shadow::{self, ShadowError, ShadowForm, ShadowStats};
+use crate::shadow::{self, Shading, ShadowError, ShadowForm, ShadowStats};
 use pixelproc_formats::{pack_rgb, Attr, SpanWord};
 use thiserror::Error;
 
@@ -148,10 +148,15 @@ impl SceneStream {
         ls: &LoadedScene,
         shadow_lights: &[usize],
         form: ShadowForm,
+        shading: Shading,
     ) -> Result<SceneStream, StreamError> {
         let (w, h) = (ls.scene.width, ls.scene.height);
-        let projected = frontend::project(ls)?;
-        let spans = SpanSource::new(&projected.tris, w, h)?;
+        let channels = match shading {
+            Shading::Exact => shadow_lights,
+            Shading::Table => &[],
+        };
+        let projected = frontend::project_shaded(ls, channels)?;
+        let spans = SpanSource::new(&projected.array_tris(), w, h)?;
         let mut stream = SceneStream {
             bg: background_rgb8(ls),
             spans,
@@ -243,7 +248,7 @@ mod tests {
         ls.scene.height = 20;
         let fx = Effects::resolve(&ls, &Overrides::default()).unwrap();
         assert!(!fx.shadow_lights.is_empty());
-        let s = SceneStream::of_scene(&ls, &fx.shadow_lights, fx.shadow_form).unwrap();
+        let s = SceneStream::of_scene(&ls, &fx.shadow_lights, fx.shadow_form, fx.shading).unwrap();
         let n = 16u32;
         let frame = s.render(n as usize);
         let mut arr = PixelArray::new(n as usize, 0);

@@ -73,6 +73,7 @@ fn coord(rng: &mut Rng, span: i32, grid: i32) -> i32 {
 
 fn random_tri(rng: &mut Rng, span: i32, grid: i32, k: u64) -> SnappedTri {
     SnappedTri {
+        chan: 0,
         v: [0; 3].map(|_| [coord(rng, span, grid), coord(rng, span, grid)]),
         z: [0; 3].map(|_| 16 + (rng.next_u64() % 1_000_000) as u32),
         c: [0; 3].map(|_| [0; 3].map(|_| (rng.next_u64() % (255 << 12)) as u32)),
@@ -217,6 +218,7 @@ fn full_cover_resolves_to_the_colour_at_the_centre() {
     // path and takes the colour exactly; a half-covered pixel blends with the background.
     let c = [[200 << 12, 100 << 12, 0]; 3];
     let t = SnappedTri {
+        chan: 0,
         v: [[-2560, -2560], [10240, -2560], [-2560, 10240]],
         z: [1000; 3],
         c,

@@ -10,6 +10,7 @@ const H: u32 = 64;
 
 fn tri_q8(v: [[i32; 2]; 3]) -> SnappedTri {
     SnappedTri {
+        chan: 0,
         v,
         z: [100, 200, 300],
         c: [[1 << 12; 3]; 3],

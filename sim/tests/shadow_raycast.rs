@@ -312,13 +312,10 @@ fn area_light_counter_counts_shadowing_samples() {
     let ls = load(&j);
     let fx = Effects::resolve(&ls, &Overrides::default()).unwrap();
     let frame = render(&ls, &fx).unwrap().frame.unwrap();
-    let c = pixelproc_sim::shadow::scene_centre(&ls);
-    let l = &ls.scene.lights[0];
-    let samples: Vec<V3> =
-        pixelproc_sim::shadow::disc_samples(glam::DVec3::from(l.position), l.radius, 8, c)
-            .iter()
-            .map(|p| p.to_array())
-            .collect();
+    let samples: Vec<V3> = pixelproc_sim::shadow::light_samples(&ls.scene.lights[0])
+        .iter()
+        .map(|p| p.to_array())
+        .collect();
     let wld = world(&ls);
     let rc = ray_cast(&ls, &wld, &samples);
     let (w, h) = (ls.scene.width as usize, ls.scene.height as usize);

@@ -428,6 +428,8 @@ impl Checker<'_> {
 /// The readout port's current values.
 fn port_state(uut: &PixelProcessorArray) -> ProcState {
     ProcState {
+        sh: uut.rd_sh.val().to_u32(),
+        won: uut.rd_won.val(),
         zb: uut.rd_zb.val().to_u32(),
         rgb: uut.rd_rgb.val().to_u32(),
         dsf: uut.rd_dsf.val(),

@@ -20,8 +20,13 @@ pub fn scene_stream(
     ls: &LoadedScene,
     effects: &Effects,
 ) -> Result<(Vec<Vec<Command>>, u32), TbError> {
-    let s = SceneStream::of_scene(ls, &effects.shadow_lights, effects.shadow_form)
-        .map_err(pixelproc_sim::pipeline::RenderError::from)?;
+    let s = SceneStream::of_scene(
+        ls,
+        &effects.shadow_lights,
+        effects.shadow_form,
+        effects.shading,
+    )
+    .map_err(pixelproc_sim::pipeline::RenderError::from)?;
     Ok((s.rows(), s.bg_packed()))
 }
 
@@ -166,6 +171,7 @@ pub fn random_word(rng: &mut Rng, max_x: u16) -> SpanWord {
     let xl = rng.range(0, max_x as i64) as u16;
     let xr = rng.range(xl as i64 - 2, max_x as i64).max(0) as u16;
     let mut w = SpanWord {
+        chan: 0,
         attr: Attr::from_code(rng.next_u64() as u8),
         xl,
         xr,

@@ -105,6 +105,18 @@ fn scenes_beyond_the_core_are_refused_up_front() {
     }
     let fx = Effects::resolve(&ls, &Overrides::default()).unwrap();
     assert_eq!(fx.shadow_lights.len(), 4);
+    // Exact shading (the default) needs one shade register per shadowing light.
+    let e = plan_frame(&ls, &fx, 16).err().expect("refused").to_string();
+    assert!(
+        e.contains("4 shadowing lights") && e.contains("--shading table"),
+        "{e}"
+    );
+    // The seed's table takes three point lights' mask bits.
+    let ov = Overrides {
+        shading: Some(pixelproc_sim::shadow::Shading::Table),
+        ..Default::default()
+    };
+    let fx = Effects::resolve(&ls, &ov).unwrap();
     let e = plan_frame(&ls, &fx, 16).err().expect("refused").to_string();
     assert!(
         e.contains("4 shadowing point lights") && e.contains("at most 3"),

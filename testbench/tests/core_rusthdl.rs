@@ -23,9 +23,14 @@ fn run(scene: &str, w: u32, h: u32, n: usize, shadows: bool, gap: u32, stall: u3
     assert_eq!(!fx.shadow_lights.is_empty(), shadows, "{scene}");
     let golden = pixelproc_sim::pipeline::render(&ls, &fx).unwrap();
     let frame = golden.frame.unwrap();
-    let s = SceneStream::of_scene(&ls, &fx.shadow_lights, fx.shadow_form).unwrap();
-    let table =
-        shadows.then(|| FactorTable::new(&ls, &shadow_lights(&ls, &fx.shadow_lights).unwrap()));
+    let s = SceneStream::of_scene(&ls, &fx.shadow_lights, fx.shadow_form, fx.shading).unwrap();
+    let table = shadows.then(|| {
+        FactorTable::for_mode(
+            &ls,
+            &shadow_lights(&ls, &fx.shadow_lights).unwrap(),
+            fx.shading,
+        )
+    });
     let cs = CoreStream::of_scene(&s, n, table.as_ref()).unwrap();
     let mut uut = PixelprocCore::<3, 4>::new(n, shadows, true).unwrap();
     uut.connect_all();
@@ -53,7 +58,11 @@ fn run(scene: &str, w: u32, h: u32, n: usize, shadows: bool, gap: u32, stall: u3
             [g[0], g[1], g[2]],
             "{scene} ({x}, {y})"
         );
-        assert_eq!(p.state(), frame.px[i], "{scene} ({x}, {y})");
+        assert_eq!(
+            p.state(),
+            frame.px[i].without_shade_channel(),
+            "{scene} ({x}, {y})"
+        );
     }
     assert!(
         r.cycles.hazard_stall > 0 || n < 8,

@@ -47,6 +47,9 @@ pub enum CoreError {
     /// An area light with more samples than the shading table's counter bits.
     #[error("area light with {0} samples: the core's shading table takes at most {} (counter bits of its address)", (1u32 << SHADE_COUNT_BITS) - 1)]
     TooManySamples(u32),
+    /// Exact shading with more shadowing lights than the core's shade registers.
+    #[error("exact shading of {0} shadowing lights needs {0} shade registers per processor; the core has 1 (use --shading table, or one shadowing light)")]
+    TooManyChannels(usize),
     /// A span word does not fit its fields.
     #[error(transparent)]
     Field(#[from] FieldRangeError),
@@ -87,9 +90,9 @@ mod tests {
         let (ls, fx) = small_default();
         let golden = crate::pipeline::render(&ls, &fx).unwrap();
         let frame = golden.frame.unwrap();
-        let s = SceneStream::of_scene(&ls, &fx.shadow_lights, fx.shadow_form).unwrap();
+        let s = SceneStream::of_scene(&ls, &fx.shadow_lights, fx.shadow_form, fx.shading).unwrap();
         let lights = crate::shadow::shadow_lights(&ls, &fx.shadow_lights).unwrap();
-        let table = FactorTable::new(&ls, &lights);
+        let table = FactorTable::for_mode(&ls, &lights, fx.shading);
         for (n, gap, stall) in [(16usize, 0, 0), (16, 30, 40), (7, 50, 50), (64, 10, 80)] {
             let cs = CoreStream::of_scene(&s, n, Some(&table)).unwrap();
             let mut m = CoreModel::new(n, true, true, 3).unwrap();
@@ -105,7 +108,11 @@ mod tests {
                     [g[0], g[1], g[2]],
                     "N {n} pixel ({x}, {y})"
                 );
-                assert_eq!(p.state(), frame.px[i], "N {n} pixel ({x}, {y})");
+                assert_eq!(
+                    p.state(),
+                    frame.px[i].without_shade_channel(),
+                    "N {n} pixel ({x}, {y})"
+                );
                 assert_eq!(p.sof(), k == 0);
                 assert_eq!(p.last, x == cs.width - 1 || (x + 1) % n as u32 == 0);
             }

@@ -20,6 +20,7 @@ struct Track {
     flags: u8,
     px: ProcState,
     factor: u32,
+    drop: u32,
 }
 
 /// The core's inputs before one rising edge.
@@ -69,7 +70,7 @@ pub struct CoreModel {
     s2: Track,
     inflight: u32,
     pub(super) err: bool,
-    table: Vec<u16>,
+    table: Vec<(u16, u16)>,
     /// A pixel reached a full output FIFO (the credit logic failed): never in a correct
     /// design; the testbenches check it.
     pub overflow: bool,
@@ -97,7 +98,7 @@ impl CoreModel {
             s2: Track::default(),
             inflight: 0,
             err: false,
-            table: vec![0; 1 << SHADE_ADDR_BITS],
+            table: vec![(0, 0); 1 << SHADE_ADDR_BITS],
             overflow: false,
         })
     }
@@ -144,7 +145,7 @@ impl CoreModel {
             OUT_NCLASS.put(&mut u, p.nclass as u64);
         }
         PixelBeat {
-            rgb: shade_rgb(p.rgb, t.factor),
+            rgb: shade_rgb(p.rgb, p.sh, t.factor, t.drop),
             user: u[0],
             last: t.flags & 2 != 0,
         }
@@ -174,18 +175,19 @@ impl CoreModel {
             issued: issue && (arr || frame),
         };
         // ---- The edge.
-        let old_table_factor = |t: &Track, tab: &[u16], shadows: bool| -> u32 {
+        let old_table_entry = |t: &Track, tab: &[(u16, u16)], shadows: bool| -> (u32, u32) {
             if !shadows || t.px.zb == Z_FAR {
-                256
+                (256, 0)
             } else {
-                tab[shade_addr(t.px.nclass, t.px.mask, t.px.count) as usize
-                    & ((1 << SHADE_ADDR_BITS) - 1)] as u32
+                let (f, g) = tab[shade_addr(t.px.nclass, t.px.mask, t.px.count) as usize
+                    & ((1 << SHADE_ADDR_BITS) - 1)];
+                (f as u32, g as u32)
             }
         };
         // Readout pipeline: t1 <- go, t2 <- t1, t3 <- t2, s1 <- t3 (+ table read), s2 <- s1.
         let s2_out = self.s2;
         let mut s1_new = self.track[2];
-        s1_new.factor = old_table_factor(&s1_new, &self.table, self.shadows);
+        (s1_new.factor, s1_new.drop) = old_table_entry(&s1_new, &self.table, self.shadows);
         let mut t1_new = Track::default();
         if go {
             let a = self.job.addr;
@@ -254,7 +256,10 @@ impl CoreModel {
             } else if table {
                 if self.shadows {
                     let a = TABLE_ADDR.get(&b.data) as usize & ((1 << SHADE_ADDR_BITS) - 1);
-                    self.table[a] = TABLE_FACTOR.get(&b.data) as u16;
+                    self.table[a] = (
+                        TABLE_FACTOR.get(&b.data) as u16,
+                        TABLE_DROP.get(&b.data) as u16,
+                    );
                 }
             } else {
                 self.err = true;

@@ -221,6 +221,9 @@ pub fn unbinned_cycles(
 
 /// The TABLE beats of a factor table; an error if it does not fit the core's address.
 pub fn table_beats(t: &FactorTable) -> Result<Vec<Beat>, CoreError> {
+    if t.channels() > 1 {
+        return Err(CoreError::TooManyChannels(t.channels()));
+    }
     if t.mask_bits() > SHADE_MASK_BITS as u32 {
         return Err(CoreError::TooManyLights(t.mask_bits()));
     }
@@ -228,12 +231,13 @@ pub fn table_beats(t: &FactorTable) -> Result<Vec<Beat>, CoreError> {
         return Err(CoreError::TooManySamples(t.counts() - 1));
     }
     Ok(t.entries()
-        .map(|(nclass, mask, cnt, f)| {
+        .map(|(nclass, mask, cnt, f, g)| {
             Beat::with_fields(
                 KIND_TABLE,
                 &[
                     (TABLE_ADDR, shade_addr(nclass, mask, cnt) as u64),
                     (TABLE_FACTOR, f as u64),
+                    (TABLE_DROP, g as u64),
                 ],
             )
         })
@@ -256,6 +260,8 @@ impl PixelBeat {
     pub fn state(&self) -> ProcState {
         let u = [self.user, 0, 0, 0];
         ProcState {
+            sh: 0,
+            won: false,
             zb: OUT_ZB.get(&u) as u32,
             rgb: self.rgb,
             dsf: OUT_DSF.get(&u) == 1,

@@ -12,7 +12,7 @@ use thiserror::Error;
 use crate::aa::postfx::SecondDiffSource;
 use crate::aa::{AaMethod, Filter, Pattern};
 use crate::mask_search::DepthSelect;
-use crate::shadow::ShadowForm;
+use crate::shadow::{Shading, ShadowForm};
 
 /// An enum whose values a user selects by name.
 pub trait Named: Sized + Copy + PartialEq + 'static {
@@ -161,6 +161,11 @@ names!(SecondDiffSource, "second-difference source", [
 names!(ShadowForm, "shadow form", [
     ShadowForm::Ev => "ev",
     ShadowForm::Check => "check",
+]);
+
+names!(Shading, "shading", [
+    Shading::Exact => "exact",
+    Shading::Table => "table",
 ]);
 
 names!(super::Aov, "AOV", [

@@ -35,6 +35,7 @@ pub fn random_scene(seed: u64, n: usize, w: f64, h: f64) -> Vec<SnappedTri> {
             })
         });
         let t = SnappedTri {
+            chan: 0,
             v,
             z,
             c,
@@ -49,6 +50,7 @@ pub fn random_scene(seed: u64, n: usize, w: f64, h: f64) -> Vec<SnappedTri> {
             let gy = (v[0][1] + v[1][1] + v[2][1]) / 3;
             let dv = v.map(|p| [gx + (p[0] - gx) / 2, gy + (p[1] - gy) / 2]);
             out.push(SnappedTri {
+                chan: 0,
                 v: dv,
                 z,
                 c: [[(200 << 12) + 2048, (30 << 12) + 2048, (30 << 12) + 2048]; 3],

@@ -6,9 +6,9 @@
 //!   `[296:285]`, `rd_addr` `[308:297]`, zero above (the span word is `SpanWord::to_hex`;
 //!   the ports above it are one field table, `STIM_FIELDS`, that both the Rust writer
 //!   and the Verilog reader follow);
-//! - `expect.hex`, 32 hex digits (128 bits): `{check, 53'b0, readout[73:0]}` expected
+//! - `expect.hex`, 32 hex digits (128 bits): `{check, 28'b0, readout[98:0]}` expected
 //!   after that clock's rising edge, the readout word in the layout of
-//!   `pixelproc_formats::regs::READOUT_FIELDS` (`{rd_nclass, rd_mask, rd_zb, rd_rgb,
+//!   `pixelproc_formats::regs::READOUT_FIELDS` (`{rd_won, rd_sh, rd_nclass, rd_mask, rd_zb, rd_rgb,
 //!   rd_dsf, rd_fsf, rd_count}`); `check` (bit 127) is 0 where the port shows a processor the reset token
 //!   has not reached yet (power-up values) and on lines 0 and 1.
 //!
@@ -214,15 +214,15 @@ module tb_pixelproc;
     reg [23:0] cmd_bg;
     reg [255:0] cmd_word;
     reg [11:0] tile_base, rd_addr;
-    wire [23:0] rd_zb, rd_rgb;
-    wire rd_dsf, rd_fsf;
+    wire [23:0] rd_zb, rd_rgb, rd_sh;
+    wire rd_dsf, rd_fsf, rd_won;
     wire [7:0] rd_count, rd_mask, rd_nclass;
     wire [{top}:0] got = {got};
     integer t;
     {dut} dut (.clock(clock), .rst(rst), .cmd_valid(cmd_valid), .cmd_op(cmd_op),
         .cmd_bg(cmd_bg), .cmd_word(cmd_word), .tile_base(tile_base), .rd_addr(rd_addr),
         .rd_zb(rd_zb), .rd_rgb(rd_rgb), .rd_dsf(rd_dsf), .rd_fsf(rd_fsf), .rd_count(rd_count),
-        .rd_mask(rd_mask), .rd_nclass(rd_nclass));
+        .rd_mask(rd_mask), .rd_nclass(rd_nclass), .rd_sh(rd_sh), .rd_won(rd_won));
 {tail}"#,
         tail = crate::sim_tools::vector_loop(
             "tb_pixelproc",
@@ -377,9 +377,9 @@ mod tests {
     fn readout_compare_follows_the_readout_table() {
         let tb = testbench_verilog("dut_x", 3);
         assert!(tb.contains(
-            "wire [73:0] got = {rd_nclass, rd_mask, rd_zb, rd_rgb, rd_dsf, rd_fsf, rd_count};"
+            "wire [98:0] got = {rd_won, rd_sh, rd_nclass, rd_mask, rd_zb, rd_rgb, rd_dsf, rd_fsf, rd_count};"
         ));
-        assert!(tb.contains("if (expv[t][127] && got !== expv[t][73:0]) begin"));
+        assert!(tb.contains("if (expv[t][127] && got !== expv[t][98:0]) begin"));
         assert!(tb.contains(
             "            cmd_word = stim[t][255:0];
             cmd_bg = stim[t][279:256];
@@ -407,6 +407,8 @@ mod tests {
             | ((v.rd_addr as u64 & 0xfff) << 41);
         assert_eq!(stim_high_limb(&v), old);
         let s = ProcState {
+            sh: 0,
+            won: false,
             zb: 0x1_ABCDEF,
             rgb: 0x123456,
             dsf: true,

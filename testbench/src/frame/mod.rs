@@ -137,13 +137,13 @@ pub fn plan_frame(ls: &LoadedScene, fx: &Effects, n: usize) -> Result<FramePlan,
             "--frame: the core renders the image without anti-aliasing; use --aa none".into(),
         ));
     }
-    let s = SceneStream::of_scene(ls, &fx.shadow_lights, fx.shadow_form)
+    let s = SceneStream::of_scene(ls, &fx.shadow_lights, fx.shadow_form, fx.shading)
         .map_err(pixelproc_sim::pipeline::RenderError::from)?;
     let shadows = !fx.shadow_lights.is_empty();
     let table = if shadows {
         let lights =
             shadow_lights(ls, &fx.shadow_lights).map_err(|e| TbError::Core(e.to_string()))?;
-        Some(FactorTable::new(ls, &lights))
+        Some(FactorTable::for_mode(ls, &lights, fx.shading))
     } else {
         None
     };
@@ -254,7 +254,7 @@ fn compare_pixels(
     for k in 0..cs.pixels() {
         let (x, y) = cs.position(k);
         let i = (y * w + x) as usize;
-        let g = golden[i];
+        let g = golden[i].without_shade_channel();
         let r = got.get(k).map(|(p, c)| {
             let s = if debug {
                 p.state()
