@@ -25,11 +25,39 @@
 //! extrusion of a non-convex solid can overlap itself (winding number 2), where parity would
 //! be wrong, while a triangle's volume never does. FSF ORs the volumes.
 //!
-//! **Viewer inside.** A volume contains the eye when the segment from the eye to the light
-//! crosses its occluder; its first span on every row is then IF (an empty IF span on rows
-//! where it has none). Known limit of z-pass counting: where the near plane cuts a volume's
-//! boundary, crossings between the eye and the near plane are lost.
-
+//! **Where counting starts: the near plane.** Span parity counts the shadow polygons a view
+//! ray crosses between the near plane (nothing nearer is drawn) and the visible point, so
+//! the flag a pixel needs at the start is whether its *near point* P (where its ray meets
+//! the near plane) is inside the volume, not whether the eye is. Every volume is convex,
+//! the intersection of half-spaces ([`Volume::planes`]): for one triangle, the planes
+//! through the light and each edge and the triangle's plane; for a convex caster, the
+//! planes through the light and each silhouette edge and the planes of its light-facing
+//! faces (a point of the light's cone over the caster lies beyond the caster exactly when it
+//! is behind every light-facing plane). The near plane's rectangle inside the guard band is
+//! classified against them ([`NearPlane`]): wholly inside, the first span of every row is
+//! IF (P inside for every pixel); wholly outside, nothing; cut, the *near cap* — the
+//! cross-section near rectangle ∩ volume ∩ ray box, convex — is drawn as one more polygon
+//! of the volume at the nearest depth, which toggles DSF on exactly the pixels whose P is
+//! inside (it is in front of every visible surface).
+//!
+//! Why this is exact: for a pixel with visible point Q, `[Q inside] = [P inside] ⊕ (parity
+//! of boundary crossings on PQ)`. The crossings with side polygons beyond the near plane are
+//! the SP spans with `Z < ZB`; the other part of the boundary, the caster's light-facing
+//! faces, is rendered geometry, so a view ray meets it only at or behind its visible point
+//! and never counts it (a surface point takes the shadow of the space in front of it). The
+//! cap must agree with the sides where they meet, on the line where the near plane cuts a
+//! side: its edges there are the side polygon's near edge with *bit-identical* snapped end
+//! points (the side polygons are clipped by [`Projector::clip_polygon`]'s planes with the
+//! same arithmetic, tagging the vertices on the near plane; cap corners elsewhere come from
+//! the float cross-section). With the top-left rule a pixel centre near that edge is then
+//! taken by exactly one of the two polygons when they lie on opposite sides of it, by both
+//! or neither when on the same side: its parity is that of its neighbours, no seam. The
+//! cap's other edges lie on the guard band or the ray box (no visible pixel's P is there:
+//! the segment from the eye to a visible point stays in the box) or on the caster's faces
+//! cut by the near plane (an object edge in the image). Z-fail counting (crossings behind
+//! Q) is not used: the per-pixel program only tests `Z < ZB`, and the far ends of the
+//! extrusions are clipped by the far plane. [`Volume::eye_inside`] (the segment from the
+//! eye to the light crosses the occluder) is kept for statistics only.
 use crate::frontend::{class_normal, Projector, GUARD};
 use crate::pixel_array::{Command, ProcState};
 use crate::scene::LoadedScene;
@@ -340,7 +368,8 @@ fn segment_hits(p: DVec3, q: DVec3, t: &[DVec3; 3]) -> bool {
 pub struct Volume {
     /// Polygons, homogeneous world coordinates.
     pub polys: Vec<Vec<DVec4>>,
-    /// The eye lies inside the volume.
+    /// The eye lies inside the volume (statistics: what IF means is decided at the near
+    /// plane, see the module header).
     pub eye_inside: bool,
     /// The volume is convex: the points `p` with `h·(p, 1) ≥ 0` for every `h` here (planes
     /// through the light and each extruded edge, and the planes of the light-facing faces
