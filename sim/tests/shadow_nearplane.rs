@@ -353,3 +353,40 @@ fn far_geometry_that_casts_no_visible_shadow_changes_no_shadow_pixel() {
         assert_eq!(differ, 0, "{form:?}: {differ} shadow pixels differ");
     }
 }
+
+#[test]
+fn wide_sweep_heights_directions_near_distances_lights() {
+    // 120 more cameras near the box's volume: heights 0.3..1.8, any direction, near 0.1, 0.3
+    // or 0.6, the light moved sideways; most of them cut the volume.
+    let caster =
+        r#"{"obj":"box.obj","color":[0.5,0.5,0.9],"translate":[0,2,0],"scale":[1.6,0.4,1.6]}"#;
+    let mut bad = Vec::new();
+    let (mut caps, mut compared) = (0, 0);
+    for k in 0..120 {
+        let th = k as f64 * 0.7331;
+        let r = 0.7 + 0.05 * (k % 9) as f64;
+        let h = 0.3 + 0.25 * (k % 7) as f64;
+        let eye = [r * th.cos(), h, r * th.sin()];
+        let phi = th + 2.1 * k as f64;
+        let target = [
+            eye[0] + 3.0 * phi.cos(),
+            -0.5 + 0.3 * (k % 5) as f64,
+            eye[2] + 3.0 * phi.sin(),
+        ];
+        let near = [0.1, 0.3, 0.6][k % 3];
+        let light = [0.3 * (k % 4) as f64, 9.0, 0.2];
+        let j = scene(camera(eye, target, near), light, caster);
+        let t = tally(&j);
+        caps += (t.caps > 0) as usize;
+        compared += t.compared;
+        if t.mismatches > 0 {
+            bad.push((k, t));
+        }
+    }
+    eprintln!("wide sweep: {caps} of 120 cut, {compared} pixels compared");
+    assert!(bad.is_empty(), "positions with mismatches: {bad:?}");
+    assert!(
+        caps >= 60 && compared > 1_000_000,
+        "{caps} cut, {compared} compared"
+    );
+}
