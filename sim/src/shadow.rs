@@ -25,12 +25,41 @@
 //! extrusion of a non-convex solid can overlap itself (winding number 2), where parity would
 //! be wrong, while a triangle's volume never does. FSF ORs the volumes.
 //!
-//! **Viewer inside.** A volume contains the eye when the segment from the eye to the light
-//! crosses its occluder; its first span on every row is then IF (an empty IF span on rows
-//! where it has none). Known limit of z-pass counting: where the near plane cuts a volume's
-//! boundary, crossings between the eye and the near plane are lost.
+//! **Where counting starts: the near plane.** Span parity counts the shadow polygons a view
+//! ray crosses between the near plane (nothing nearer is drawn) and the visible point, so
+//! the flag a pixel needs at the start is whether its *near point* P (where its ray meets
+//! the near plane) is inside the volume, not whether the eye is. Every volume is convex,
+//! the intersection of half-spaces ([`Volume::planes`]): for one triangle, the planes
+//! through the light and each edge and the triangle's plane; for a convex caster, the
+//! planes through the light and each silhouette edge and the planes of its light-facing
+//! faces (a point of the light's cone over the caster lies beyond the caster exactly when it
+//! is behind every light-facing plane). The near plane's rectangle inside the guard band is
+//! classified against them ([`NearPlane`]): wholly inside, the first span of every row is
+//! IF (P inside for every pixel); wholly outside, nothing; cut, the *near cap* — the
+//! cross-section near rectangle ∩ volume ∩ ray box, convex — is drawn as one more polygon
+//! of the volume at the nearest depth, which toggles DSF on exactly the pixels whose P is
+//! inside (it is in front of every visible surface).
+//!
+//! Why this is exact: for a pixel with visible point Q, `[Q inside] = [P inside] ⊕ (parity
+//! of boundary crossings on PQ)`. The crossings with side polygons beyond the near plane are
+//! the SP spans with `Z < ZB`; the other part of the boundary, the caster's light-facing
+//! faces, is rendered geometry, so a view ray meets it only at or behind its visible point
+//! and never counts it (a surface point takes the shadow of the space in front of it). The
+//! cap must agree with the sides where they meet, on the line where the near plane cuts a
+//! side: its edges there are the side polygon's near edge with *bit-identical* snapped end
+//! points (the side polygons are clipped by [`Projector::clip_polygon`]'s planes with the
+//! same arithmetic, tagging the vertices on the near plane; cap corners elsewhere come from
+//! the float cross-section). With the top-left rule a pixel centre near that edge is then
+//! taken by exactly one of the two polygons when they lie on opposite sides of it, by both
+//! or neither when on the same side: its parity is that of its neighbours, no seam. The
+//! cap's other edges lie on the guard band or the ray box (no visible pixel's P is there:
+//! the segment from the eye to a visible point stays in the box) or on the caster's faces
+//! cut by the near plane (an object edge in the image). Z-fail counting (crossings behind
+//! Q) is not used: the per-pixel program only tests `Z < ZB`, and the far ends of the
+//! extrusions are clipped by the far plane. [`Volume::eye_inside`] (the segment from the
+//! eye to the light crosses the occluder) is kept for statistics only.
 
-use crate::frontend::{class_normal, ClipVert, Projector};
+use crate::frontend::{class_normal, Projector, GUARD};
 use crate::pixel_array::MORE_SHADE;
 use crate::pixel_array::{Command, ProcState};
 use crate::scene::LoadedScene;
@@ -349,14 +378,66 @@ fn segment_hits(p: DVec3, q: DVec3, t: &[DVec3; 3]) -> bool {
     tt > 1e-9 && tt < 1.0 - 1e-9
 }
 
-/// One shadow volume: polygons as world points (w = 1) and directions (w = 0), and whether
-/// the eye is inside it.
+/// One shadow volume: polygons as world points (w = 1) and directions (w = 0), whether
+/// the eye is inside it, and the volume as an intersection of half-spaces.
 #[derive(Clone, Debug)]
 pub struct Volume {
     /// Polygons, homogeneous world coordinates.
     pub polys: Vec<Vec<DVec4>>,
-    /// The eye lies inside the volume (its spans start with IF).
+    /// The eye lies inside the volume (statistics: what IF means is decided at the near
+    /// plane, see the module header).
     pub eye_inside: bool,
+    /// The volume is convex: the points `p` with `h·(p, 1) ≥ 0` for every `h` here (planes
+    /// through the light and each extruded edge, and the planes of the light-facing faces
+    /// of the caster). Used to find where the near plane cuts it.
+    pub planes: Vec<DVec4>,
+}
+
+/// The plane through `a`, `b`, `c` as `(n, −n·a)`, oriented so that `inside` is on its
+/// positive side (or `None` when degenerate or `inside` lies on it).
+fn plane_towards(a: DVec3, b: DVec3, c: DVec3, inside: DVec3) -> Option<DVec4> {
+    let n = (b - a).cross(c - a);
+    let s = n.dot(inside - a);
+    if s == 0.0 || !s.is_finite() {
+        return None;
+    }
+    let n = if s > 0.0 { n } else { -n };
+    Some(n.extend(-n.dot(a)))
+}
+
+/// Half-spaces of a convex caster's volume: light-side planes of its silhouette edges and
+/// the planes of the faces that face the light (the light on the other side from the
+/// caster's centre). A point is inside when the segment from the light to it meets the
+/// caster.
+fn convex_planes(o: &Occluder, light: DVec3, sil: &[[DVec3; 2]]) -> Vec<DVec4> {
+    let verts: Vec<DVec3> = o.faces.iter().flatten().copied().collect();
+    let c = verts.iter().copied().sum::<DVec3>() / verts.len() as f64;
+    let mut planes: Vec<DVec4> = sil
+        .iter()
+        .filter_map(|e| plane_towards(light, e[0], e[1], c))
+        .collect();
+    for t in &o.faces {
+        let n = (t[1] - t[0]).cross(t[2] - t[0]);
+        let (sl, sc) = (n.dot(light - t[0]), n.dot(c - t[0]));
+        if sl * sc < 0.0 {
+            let n = if sc > 0.0 { n } else { -n };
+            planes.push(n.extend(-n.dot(t[0])));
+        }
+    }
+    planes
+}
+
+/// Half-spaces of one triangle's volume: the three planes through the light and an edge
+/// (towards the triangle's centre) and the triangle's plane (away from the light).
+fn triangle_planes(t: &[DVec3; 3], light: DVec3) -> Vec<DVec4> {
+    let c = (t[0] + t[1] + t[2]) / 3.0;
+    let mut planes: Vec<DVec4> = (0..3)
+        .filter_map(|k| plane_towards(light, t[k], t[(k + 1) % 3], c))
+        .collect();
+    let n = (t[1] - t[0]).cross(t[2] - t[0]);
+    let n = if n.dot(light - t[0]) > 0.0 { -n } else { n };
+    planes.push(n.extend(-n.dot(t[0])));
+    planes
 }
 
 fn extrude(a: DVec3, b: DVec3, light: DVec3) -> Vec<DVec4> {
@@ -374,17 +455,22 @@ pub fn volumes(occ: &[Occluder], light: DVec3, eye: DVec3) -> Vec<Volume> {
     for o in occ {
         if o.convex_closed {
             let front: Vec<bool> = o.faces.iter().map(|t| facing(t, light) > 0.0).collect();
-            let polys: Vec<Vec<DVec4>> = o
+            let sil: Vec<[DVec3; 2]> = o
                 .edges
                 .iter()
                 .filter(|(_, fs)| front[fs[0]] != front[fs[1]])
-                .map(|(e, _)| extrude(e[0], e[1], light))
+                .map(|(e, _)| *e)
                 .collect();
-            if polys.is_empty() {
+            if sil.is_empty() {
                 continue;
             }
+            let polys = sil.iter().map(|e| extrude(e[0], e[1], light)).collect();
             let eye_inside = o.faces.iter().any(|t| segment_hits(eye, light, t));
-            out.push(Volume { polys, eye_inside });
+            out.push(Volume {
+                polys,
+                eye_inside,
+                planes: convex_planes(o, light, &sil),
+            });
         } else {
             for t in &o.faces {
                 let f = facing(t, light);
@@ -398,6 +484,7 @@ pub fn volumes(occ: &[Occluder], light: DVec3, eye: DVec3) -> Vec<Volume> {
                 out.push(Volume {
                     polys,
                     eye_inside: segment_hits(eye, light, t),
+                    planes: triangle_planes(t, light),
                 });
             }
         }
@@ -454,58 +541,245 @@ fn clip_to_box(poly: &[DVec4], lo: DVec3, hi: DVec3) -> Vec<DVec4> {
     poly
 }
 
+/// Where the camera's near plane (its part inside the guard band) lies relative to a
+/// volume.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NearPlane {
+    /// Wholly outside the volume: counting starts at 0.
+    Outside,
+    /// Wholly inside: counting starts at 1 (the IF span).
+    Inside,
+    /// Cut by the volume's boundary: the near cap (the cross-section) is drawn at the
+    /// nearest depth, so counting starts at 1 exactly on the pixels whose near point is
+    /// inside.
+    Cut,
+}
+
+/// Sutherland–Hodgman clipping of a polygon against half-spaces `h·(p, 1) ≥ 0`.
+fn clip_planes(mut poly: Vec<DVec3>, planes: &[DVec4]) -> Vec<DVec3> {
+    for h in planes {
+        if poly.is_empty() {
+            break;
+        }
+        let d = |p: &DVec3| h.truncate().dot(*p) + h.w;
+        let mut out = Vec::with_capacity(poly.len() + 1);
+        for i in 0..poly.len() {
+            let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+            let (da, db) = (d(&a), d(&b));
+            if da >= 0.0 {
+                out.push(a);
+            }
+            if (da >= 0.0) != (db >= 0.0) {
+                out.push(a + (b - a) * (da / (da - db)));
+            }
+        }
+        poly = out;
+    }
+    poly
+}
+
+/// The camera's clipping ([`Projector::clip_polygon`], the same planes in the same order
+/// and the same arithmetic, so bit-identical vertices) that also tells which vertices lie
+/// on the near plane: those the near plane created (or that lay on it), and those a later
+/// plane created between two such.
+fn clip_tagged(poly: Vec<DVec4>) -> Vec<(DVec4, bool)> {
+    let planes: [fn(&DVec4) -> f64; 6] = [
+        |p| p.z,
+        |p| p.w - p.z,
+        |p| GUARD * p.w - p.x,
+        |p| GUARD * p.w + p.x,
+        |p| GUARD * p.w - p.y,
+        |p| GUARD * p.w + p.y,
+    ];
+    let mut poly: Vec<(DVec4, bool)> = poly.into_iter().map(|p| (p, p.z == 0.0)).collect();
+    for (k, d) in planes.iter().enumerate() {
+        if poly.is_empty() {
+            break;
+        }
+        let mut out = Vec::with_capacity(poly.len() + 2);
+        for i in 0..poly.len() {
+            let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+            let (da, db) = (d(&a.0), d(&b.0));
+            if da >= 0.0 {
+                out.push(a);
+            }
+            if (da >= 0.0) != (db >= 0.0) {
+                let t = da / (da - db);
+                out.push((a.0 + (b.0 - a.0) * t, k == 0 || (a.1 && b.1)));
+            }
+        }
+        poly = out;
+    }
+    poly
+}
+
+/// Snapped screen position of a clip-space point, and its 24-bit depth.
+fn snap_clip(pj: &Projector, p: DVec4) -> Result<([i32; 2], u32), SetupError> {
+    let (x, y, z) = pj.to_screen(p);
+    Ok((
+        [crate::setup::snap_coord(x)?, crate::setup::snap_coord(y)?],
+        crate::frontend::depth24(z),
+    ))
+}
+
+/// Rasterizes a snapped polygon as a fan from its first vertex, pushing SP spans.
+fn fan_spans(
+    sv: &[([i32; 2], u32)],
+    width: u32,
+    height: u32,
+    spans: &mut Vec<(u32, SpanWord)>,
+) -> Result<(), SetupError> {
+    for i in 1..sv.len().saturating_sub(1) {
+        let t = SnappedTri {
+            v: [sv[0].0, sv[i].0, sv[i + 1].0],
+            z: [sv[0].1, sv[i].1, sv[i + 1].1],
+            ..Default::default()
+        };
+        if let Some(s) = TriSetup::new(&t)? {
+            s.for_each_span(width, height, |j, mut w| {
+                w.attr = Attr::Sp;
+                w.il = [0; 3];
+                w.di = [0; 3];
+                spans.push((j, w));
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The near plane's rectangle inside the guard band, as world points.
+fn near_rect(pj: &Projector) -> Vec<DVec3> {
+    let inv = pj.view_proj.inverse();
+    [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+        .iter()
+        .map(|&(x, y)| {
+            let h = inv * DVec4::new(x * GUARD, y * GUARD, 0.0, 1.0);
+            h.truncate() / h.w
+        })
+        .collect()
+}
+
+/// The box as six half-spaces `h·(p, 1) ≥ 0`.
+fn box_planes(lo: DVec3, hi: DVec3) -> Vec<DVec4> {
+    (0..3)
+        .flat_map(|a| {
+            let e = [DVec3::X, DVec3::Y, DVec3::Z][a];
+            [e.extend(-lo[a]), (-e).extend(hi[a])]
+        })
+        .collect()
+}
+
+/// Classifies the near plane against a volume.
+fn near_plane(pj: &Projector, v: &Volume) -> NearPlane {
+    let rect = near_rect(pj);
+    if v.planes.is_empty() {
+        return NearPlane::Outside;
+    }
+    let inside = |p: &DVec3| v.planes.iter().all(|h| h.truncate().dot(*p) + h.w >= 0.0);
+    if rect.iter().all(inside) {
+        NearPlane::Inside
+    } else if clip_planes(rect, &v.planes).len() < 3 {
+        NearPlane::Outside
+    } else {
+        NearPlane::Cut
+    }
+}
+
+/// The near cap of a volume the near plane cuts: the cross-section (near rectangle ∩
+/// volume ∩ ray box, convex), as a snapped polygon whose edges along the volume's sides are
+/// *bit-identical* to the near edges of the clipped side polygons (`near_edges`). Its
+/// corners are the side polygons' near-edge end points plus the cross-section's other
+/// corners (on the caster's faces, the guard band or the box) that are not within
+/// `4/256` px of one of them, in angular order about the cross-section's centre.
+fn near_cap(
+    pj: &Projector,
+    v: &Volume,
+    bbox: (DVec3, DVec3),
+    near_edges: &[[[i32; 2]; 2]],
+) -> Result<Vec<[i32; 2]>, SetupError> {
+    let mut planes = v.planes.clone();
+    planes.extend(box_planes(bbox.0, bbox.1));
+    let cs = clip_planes(near_rect(pj), &planes);
+    if cs.len() < 3 {
+        return Ok(Vec::new());
+    }
+    let one = pixelproc_formats::SUBPIXEL_ONE as f64;
+    let screen: Vec<[f64; 2]> = cs
+        .iter()
+        .map(|p| {
+            let (x, y, _) = pj.to_screen(pj.view_proj * p.extend(1.0));
+            [x * one, y * one]
+        })
+        .collect();
+    let mut pts: Vec<[i32; 2]> = near_edges.iter().flatten().copied().collect();
+    pts.sort_unstable();
+    pts.dedup();
+    let exact = pts.len();
+    for q in &screen {
+        let near_one = pts[..exact].iter().any(|p| {
+            let (dx, dy) = (p[0] as f64 - q[0], p[1] as f64 - q[1]);
+            dx * dx + dy * dy <= 16.0
+        });
+        if !near_one {
+            let (x, y) = (q[0] / one, q[1] / one);
+            pts.push([crate::setup::snap_coord(x)?, crate::setup::snap_coord(y)?]);
+        }
+    }
+    let n = screen.len() as f64;
+    let c = screen
+        .iter()
+        .fold([0.0, 0.0], |s, q| [s[0] + q[0] / n, s[1] + q[1] / n]);
+    let angle = |p: &[i32; 2]| (p[1] as f64 - c[1]).atan2(p[0] as f64 - c[0]);
+    pts.sort_by(|a, b| angle(a).total_cmp(&angle(b)).then(a.cmp(b)));
+    pts.dedup();
+    Ok(pts)
+}
+
 /// Projects a volume's polygons (clip to the ray box, then the view frustum; snap) and
-/// returns its span words per row, in polygon order, each with attr SP.
+/// returns its span words per row, in polygon order, each with attr SP, then those of its
+/// near cap when the near plane cuts it; and where the near plane lies.
 fn volume_spans(
     pj: &Projector,
     v: &Volume,
     bbox: (DVec3, DVec3),
     width: u32,
     height: u32,
-) -> Result<Vec<(u32, SpanWord)>, SetupError> {
+) -> Result<(Vec<(u32, SpanWord)>, NearPlane), SetupError> {
     let mut spans = Vec::new();
+    let mut near_edges = Vec::new();
     for poly in &v.polys {
         let poly = clip_to_box(poly, bbox.0, bbox.1);
         if poly.len() < 3 {
             continue;
         }
-        let cv: Vec<ClipVert> = poly
-            .iter()
-            .map(|p| ClipVert {
-                p: pj.view_proj * *p,
-                a: DVec3::ZERO,
-            })
-            .collect();
-        let clipped = pj.clip_polygon(cv);
-        if clipped.len() < 3 || clipped.iter().any(|c| c.p.w <= 0.0) {
+        let cv: Vec<DVec4> = poly.iter().map(|p| pj.view_proj * *p).collect();
+        let clipped = clip_tagged(cv);
+        if clipped.len() < 3 || clipped.iter().any(|c| c.0.w <= 0.0) {
             continue;
         }
-        let mut sv = Vec::with_capacity(clipped.len());
-        for c in &clipped {
-            let (x, y, z) = pj.to_screen(c.p);
-            sv.push((
-                [crate::setup::snap_coord(x)?, crate::setup::snap_coord(y)?],
-                crate::frontend::depth24(z),
-            ));
-        }
-        for i in 1..sv.len() - 1 {
-            let t = SnappedTri {
-                v: [sv[0].0, sv[i].0, sv[i + 1].0],
-                z: [sv[0].1, sv[i].1, sv[i + 1].1],
-                ..Default::default()
-            };
-            if let Some(s) = TriSetup::new(&t)? {
-                s.for_each_span(width, height, |j, mut w| {
-                    w.attr = Attr::Sp;
-                    w.il = [0; 3];
-                    w.di = [0; 3];
-                    spans.push((j, w));
-                });
+        let sv: Vec<([i32; 2], u32)> = clipped
+            .iter()
+            .map(|c| snap_clip(pj, c.0))
+            .collect::<Result<_, _>>()?;
+        if !clipped.iter().all(|c| c.1) {
+            for i in 0..clipped.len() {
+                let k = (i + 1) % clipped.len();
+                if clipped[i].1 && clipped[k].1 && sv[i].0 != sv[k].0 {
+                    near_edges.push([sv[i].0, sv[k].0]);
+                }
             }
         }
+        fan_spans(&sv, width, height, &mut spans)?;
+    }
+    let near = near_plane(pj, v);
+    if near == NearPlane::Cut {
+        let cap = near_cap(pj, v, bbox, &near_edges)?;
+        let zn = crate::frontend::depth24(0.0);
+        let sv: Vec<([i32; 2], u32)> = cap.into_iter().map(|p| (p, zn)).collect();
+        fan_spans(&sv, width, height, &mut spans)?;
     }
     spans.sort_by_key(|(j, _)| *j);
-    Ok(spans)
+    Ok((spans, near))
 }
 
 /// Statistics of the shadow stage.
@@ -517,6 +791,8 @@ pub struct ShadowStats {
     pub span_words: u64,
     /// Volumes containing the eye.
     pub eye_inside: usize,
+    /// Volumes whose boundary cuts the near plane (drawn with a near cap).
+    pub near_caps: usize,
 }
 
 /// Per-row shadow commands for the array, appended after the OP spans of each row.
@@ -549,11 +825,13 @@ pub fn shadow_commands(
             let vols = volumes(&occ, s, pj.eye);
             stats.volumes += vols.len();
             stats.eye_inside += vols.iter().filter(|v| v.eye_inside).count();
-            let per_vol: Vec<Vec<(u32, SpanWord)>> = vols
+            let per_vol: Vec<(Vec<(u32, SpanWord)>, NearPlane)> = vols
                 .par_iter()
                 .map(|v| volume_spans(pj, v, bbox, w, h))
                 .collect::<Result<_, _>>()?;
-            for (v, spans) in vols.iter().zip(per_vol) {
+            for (spans, near) in per_vol {
+                let inside = near == NearPlane::Inside;
+                stats.near_caps += (near == NearPlane::Cut) as usize;
                 let mut k = 0;
                 for j in 0..h {
                     let start = k;
@@ -561,12 +839,12 @@ pub fn shadow_commands(
                         k += 1;
                     }
                     let row = &spans[start..k];
-                    if row.is_empty() && !v.eye_inside {
+                    if row.is_empty() && !inside {
                         continue;
                     }
                     let out = &mut rows[j as usize];
                     let before = out.len();
-                    emit_volume_row(out, row.iter().map(|x| x.1), v.eye_inside, form, w);
+                    emit_volume_row(out, row.iter().map(|x| x.1), inside, form, w);
                     stats.span_words += (out.len() - before) as u64;
                 }
             }
