@@ -3,8 +3,9 @@
 # LFE5U-85F (CABGA381, speed grade 6), out of context, clock constrained by
 # synth/ecp5/pixelproc.lpf (150 MHz). Writes docs/fpga_results/ecp5_n{W}[_noshadow].md.
 #   synth/flow_ecp5.sh [WIDTH=8] [SEED=1] [shadow|noshadow]
-# Out of context because the core's 256-bit command port has more pins than any ECP5
-# package: the ports stay ports, no I/O buffers are placed.
+# Out of context because the core's ports (348 pins, 256 of them the command word) do
+# not fit the CABGA381 (205 user I/O) and are on-chip signals in any real design: the
+# ports stay ports, no I/O buffers are placed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 . synth/flow_common.sh
@@ -25,7 +26,7 @@ t1=$(now)
 t2=$(now)
 grep -q "constrain.*clock.*150" "$OUT/pnr.log" || { echo "the LPF clock constraint was not applied (see $OUT/pnr.log)" >&2; exit 1; }
 python3 synth/pnr_report.py "$OUT/report.json" "$RES" "ECP5 LFE5U-85F: pixelproc_top, N = $W, ${CFG/noshadow/no shadows}" \
-  "device=LFE5U-85F-6 CABGA381, out of context (256-bit command port: more pins than any package)" \
+  "device=LFE5U-85F-6 CABGA381, out of context (348 port pins vs 205 user I/O; on-chip in a real design)" \
   "configuration=N = $W, ${CFG}, input FIFO 32 beats, output FIFO 16 pixels" \
   "constraint=synth/ecp5/pixelproc.lpf: FREQUENCY PORT clock 150 MHz" \
   "placement seed=$SEED" \

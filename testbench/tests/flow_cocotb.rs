@@ -19,7 +19,10 @@ use std::process::Command;
 const N: usize = 8;
 
 fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap()
+        .to_path_buf()
 }
 
 /// `Some(reason)` when a tool the bench needs is missing.
@@ -31,7 +34,11 @@ fn missing_tool(sim: &str) -> Option<String> {
         Ok(o) if o.status.success() => {}
         _ => return Some("python3 with cocotb (pip install cocotb)".into()),
     }
-    let tool = if sim == "icarus" { "iverilog" } else { "verilator" };
+    let tool = if sim == "icarus" {
+        "iverilog"
+    } else {
+        "verilator"
+    };
     if !pixelproc_testbench::external::tool_available(tool) {
         return Some(format!("{tool} (apt-get install {tool})"));
     }
@@ -45,13 +52,21 @@ fn write_inputs(dir: &Path, corrupt: Option<usize>) -> (PathBuf, String, usize) 
     ls.scene.width = 40;
     ls.scene.height = 12;
     let fx = Effects::resolve(&ls, &Overrides::default()).unwrap();
-    assert!(!fx.shadow_lights.is_empty(), "the scene exercises the shading step");
+    assert!(
+        !fx.shadow_lights.is_empty(),
+        "the scene exercises the shading step"
+    );
     let plan = plan_frame(&ls, &fx, N).unwrap();
     let cs = &plan.stream;
     let mut beats = String::new();
     for b in &cs.beats {
         let d = b.data;
-        writeln!(beats, "{:x}{:016x}{:016x}{:016x}{:016x}", b.kind, d[3], d[2], d[1], d[0]).unwrap();
+        writeln!(
+            beats,
+            "{:x}{:016x}{:016x}{:016x}{:016x}",
+            b.kind, d[3], d[2], d[1], d[0]
+        )
+        .unwrap();
     }
     std::fs::write(dir.join("beats.hex"), beats).unwrap();
     let img = render(&ls, &fx).unwrap().image.data;
@@ -68,8 +83,7 @@ fn write_inputs(dir: &Path, corrupt: Option<usize>) -> (PathBuf, String, usize) 
         writeln!(exp, "{rgb:06x} {} {}", u8::from(k == 0), u8::from(last)).unwrap();
     }
     std::fs::write(dir.join("expect.txt"), exp).unwrap();
-    let (verilog, module) =
-        pixelproc_rtl::core_top::core_verilog(N, plan.shadows, false).unwrap();
+    let (verilog, module) = pixelproc_rtl::core_top::core_verilog(N, plan.shadows, false).unwrap();
     let vfile = dir.join(format!("{module}.v"));
     std::fs::write(&vfile, verilog).unwrap();
     (vfile, module, cs.pixels())
@@ -96,7 +110,11 @@ fn run_cocotb(dir: &Path, sim: &str, vfile: &Path, module: &str) -> (bool, Strin
         String::from_utf8_lossy(&o.stdout),
         String::from_utf8_lossy(&o.stderr)
     );
-    println!("cocotb {sim}: exit {:?}, {:.1} s", o.status.code(), t.elapsed().as_secs_f64());
+    println!(
+        "cocotb {sim}: exit {:?}, {:.1} s",
+        o.status.code(),
+        t.elapsed().as_secs_f64()
+    );
     (o.status.success(), text)
 }
 
@@ -124,7 +142,13 @@ fn cocotb_frame_on_the_exported_core() {
         let bad = tempfile::tempdir().unwrap();
         let (vfile, module, _) = write_inputs(bad.path(), Some(pixels / 2));
         let (ok, text) = run_cocotb(bad.path(), sim, &vfile, &module);
-        assert!(!ok, "cocotb on {sim} passed with a corrupted golden pixel:\n{text}");
-        assert!(text.contains("golden"), "the failure names the pixel:\n{text}");
+        assert!(
+            !ok,
+            "cocotb on {sim} passed with a corrupted golden pixel:\n{text}"
+        );
+        assert!(
+            text.contains("golden"),
+            "the failure names the pixel:\n{text}"
+        );
     }
 }
