@@ -15,7 +15,11 @@ import sys
 
 def clean(name):
     """A readable net or cell name: the Verilog hierarchy, no Yosys suffixes."""
-    name = re.sub(r"_(SLICE|LC|DFFLC|TRELLIS|COMB)\w*$", "", name)
+    # Cut the suffixes Yosys and nextpnr append to mapped cells and their nets
+    # (`_SB_LUT4_O_26_I3_…`, `_LUT4_Z_4_B`, `_CCU2C_COUT…`, `_DFFLC`), keeping a bus index.
+    idx = re.search(r"(\[\d+\])$", name)
+    cut = re.split(r"_(SB_|LUT4|CCU2C|L6MUX|PFUMX|DFFLC|SLICE|TRELLIS|COMB|DOB|DOA|RDATA|RAM$)", name)[0]
+    name = cut + (idx.group(1) if idx and not cut.endswith(idx.group(1)) else "")
     name = re.sub(r"\$(abc|auto|techmap|flatten)\$[^ ]*", "", name)
     return name.strip(".$ ") or "(internal)"
 
