@@ -60,6 +60,7 @@ def main():
         test_dir=str(HERE),
         build_dir=str(build),
         extra_env=env,
+        results_xml=str(build / "results.xml"),
     )
     try:
         from cocotb_tools.check_results import get_results
