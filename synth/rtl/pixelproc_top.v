@@ -39,7 +39,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     localparam  k_two3 = 3'b10;
     localparam  k_four3 = 3'b100;
     localparam  k_zero_beat = 260'h0;
-    localparam  k_zero_rd = 74'h0;
+    localparam  k_zero_rd = 99'h0;
     localparam  k_zero_user = 51'h0;
     localparam  k_zero_pix = 76'h0;
     
@@ -68,16 +68,18 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     wire  [7:0] array$rd_count;
     wire  [7:0] array$rd_mask;
     wire  [7:0] array$rd_nclass;
+    wire  [23:0] array$rd_sh;
+    wire  array$rd_won;
     reg  shade$clock;
     reg  shade$rst;
     reg  shade$in_valid;
-    reg  [73:0] shade$in_word;
+    reg  [98:0] shade$in_word;
     reg  [1:0] shade$in_meta;
     reg  shade$tw_en;
     reg  [14:0] shade$tw_addr;
-    reg  [8:0] shade$tw_data;
+    reg  [17:0] shade$tw_data;
     wire  shade$out_valid;
-    wire  [73:0] shade$out_word;
+    wire  [98:0] shade$out_word;
     wire  [1:0] shade$out_meta;
     reg  out_fifo$clock;
     reg  out_fifo$rst;
@@ -143,10 +145,10 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     reg  l_go;
     reg  [5:0] l_credit;
     reg  [2:0] l_t1;
-    reg  [73:0] l_rdw;
+    reg  [98:0] l_rdw;
     reg  [50:0] l_user;
     reg  [75:0] l_pix;
-    reg  [73:0] l_ow;
+    reg  [98:0] l_ow;
     reg  [1:0] l_meta;
     
     // Sub module instances
@@ -176,7 +178,9 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         .rd_fsf(array$rd_fsf),
         .rd_count(array$rd_count),
         .rd_mask(array$rd_mask),
-        .rd_nclass(array$rd_nclass)
+        .rd_nclass(array$rd_nclass),
+        .rd_sh(array$rd_sh),
+        .rd_won(array$rd_won)
     );
     pixelproc_top$shade shade(
         .clock(shade$clock),
@@ -339,7 +343,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         end
         shade$tw_en = l_issue & l_table;
         shade$tw_addr = l_data[(32'h0)+:(15)];
-        shade$tw_data = l_data[(32'hf)+:(9)];
+        shade$tw_data = l_data[(32'hf)+:(18)];
         if (l_issue & l_tile) begin
             base_r$d = l_data[(32'h18)+:(12)];
             if (l_data[(32'h24)+:(12)] > k_nlast) begin
@@ -390,6 +394,8 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         l_rdw[(32'h0)+:(8)] = array$rd_count;
         l_rdw[(32'h3a)+:(8)] = array$rd_mask;
         l_rdw[(32'h42)+:(8)] = array$rd_nclass;
+        l_rdw[(32'h4a)+:(24)] = array$rd_sh;
+        l_rdw[(32'h62)+:(1)] = array$rd_won;
         shade$in_valid = t3$q[32'h0];
         shade$in_word = l_rdw;
         shade$in_meta = t3$q[(32'h1)+:(2)];
@@ -443,7 +449,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
 endmodule // pixelproc_top
 
 
-module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,rd_addr,rd_zb,rd_rgb,rd_dsf,rd_fsf,rd_count,rd_mask,rd_nclass);
+module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,rd_addr,rd_zb,rd_rgb,rd_dsf,rd_fsf,rd_count,rd_mask,rd_nclass,rd_sh,rd_won);
     
     // Module arguments
     input wire  clock;
@@ -461,120 +467,122 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     output reg  [7:0] rd_count;
     output reg  [7:0] rd_mask;
     output reg  [7:0] rd_nclass;
+    output reg  [23:0] rd_sh;
+    output reg  rd_won;
     
     // Constant declarations
     localparam  k_reset = 3'b111;
-    localparam  k_zero74 = 74'h0;
+    localparam  k_zero74 = 99'h0;
     localparam  k_nop = 3'b0;
     localparam  k_span = 3'b10;
     localparam  k_one14 = 14'b1;
     localparam  k_zero16 = 16'h0;
     localparam  k_zero38 = 38'h0;
-    localparam  k_zero_head = 42'h0;
+    localparam  k_zero_head = 46'h0;
     localparam  k_zero_i3 = 102'h0;
     localparam  k_zero_di3 = 63'h0;
     
     // Stub signals
     reg  procs$0$clock;
-    reg  [41:0] procs$0$t_head;
+    reg  [45:0] procs$0$t_head;
     reg  [43:0] procs$0$t_z;
     reg  [37:0] procs$0$t_dz;
     reg  [101:0] procs$0$t_i;
     reg  [62:0] procs$0$t_di;
     reg  procs$0$rd_sel;
-    wire  [73:0] procs$0$rdo;
-    wire  [41:0] procs$0$o_head;
+    wire  [98:0] procs$0$rdo;
+    wire  [45:0] procs$0$o_head;
     wire  [43:0] procs$0$o_z;
     wire  [37:0] procs$0$o_dz;
     wire  [101:0] procs$0$o_i;
     wire  [62:0] procs$0$o_di;
     reg  procs$1$clock;
-    reg  [41:0] procs$1$t_head;
+    reg  [45:0] procs$1$t_head;
     reg  [43:0] procs$1$t_z;
     reg  [37:0] procs$1$t_dz;
     reg  [101:0] procs$1$t_i;
     reg  [62:0] procs$1$t_di;
     reg  procs$1$rd_sel;
-    wire  [73:0] procs$1$rdo;
-    wire  [41:0] procs$1$o_head;
+    wire  [98:0] procs$1$rdo;
+    wire  [45:0] procs$1$o_head;
     wire  [43:0] procs$1$o_z;
     wire  [37:0] procs$1$o_dz;
     wire  [101:0] procs$1$o_i;
     wire  [62:0] procs$1$o_di;
     reg  procs$2$clock;
-    reg  [41:0] procs$2$t_head;
+    reg  [45:0] procs$2$t_head;
     reg  [43:0] procs$2$t_z;
     reg  [37:0] procs$2$t_dz;
     reg  [101:0] procs$2$t_i;
     reg  [62:0] procs$2$t_di;
     reg  procs$2$rd_sel;
-    wire  [73:0] procs$2$rdo;
-    wire  [41:0] procs$2$o_head;
+    wire  [98:0] procs$2$rdo;
+    wire  [45:0] procs$2$o_head;
     wire  [43:0] procs$2$o_z;
     wire  [37:0] procs$2$o_dz;
     wire  [101:0] procs$2$o_i;
     wire  [62:0] procs$2$o_di;
     reg  procs$3$clock;
-    reg  [41:0] procs$3$t_head;
+    reg  [45:0] procs$3$t_head;
     reg  [43:0] procs$3$t_z;
     reg  [37:0] procs$3$t_dz;
     reg  [101:0] procs$3$t_i;
     reg  [62:0] procs$3$t_di;
     reg  procs$3$rd_sel;
-    wire  [73:0] procs$3$rdo;
-    wire  [41:0] procs$3$o_head;
+    wire  [98:0] procs$3$rdo;
+    wire  [45:0] procs$3$o_head;
     wire  [43:0] procs$3$o_z;
     wire  [37:0] procs$3$o_dz;
     wire  [101:0] procs$3$o_i;
     wire  [62:0] procs$3$o_di;
     reg  procs$4$clock;
-    reg  [41:0] procs$4$t_head;
+    reg  [45:0] procs$4$t_head;
     reg  [43:0] procs$4$t_z;
     reg  [37:0] procs$4$t_dz;
     reg  [101:0] procs$4$t_i;
     reg  [62:0] procs$4$t_di;
     reg  procs$4$rd_sel;
-    wire  [73:0] procs$4$rdo;
-    wire  [41:0] procs$4$o_head;
+    wire  [98:0] procs$4$rdo;
+    wire  [45:0] procs$4$o_head;
     wire  [43:0] procs$4$o_z;
     wire  [37:0] procs$4$o_dz;
     wire  [101:0] procs$4$o_i;
     wire  [62:0] procs$4$o_di;
     reg  procs$5$clock;
-    reg  [41:0] procs$5$t_head;
+    reg  [45:0] procs$5$t_head;
     reg  [43:0] procs$5$t_z;
     reg  [37:0] procs$5$t_dz;
     reg  [101:0] procs$5$t_i;
     reg  [62:0] procs$5$t_di;
     reg  procs$5$rd_sel;
-    wire  [73:0] procs$5$rdo;
-    wire  [41:0] procs$5$o_head;
+    wire  [98:0] procs$5$rdo;
+    wire  [45:0] procs$5$o_head;
     wire  [43:0] procs$5$o_z;
     wire  [37:0] procs$5$o_dz;
     wire  [101:0] procs$5$o_i;
     wire  [62:0] procs$5$o_di;
     reg  procs$6$clock;
-    reg  [41:0] procs$6$t_head;
+    reg  [45:0] procs$6$t_head;
     reg  [43:0] procs$6$t_z;
     reg  [37:0] procs$6$t_dz;
     reg  [101:0] procs$6$t_i;
     reg  [62:0] procs$6$t_di;
     reg  procs$6$rd_sel;
-    wire  [73:0] procs$6$rdo;
-    wire  [41:0] procs$6$o_head;
+    wire  [98:0] procs$6$rdo;
+    wire  [45:0] procs$6$o_head;
     wire  [43:0] procs$6$o_z;
     wire  [37:0] procs$6$o_dz;
     wire  [101:0] procs$6$o_i;
     wire  [62:0] procs$6$o_di;
     reg  procs$7$clock;
-    reg  [41:0] procs$7$t_head;
+    reg  [45:0] procs$7$t_head;
     reg  [43:0] procs$7$t_z;
     reg  [37:0] procs$7$t_dz;
     reg  [101:0] procs$7$t_i;
     reg  [62:0] procs$7$t_di;
     reg  procs$7$rd_sel;
-    wire  [73:0] procs$7$rdo;
-    wire  [41:0] procs$7$o_head;
+    wire  [98:0] procs$7$rdo;
+    wire  [45:0] procs$7$o_head;
     wire  [43:0] procs$7$o_z;
     wire  [37:0] procs$7$o_dz;
     wire  [101:0] procs$7$o_i;
@@ -594,8 +602,8 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [11:0] e1_rd$d;
     wire  [11:0] e1_rd$q;
     reg  e1_rd$clock;
-    reg  [41:0] e2_head$d;
-    wire  [41:0] e2_head$q;
+    reg  [45:0] e2_head$d;
+    wire  [45:0] e2_head$q;
     reg  e2_head$clock;
     reg  [15:0] e2_m$d;
     wire  [15:0] e2_m$q;
@@ -606,8 +614,8 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [37:0] e2_dz$d;
     wire  [37:0] e2_dz$q;
     reg  e2_dz$clock;
-    reg  [41:0] e3_head$d;
-    wire  [41:0] e3_head$q;
+    reg  [45:0] e3_head$d;
+    wire  [45:0] e3_head$q;
     reg  e3_head$clock;
     reg  [15:0] e3_m$d;
     wire  [15:0] e3_m$q;
@@ -627,8 +635,8 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [31:0] e3_pz2$d;
     wire  [31:0] e3_pz2$q;
     reg  e3_pz2$clock;
-    reg  [41:0] e4_head$d;
-    wire  [41:0] e4_head$q;
+    reg  [45:0] e4_head$d;
+    wire  [45:0] e4_head$q;
     reg  e4_head$clock;
     reg  [37:0] e4_dz$d;
     wire  [37:0] e4_dz$q;
@@ -639,8 +647,8 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [43:0] e4_zb$d;
     wire  [43:0] e4_zb$q;
     reg  e4_zb$clock;
-    reg  [73:0] rd_r$d;
-    wire  [73:0] rd_r$q;
+    reg  [98:0] rd_r$d;
+    wire  [98:0] rd_r$q;
     reg  rd_r$clock;
     reg  chans$0$clock;
     reg  [19:0] chans$0$il;
@@ -668,7 +676,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     wire  [20:0] chans$2$o_di;
     
     // Local signals
-    reg  [73:0] l_rd;
+    reg  [98:0] l_rd;
     reg  [13:0] l_xl;
     reg  [13:0] l_xr;
     reg  [13:0] l_base;
@@ -677,7 +685,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [15:0] l_dzmid;
     reg  [15:0] l_dzhi;
     reg  [43:0] l_m44;
-    reg  [41:0] l_head;
+    reg  [45:0] l_head;
     reg  l_span;
     reg  [59:0] l_il3;
     reg  [62:0] l_di3;
@@ -1007,6 +1015,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         l_head[(32'h3)+:(2)] = e1_word$q[(32'h0)+:(2)];
         l_head[(32'h5)+:(1)] = e1_word$q[(32'hf7)+:(1)];
         l_head[(32'h6)+:(8)] = e1_word$q[(32'hef)+:(8)];
+        l_head[(32'h2a)+:(4)] = e1_word$q[(32'hf8)+:(4)];
         l_head[(32'he)+:(14)] = (l_xl - l_base) - k_one14;
         l_head[(32'h1c)+:(14)] = l_xr - l_base;
         e2_head$d = l_head;
@@ -1147,6 +1156,8 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         rd_count = rd_r$q[(32'h0)+:(8)];
         rd_mask = rd_r$q[(32'h3a)+:(8)];
         rd_nclass = rd_r$q[(32'h42)+:(8)];
+        rd_sh = rd_r$q[(32'h4a)+:(24)];
+        rd_won = rd_r$q[(32'h62)+:(1)];
     end
     
 endmodule // pixelproc_top$array
@@ -1465,13 +1476,13 @@ endmodule // pixelproc_top$array$e2_dz
 module pixelproc_top$array$e2_head(d,q,clock);
     
     // Module arguments
-    input wire  [41:0] d;
-    output reg  [41:0] q;
+    input wire  [45:0] d;
+    output reg  [45:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 42'h0;
+       q = 46'h0;
     end
     
     always @(posedge clock) begin
@@ -1542,22 +1553,25 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
     
     // Module arguments
     input wire  clock;
-    input wire  [41:0] t_head;
+    input wire  [45:0] t_head;
     input wire  [43:0] t_z;
     input wire  [37:0] t_dz;
     input wire  [101:0] t_i;
     input wire  [62:0] t_di;
     input wire  rd_sel;
-    output reg  [73:0] rdo;
-    output reg  [41:0] o_head;
+    output reg  [98:0] rdo;
+    output reg  [45:0] o_head;
     output reg  [43:0] o_z;
     output reg  [37:0] o_dz;
     output reg  [101:0] o_i;
     output reg  [62:0] o_di;
     
     // Constant declarations
-    localparam  k_cap_reset = 74'h3fffffc00000000;
-    localparam  k_zero74 = 74'h0;
+    localparam  k_shade = 1'b1;
+    localparam  k_chan0 = 4'h0;
+    localparam  k_chan1 = 4'h1;
+    localparam  k_cap_reset = 99'h3fffffc00000000;
+    localparam  k_zero_rd = 99'h0;
     localparam  k_clear_line = 3'b1;
     localparam  k_span = 3'b10;
     localparam  k_reset = 3'b111;
@@ -1581,8 +1595,8 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
     wire  parity$0$fsf;
     wire  [7:0] parity$0$count;
     wire  [7:0] parity$0$mask;
-    reg  [41:0] tok_head$d;
-    wire  [41:0] tok_head$q;
+    reg  [45:0] tok_head$d;
+    wire  [45:0] tok_head$q;
     reg  tok_head$clock;
     reg  [43:0] tok_z$d;
     wire  [43:0] tok_z$q;
@@ -1635,6 +1649,18 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
     reg  [7:0] b_nclass$d;
     wire  [7:0] b_nclass$q;
     reg  b_nclass$clock;
+    reg  b_won_upd$d;
+    wire  b_won_upd$q;
+    reg  b_won_upd$clock;
+    reg  b_sh_write$d;
+    wire  b_sh_write$q;
+    reg  b_sh_write$clock;
+    reg  won_r$d;
+    wire  won_r$q;
+    reg  won_r$clock;
+    reg  [23:0] sh_r$d;
+    wire  [23:0] sh_r$q;
+    reg  sh_r$clock;
     reg  [23:0] zb_r$d;
     wire  [23:0] zb_r$q;
     reg  zb_r$clock;
@@ -1644,8 +1670,8 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
     reg  [7:0] nclass_r$d;
     wire  [7:0] nclass_r$q;
     reg  nclass_r$clock;
-    reg  [73:0] cap_r$d;
-    wire  [73:0] cap_r$q;
+    reg  [98:0] cap_r$d;
+    wire  [98:0] cap_r$q;
     reg  cap_r$clock;
     reg  rdsel_r$d;
     wire  rdsel_r$q;
@@ -1654,7 +1680,8 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
     // Local signals
     reg  [13:0] l_rel_l;
     reg  [13:0] l_rel_r;
-    reg  [73:0] l_cap;
+    reg  is_op_span;
+    reg  [98:0] l_cap;
     reg  [43:0] dz_x;
     reg  right_of_xl;
     reg  covered;
@@ -1772,6 +1799,26 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         .q(b_nclass$q),
         .clock(b_nclass$clock)
     );
+    pixelproc_top$array$procs$b_covered b_won_upd(
+        .d(b_won_upd$d),
+        .q(b_won_upd$q),
+        .clock(b_won_upd$clock)
+    );
+    pixelproc_top$array$procs$b_covered b_sh_write(
+        .d(b_sh_write$d),
+        .q(b_sh_write$q),
+        .clock(b_sh_write$clock)
+    );
+    pixelproc_top$array$procs$b_covered won_r(
+        .d(won_r$d),
+        .q(won_r$q),
+        .clock(won_r$clock)
+    );
+    pixelproc_top$array$e1_bg sh_r(
+        .d(sh_r$d),
+        .q(sh_r$q),
+        .clock(sh_r$clock)
+    );
     pixelproc_top$array$e1_bg zb_r(
         .d(zb_r$d),
         .q(zb_r$q),
@@ -1818,6 +1865,10 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         nclass_r$clock = clock;
         cap_r$clock = clock;
         rdsel_r$clock = clock;
+        b_won_upd$clock = clock;
+        b_sh_write$clock = clock;
+        won_r$clock = clock;
+        sh_r$clock = clock;
         tok_head$d = tok_head$q;
         tok_z$d = tok_z$q;
         tok_dz$d = tok_dz$q;
@@ -1836,6 +1887,10 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         nclass_r$d = nclass_r$q;
         cap_r$d = cap_r$q;
         rdsel_r$d = rdsel_r$q;
+        b_won_upd$d = b_won_upd$q;
+        b_sh_write$d = b_sh_write$q;
+        won_r$d = won_r$q;
+        sh_r$d = sh_r$q;
         tok_head$d = t_head;
         l_rel_l = tok_head$q[(32'he)+:(14)];
         l_rel_r = tok_head$q[(32'h1c)+:(14)];
@@ -1882,6 +1937,12 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         if (right_of_xl) begin
             o_z = tok_z$q + dz_x;
         end
+        if (b_won_upd$q & k_shade) begin
+            won_r$d = b_write$q;
+        end
+        if (b_sh_write$q & won_r$q & k_shade) begin
+            sh_r$d = b_rgb$q;
+        end
         zb_next = zb_r$q;
         if (b_write$q) begin
             zb_next = b_z$q;
@@ -1903,7 +1964,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         fsf_now = parity$0$fsf;
         count_now = parity$0$count;
         mask_now = parity$0$mask;
-        l_cap = k_zero74;
+        l_cap = k_zero_rd;
         l_cap[(32'h42)+:(8)] = nclass_r$q;
         l_cap[(32'h3a)+:(8)] = mask_now;
         l_cap[(32'h22)+:(24)] = zb_r$q;
@@ -1911,13 +1972,19 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         l_cap[(32'h9)+:(1)] = dsf_now;
         l_cap[(32'h8)+:(1)] = fsf_now;
         l_cap[(32'h0)+:(8)] = count_now;
+        l_cap[(32'h4a)+:(24)] = sh_r$q;
+        l_cap[(32'h62)+:(1)] = won_r$q;
         if (b_op$q == k_clear_line) begin
+            won_r$d = 1'b0;
+            sh_r$d = k_zero24;
             cap_r$d = l_cap;
             zb_next = k_zfar;
             rgb_r$d = b_rgb$q;
             nclass_r$d = k_zero8;
         end
         if (b_op$q == k_reset) begin
+            won_r$d = 1'b0;
+            sh_r$d = k_zero24;
             zb_next = k_zfar;
             rgb_r$d = k_zero24;
             nclass_r$d = k_zero8;
@@ -1935,7 +2002,10 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         b_attr$d = tok_head$q[(32'h3)+:(2)];
         b_covered$d = covered;
         b_zlt$d = z_lt & z_hi_ok;
-        b_write$d = (tok_head$q[(32'h0)+:(3)] == k_span) & (tok_head$q[(32'h3)+:(2)] == k_attr_op) & covered & z_pass & z_hi_ok;
+        is_op_span = (tok_head$q[(32'h0)+:(3)] == k_span) & (tok_head$q[(32'h3)+:(2)] == k_attr_op);
+        b_write$d = is_op_span & (tok_head$q[(32'h2a)+:(4)] == k_chan0) & covered & z_pass & z_hi_ok;
+        b_won_upd$d = is_op_span & (tok_head$q[(32'h2a)+:(4)] == k_chan0) & covered;
+        b_sh_write$d = is_op_span & (tok_head$q[(32'h2a)+:(4)] == k_chan1) & covered;
         b_z$d = zv;
         b_nclass$d = tok_head$q[(32'h6)+:(8)];
         b_rgb$d = l_rgb;
@@ -1943,7 +2013,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
             b_rgb$d = tok_z$q[(32'h0)+:(24)];
         end
         rdsel_r$d = rd_sel;
-        rdo = k_zero74;
+        rdo = k_zero_rd;
         if (rdsel_r$q) begin
             rdo = cap_r$q;
         end
@@ -2012,13 +2082,13 @@ endmodule // pixelproc_top$array$procs$b_nclass
 module pixelproc_top$array$procs$cap_r(d,q,clock);
     
     // Module arguments
-    input wire  [73:0] d;
-    output reg  [73:0] q;
+    input wire  [98:0] d;
+    output reg  [98:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 74'h0;
+       q = 99'h0;
     end
     
     always @(posedge clock) begin
@@ -2632,13 +2702,13 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     input wire  clock;
     input wire  rst;
     input wire  in_valid;
-    input wire  [73:0] in_word;
+    input wire  [98:0] in_word;
     input wire  [1:0] in_meta;
     input wire  tw_en;
     input wire  [14:0] tw_addr;
-    input wire  [8:0] tw_data;
+    input wire  [17:0] tw_data;
     output reg  out_valid;
-    output reg  [73:0] out_word;
+    output reg  [98:0] out_word;
     output reg  [1:0] out_meta;
     
     // Constant declarations
@@ -2646,24 +2716,25 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     localparam  k_far = 24'hffffff;
     localparam  k_one = 16'h100;
     localparam  k_half = 32'h80;
-    localparam  k_sat = 32'hffff;
     localparam  k_max = 32'hff;
     localparam  k_zero_addr = 15'b0;
     localparam  k_zero24 = 24'h0;
+    localparam  k_zero16 = 16'h0;
+    localparam  k_zero32 = 32'h0;
     
     // Stub signals
     reg  [14:0] ftab$read_address;
     reg  ftab$read_clock;
-    wire  [8:0] ftab$read_data;
+    wire  [17:0] ftab$read_data;
     reg  [14:0] ftab$write_address;
     reg  ftab$write_clock;
-    reg  [8:0] ftab$write_data;
+    reg  [17:0] ftab$write_data;
     reg  ftab$write_enable;
     reg  s1_v$d;
     wire  s1_v$q;
     reg  s1_v$clock;
-    reg  [73:0] s1_word$d;
-    wire  [73:0] s1_word$q;
+    reg  [98:0] s1_word$d;
+    wire  [98:0] s1_word$q;
     reg  s1_word$clock;
     reg  [1:0] s1_meta$d;
     wire  [1:0] s1_meta$q;
@@ -2671,8 +2742,8 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  s2_v$d;
     wire  s2_v$q;
     reg  s2_v$clock;
-    reg  [73:0] s2_word$d;
-    wire  [73:0] s2_word$q;
+    reg  [98:0] s2_word$d;
+    wire  [98:0] s2_word$q;
     reg  s2_word$clock;
     reg  [1:0] s2_meta$d;
     wire  [1:0] s2_meta$q;
@@ -2681,11 +2752,16 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     // Local signals
     reg  [14:0] l_addr;
     reg  [15:0] l_f;
+    reg  [15:0] l_g;
     reg  [23:0] l_rgb;
+    reg  [23:0] l_sh;
     reg  [7:0] l_ch;
+    reg  [7:0] l_sc;
+    reg  [15:0] l_d;
+    reg  [31:0] l_drop;
     reg  [31:0] l_c;
     reg  [23:0] l_out;
-    reg  [73:0] l_word;
+    reg  [98:0] l_word;
     
     // Sub module instances
     pixelproc_top$shade$ftab ftab(
@@ -2755,28 +2831,67 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         s1_v$d = in_valid;
         s1_word$d = in_word;
         s1_meta$d = in_meta;
-        l_f = {{7{1'b0}}, ftab$read_data};
+        l_f = {{7{1'b0}}, ftab$read_data[(32'h0)+:(9)]};
+        l_g = {{7{1'b0}}, ftab$read_data[(32'h9)+:(9)]};
         if (~k_on | (s1_word$q[(32'h22)+:(24)] == k_far)) begin
             l_f = k_one;
+            l_g = k_zero16;
         end
         l_rgb = s1_word$q[(32'ha)+:(24)];
+        l_sh = s1_word$q[(32'h4a)+:(24)];
         l_out = k_zero24;
         l_ch = l_rgb[(32'h8 * 0)+:(8)];
+        l_sc = l_sh[(32'h8 * 0)+:(8)];
         l_c = (({{8{1'b0}}, l_ch} * l_f) + k_half) >> 32'h8;
         if (l_c > k_max) begin
-            l_c = k_sat;
+            l_c = k_max;
+        end
+        l_d = k_zero16;
+        if (l_ch > l_sc) begin
+            l_d = {{8{1'b0}}, l_ch} - {{8{1'b0}}, l_sc};
+        end
+        l_drop = ((l_d * l_g) + k_half) >> 32'h8;
+        if (l_drop > l_c) begin
+            l_c = k_zero32;
+        end
+        else begin
+            l_c = l_c - l_drop;
         end
         l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_c[(32'h0)+:(8)]} << 32'h10);
         l_ch = l_rgb[(32'h8 * 1)+:(8)];
+        l_sc = l_sh[(32'h8 * 1)+:(8)];
         l_c = (({{8{1'b0}}, l_ch} * l_f) + k_half) >> 32'h8;
         if (l_c > k_max) begin
-            l_c = k_sat;
+            l_c = k_max;
+        end
+        l_d = k_zero16;
+        if (l_ch > l_sc) begin
+            l_d = {{8{1'b0}}, l_ch} - {{8{1'b0}}, l_sc};
+        end
+        l_drop = ((l_d * l_g) + k_half) >> 32'h8;
+        if (l_drop > l_c) begin
+            l_c = k_zero32;
+        end
+        else begin
+            l_c = l_c - l_drop;
         end
         l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_c[(32'h0)+:(8)]} << 32'h10);
         l_ch = l_rgb[(32'h8 * 2)+:(8)];
+        l_sc = l_sh[(32'h8 * 2)+:(8)];
         l_c = (({{8{1'b0}}, l_ch} * l_f) + k_half) >> 32'h8;
         if (l_c > k_max) begin
-            l_c = k_sat;
+            l_c = k_max;
+        end
+        l_d = k_zero16;
+        if (l_ch > l_sc) begin
+            l_d = {{8{1'b0}}, l_ch} - {{8{1'b0}}, l_sc};
+        end
+        l_drop = ((l_d * l_g) + k_half) >> 32'h8;
+        if (l_drop > l_c) begin
+            l_c = k_zero32;
+        end
+        else begin
+            l_c = l_c - l_drop;
         end
         l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_c[(32'h0)+:(8)]} << 32'h10);
         l_word = s1_word$q;
@@ -2801,14 +2916,14 @@ module pixelproc_top$shade$ftab(read_address,read_clock,read_data,write_address,
     // Module arguments
     input wire  [14:0] read_address;
     input wire  read_clock;
-    output reg  [8:0] read_data;
+    output reg  [17:0] read_data;
     input wire  [14:0] write_address;
     input wire  write_clock;
-    input wire  [8:0] write_data;
+    input wire  [17:0] write_data;
     input wire  write_enable;
     
     // Update code (custom)
-    reg[8:0] mem[32767:0];
+    reg[17:0] mem[32767:0];
     
     
     
