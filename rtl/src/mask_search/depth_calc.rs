@@ -19,8 +19,10 @@ const _: () = assert!(LO == 27 && HI == 26, "the kernel uses literal 27 and 26")
 /// Every carry chain is at most 28 bits long (for the clock: a 53-bit chain alone takes
 /// about 2.7 ns on ECP5). Pipeline ([`DEPTH_LATENCY`](super::DEPTH_LATENCY) = 6 register
 /// stages):
-/// - D1: the terms and two carry-save levels, 9 → 6 → 4 vectors per end;
-/// - D2: two more carry-save levels, 4 → 3 → 2 (sum `s`, carry `k`);
+/// - D1: the terms and one carry-save level, 9 → 6 vectors per end (the ROM word's
+///   offset bits each drive 53 term bits, so this stage keeps one logic level after
+///   that wide fan-out);
+/// - D2: three more carry-save levels, 6 → 4 → 3 → 2 (sum `s`, carry `k`);
 /// - D3: the low 27 bits `s + k` with their carry-out (a 28-bit add);
 /// - D4: the high 26 bits with that carry-in, so `z1`, `z2` are complete; beside it the
 ///   borrow of `z1 − z2` in the low 27 bits;
@@ -53,15 +55,19 @@ pub struct DepthCalc {
     pub zmin: Signal<Out, Bits<Z_BITS>>,
     /// `max(z1, z2)` (signed).
     pub zmax: Signal<Out, Bits<Z_BITS>>,
-    // D1: four carry-save vectors per end.
+    // D1: six carry-save vectors per end.
     e1_a: DFF<Bits<Z_BITS>>,
     e1_b: DFF<Bits<Z_BITS>>,
     e1_c: DFF<Bits<Z_BITS>>,
     e1_d: DFF<Bits<Z_BITS>>,
+    e1_e: DFF<Bits<Z_BITS>>,
+    e1_f: DFF<Bits<Z_BITS>>,
     e2_a: DFF<Bits<Z_BITS>>,
     e2_b: DFF<Bits<Z_BITS>>,
     e2_c: DFF<Bits<Z_BITS>>,
     e2_d: DFF<Bits<Z_BITS>>,
+    e2_e: DFF<Bits<Z_BITS>>,
+    e2_f: DFF<Bits<Z_BITS>>,
     // D2: sum and carry per end.
     e1_s: DFF<Bits<Z_BITS>>,
     e1_k: DFF<Bits<Z_BITS>>,
@@ -150,10 +156,14 @@ impl DepthCalc {
             e1_b: Default::default(),
             e1_c: Default::default(),
             e1_d: Default::default(),
+            e1_e: Default::default(),
+            e1_f: Default::default(),
             e2_a: Default::default(),
             e2_b: Default::default(),
             e2_c: Default::default(),
             e2_d: Default::default(),
+            e2_e: Default::default(),
+            e2_f: Default::default(),
             e1_s: Default::default(),
             e1_k: Default::default(),
             e2_s: Default::default(),
@@ -219,9 +229,9 @@ impl Logic for DepthCalc {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, e1_a, e1_b, e1_c, e1_d, e2_a, e2_b, e2_c, e2_d, e1_s, e1_k, e2_s, e2_k,
-            e1_lo, e1_hs, e1_hk, e2_lo, e2_hs, e2_hk, z1_4, z2_4, bw_4, z1_5, z2_5, lt_5, z1_r,
-            z2_r, zmin_r, zmax_r
+            self, clock, e1_a, e1_b, e1_c, e1_d, e1_e, e1_f, e2_a, e2_b, e2_c, e2_d, e2_e, e2_f,
+            e1_s, e1_k, e2_s, e2_k, e1_lo, e1_hs, e1_hk, e2_lo, e2_hs, e2_hk, z1_4, z2_4, bw_4,
+            z1_5, z2_5, lt_5, z1_r, z2_r, zmin_r, zmax_r
         );
         // Sign extension 48 -> 53 bits (bit 47 = PB - 1; a literal, since a named
         // constant would leak into the Verilog by name).
@@ -237,7 +247,7 @@ impl Logic for DepthCalc {
         if self.sy.val().get_bit(47) {
             self.sye.next = self.sye.val() | self.k_sext.val();
         }
-        // D1, end 1 (dx = word[3:0], dy = word[7:4]): terms, then 9 -> 6 -> 4.
+        // D1, end 1 (dx = word[3:0], dy = word[7:4]): terms, then 9 -> 6.
         self.tx0.next = self.k_zero.val();
         self.tx1.next = self.k_zero.val();
         self.tx2.next = self.k_zero.val();
@@ -289,14 +299,12 @@ impl Logic for DepthCalc {
         if self.word.val().get_bit(7) {
             self.cc.next = self.cc.val() | self.k_one.val();
         }
-        self.e1_a.d.next = (self.sa.val() ^ self.ca.val()) ^ self.sb.val();
-        self.e1_b.d.next = (((self.sa.val() & self.ca.val()) | (self.sa.val() & self.sb.val()))
-            | (self.ca.val() & self.sb.val()))
-            << self.k_sh1.val();
-        self.e1_c.d.next = (self.cb.val() ^ self.sc.val()) ^ self.cc.val();
-        self.e1_d.d.next = (((self.cb.val() & self.sc.val()) | (self.cb.val() & self.cc.val()))
-            | (self.sc.val() & self.cc.val()))
-            << self.k_sh1.val();
+        self.e1_a.d.next = self.sa.val();
+        self.e1_b.d.next = self.ca.val();
+        self.e1_c.d.next = self.sb.val();
+        self.e1_d.d.next = self.cb.val();
+        self.e1_e.d.next = self.sc.val();
+        self.e1_f.d.next = self.cc.val();
         // D1, end 2 (dx = word[11:8], dy = word[15:12]): the same.
         self.tx0.next = self.k_zero.val();
         self.tx1.next = self.k_zero.val();
@@ -348,34 +356,48 @@ impl Logic for DepthCalc {
         if self.word.val().get_bit(15) {
             self.cc.next = self.cc.val() | self.k_one.val();
         }
-        self.e2_a.d.next = (self.sa.val() ^ self.ca.val()) ^ self.sb.val();
-        self.e2_b.d.next = (((self.sa.val() & self.ca.val()) | (self.sa.val() & self.sb.val()))
-            | (self.ca.val() & self.sb.val()))
-            << self.k_sh1.val();
-        self.e2_c.d.next = (self.cb.val() ^ self.sc.val()) ^ self.cc.val();
-        self.e2_d.d.next = (((self.cb.val() & self.sc.val()) | (self.cb.val() & self.cc.val()))
-            | (self.sc.val() & self.cc.val()))
-            << self.k_sh1.val();
-        // D2: 4 -> 3 -> 2 per end.
-        self.sf.next = (self.e1_a.q.val() ^ self.e1_b.q.val()) ^ self.e1_c.q.val();
-        self.cf.next = (((self.e1_a.q.val() & self.e1_b.q.val())
+        self.e2_a.d.next = self.sa.val();
+        self.e2_b.d.next = self.ca.val();
+        self.e2_c.d.next = self.sb.val();
+        self.e2_d.d.next = self.cb.val();
+        self.e2_e.d.next = self.sc.val();
+        self.e2_f.d.next = self.cc.val();
+        // D2: 6 -> 4 -> 3 -> 2 per end.
+        self.sa.next = (self.e1_a.q.val() ^ self.e1_b.q.val()) ^ self.e1_c.q.val();
+        self.ca.next = (((self.e1_a.q.val() & self.e1_b.q.val())
             | (self.e1_a.q.val() & self.e1_c.q.val()))
             | (self.e1_b.q.val() & self.e1_c.q.val()))
             << self.k_sh1.val();
-        self.e1_s.d.next = (self.sf.val() ^ self.cf.val()) ^ self.e1_d.q.val();
-        self.e1_k.d.next = (((self.sf.val() & self.cf.val())
-            | (self.sf.val() & self.e1_d.q.val()))
-            | (self.cf.val() & self.e1_d.q.val()))
+        self.sb.next = (self.e1_d.q.val() ^ self.e1_e.q.val()) ^ self.e1_f.q.val();
+        self.cb.next = (((self.e1_d.q.val() & self.e1_e.q.val())
+            | (self.e1_d.q.val() & self.e1_f.q.val()))
+            | (self.e1_e.q.val() & self.e1_f.q.val()))
             << self.k_sh1.val();
-        self.sf.next = (self.e2_a.q.val() ^ self.e2_b.q.val()) ^ self.e2_c.q.val();
-        self.cf.next = (((self.e2_a.q.val() & self.e2_b.q.val())
+        self.sf.next = (self.sa.val() ^ self.ca.val()) ^ self.sb.val();
+        self.cf.next = (((self.sa.val() & self.ca.val()) | (self.sa.val() & self.sb.val()))
+            | (self.ca.val() & self.sb.val()))
+            << self.k_sh1.val();
+        self.e1_s.d.next = (self.sf.val() ^ self.cf.val()) ^ self.cb.val();
+        self.e1_k.d.next = (((self.sf.val() & self.cf.val()) | (self.sf.val() & self.cb.val()))
+            | (self.cf.val() & self.cb.val()))
+            << self.k_sh1.val();
+        self.sa.next = (self.e2_a.q.val() ^ self.e2_b.q.val()) ^ self.e2_c.q.val();
+        self.ca.next = (((self.e2_a.q.val() & self.e2_b.q.val())
             | (self.e2_a.q.val() & self.e2_c.q.val()))
             | (self.e2_b.q.val() & self.e2_c.q.val()))
             << self.k_sh1.val();
-        self.e2_s.d.next = (self.sf.val() ^ self.cf.val()) ^ self.e2_d.q.val();
-        self.e2_k.d.next = (((self.sf.val() & self.cf.val())
-            | (self.sf.val() & self.e2_d.q.val()))
-            | (self.cf.val() & self.e2_d.q.val()))
+        self.sb.next = (self.e2_d.q.val() ^ self.e2_e.q.val()) ^ self.e2_f.q.val();
+        self.cb.next = (((self.e2_d.q.val() & self.e2_e.q.val())
+            | (self.e2_d.q.val() & self.e2_f.q.val()))
+            | (self.e2_e.q.val() & self.e2_f.q.val()))
+            << self.k_sh1.val();
+        self.sf.next = (self.sa.val() ^ self.ca.val()) ^ self.sb.val();
+        self.cf.next = (((self.sa.val() & self.ca.val()) | (self.sa.val() & self.sb.val()))
+            | (self.ca.val() & self.sb.val()))
+            << self.k_sh1.val();
+        self.e2_s.d.next = (self.sf.val() ^ self.cf.val()) ^ self.cb.val();
+        self.e2_k.d.next = (((self.sf.val() & self.cf.val()) | (self.sf.val() & self.cb.val()))
+            | (self.cf.val() & self.cb.val()))
             << self.k_sh1.val();
         // D3: low 27 bits with carry-out; the high halves wait a clock.
         self.l_a.next = self.e1_s.q.val().get_bits::<27>(0);
@@ -444,10 +466,14 @@ impl Logic for DepthCalc {
             self.e1_b.d.next = self.k_zero.val();
             self.e1_c.d.next = self.k_zero.val();
             self.e1_d.d.next = self.k_zero.val();
+            self.e1_e.d.next = self.k_zero.val();
+            self.e1_f.d.next = self.k_zero.val();
             self.e2_a.d.next = self.k_zero.val();
             self.e2_b.d.next = self.k_zero.val();
             self.e2_c.d.next = self.k_zero.val();
             self.e2_d.d.next = self.k_zero.val();
+            self.e2_e.d.next = self.k_zero.val();
+            self.e2_f.d.next = self.k_zero.val();
             self.e1_s.d.next = self.k_zero.val();
             self.e1_k.d.next = self.k_zero.val();
             self.e2_s.d.next = self.k_zero.val();
