@@ -128,8 +128,9 @@ pub struct DepthCalc {
     h_b: Signal<Local, Bits<HI>>,
     w_a: Signal<Local, Bits<LO>>,
     w_b: Signal<Local, Bits<LO>>,
-    w_s: Signal<Local, Bits<LO>>,
-    d_lo: Signal<Local, Bits<28>>,
+    /// Every add and subtract of D4 and D5, at 28 bits (one local, so that the bits no
+    /// add reads, only bit 0, make one lint note).
+    w28: Signal<Local, Bits<28>>,
 }
 
 impl Default for DepthCalc {
@@ -219,8 +220,7 @@ impl DepthCalc {
             h_b: Default::default(),
             w_a: Default::default(),
             w_b: Default::default(),
-            w_s: Default::default(),
-            d_lo: Default::default(),
+            w28: Default::default(),
         }
     }
 }
@@ -420,8 +420,8 @@ impl Logic for DepthCalc {
         if self.e1_lo.q.val().get_bit(27) {
             self.w_b.next = self.w_b.val() | self.k_one_27.val();
         }
-        self.w_s.next = self.w_a.val() + self.w_b.val();
-        self.h_a.next = self.w_s.val().get_bits::<26>(1);
+        self.w28.next = bit_cast::<28, LO>(self.w_a.val()) + bit_cast::<28, LO>(self.w_b.val());
+        self.h_a.next = self.w28.val().get_bits::<26>(1);
         self.l_a.next = self.e1_lo.q.val().get_bits::<27>(0);
         self.z1_4.d.next = (bit_cast::<Z_BITS, HI>(self.h_a.val()) << self.k_sh27.val())
             | bit_cast::<Z_BITS, LO>(self.l_a.val());
@@ -433,13 +433,13 @@ impl Logic for DepthCalc {
         if self.e2_lo.q.val().get_bit(27) {
             self.w_b.next = self.w_b.val() | self.k_one_27.val();
         }
-        self.w_s.next = self.w_a.val() + self.w_b.val();
-        self.h_a.next = self.w_s.val().get_bits::<26>(1);
+        self.w28.next = bit_cast::<28, LO>(self.w_a.val()) + bit_cast::<28, LO>(self.w_b.val());
+        self.h_a.next = self.w28.val().get_bits::<26>(1);
         self.l_b.next = self.e2_lo.q.val().get_bits::<27>(0);
         self.z2_4.d.next = (bit_cast::<Z_BITS, HI>(self.h_a.val()) << self.k_sh27.val())
             | bit_cast::<Z_BITS, LO>(self.l_b.val());
-        self.d_lo.next = bit_cast::<28, LO>(self.l_a.val()) - bit_cast::<28, LO>(self.l_b.val());
-        self.bw_4.d.next = self.d_lo.val().get_bit(27);
+        self.w28.next = bit_cast::<28, LO>(self.l_a.val()) - bit_cast::<28, LO>(self.l_b.val());
+        self.bw_4.d.next = self.w28.val().get_bit(27);
         // D5: sign of z1 − z2 from the high 26 bits and the borrow, {a, 0} − {b, bw}.
         self.h_a.next = self.z1_4.q.val().get_bits::<26>(27);
         self.h_b.next = self.z2_4.q.val().get_bits::<26>(27);
@@ -448,8 +448,8 @@ impl Logic for DepthCalc {
         if self.bw_4.q.val() {
             self.w_b.next = self.w_b.val() | self.k_one_27.val();
         }
-        self.w_s.next = self.w_a.val() - self.w_b.val();
-        self.lt_5.d.next = self.w_s.val().get_bit(26);
+        self.w28.next = bit_cast::<28, LO>(self.w_a.val()) - bit_cast::<28, LO>(self.w_b.val());
+        self.lt_5.d.next = self.w28.val().get_bit(26);
         self.z1_5.d.next = self.z1_4.q.val();
         self.z2_5.d.next = self.z2_4.q.val();
         // D6: min and max.
