@@ -112,7 +112,7 @@ impl<const B: usize> OffsetRom<B> {
             .collect();
         let g = size.n() as usize;
         assert!(
-            g >= 2 && B % g == 0,
+            g >= 2 && B.is_multiple_of(g),
             "group size must divide the mask width"
         );
         let ones = |f: &dyn Fn(usize) -> bool| -> u64 {
