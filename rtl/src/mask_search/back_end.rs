@@ -1,14 +1,15 @@
 //! The shared back end of both search unit variants (seed 000, JP2569952B2, Fig. 6 blocks
 //! 7, 8 and 10): offset ROM, depth calculator and the result registers.
 
-use super::{dff_line, DepthCalc, OffsetRom, BACK_LATENCY, DEPTH_LATENCY, LINE_BITS, PB};
-use super::{ROM_LATENCY, WORD_BITS, Z_BITS};
+use super::{dff_line, DepthCalc, OffsetRom, BACK_LATENCY, DEPTH_LATENCY, IN_LATENCY, LINE_BITS};
+use super::{PB, ROM_LATENCY, WORD_BITS, Z_BITS};
 use pixelproc_formats::abuffer::MaskSize;
 use rust_hdl::prelude::*;
 
 search_block! {
-    /// The shared back end: a search result (sampled every clock) goes through the offset ROM
-    /// and the depth calculator; the result ports show it [`BACK_LATENCY`] = 6 clocks later.
+    /// The shared back end: a search result (sampled every clock into the input registers)
+    /// goes through the offset ROM and the depth calculator; the result ports show it
+    /// [`BACK_LATENCY`] = 11 clocks later (1 input register, 4 ROM, 6 depth).
     ///
     /// On `i_hit = 0` (empty mask) `i_and` is 0, the ROM reads 0 (offsets (0, 0), no pair) and
     /// every depth is `zc`, the golden fallback for a fragment without a hit.
@@ -50,7 +51,9 @@ impl<const B: usize> SearchBackEnd<B> {
     /// The back end for `size` (`size.bits() == B`).
     pub fn new(size: MaskSize) -> Self {
         // The kernel reads the last registers by literal index.
-        const _: () = assert!(ROM_LATENCY == 2 && DEPTH_LATENCY == 4 && BACK_LATENCY == 6);
+        const _: () = assert!(
+            IN_LATENCY == 1 && ROM_LATENCY == 4 && DEPTH_LATENCY == 6 && BACK_LATENCY == 11
+        );
         search_block_new!(SearchBackEnd {
             i_valid: Default::default(),
             i_hit: Default::default(),
@@ -65,9 +68,9 @@ impl<const B: usize> SearchBackEnd<B> {
             hit_d: dff_line(BACK_LATENCY),
             steps_d: dff_line(BACK_LATENCY),
             and_d: dff_line(BACK_LATENCY),
-            zc_d: dff_line(ROM_LATENCY),
-            sx_d: dff_line(ROM_LATENCY),
-            sy_d: dff_line(ROM_LATENCY),
+            zc_d: dff_line(IN_LATENCY + ROM_LATENCY),
+            sx_d: dff_line(IN_LATENCY + ROM_LATENCY),
+            sy_d: dff_line(IN_LATENCY + ROM_LATENCY),
             word_d: dff_line(DEPTH_LATENCY),
             k_zero_b: Constant::new(0u64.to_bits()),
             k_zero_p: Constant::new(0u64.to_bits()),
@@ -101,7 +104,7 @@ impl<const B: usize> Logic for SearchBackEnd<B> {
             self.steps_d[i].d.next = self.steps_d[i - 1].q.val();
             self.and_d[i].d.next = self.and_d[i - 1].q.val();
         }
-        // Plane: ROM_LATENCY registers, aligned with the ROM word.
+        // Plane: IN_LATENCY + ROM_LATENCY registers, aligned with the ROM word.
         for i in 0..self.zc_d.len() {
             self.zc_d[i].clock.next = self.clock.val();
             self.sx_d[i].clock.next = self.clock.val();
@@ -123,20 +126,21 @@ impl<const B: usize> Logic for SearchBackEnd<B> {
         for i in 1..self.word_d.len() {
             self.word_d[i].d.next = self.word_d[i - 1].q.val();
         }
-        self.rom.and_in.next = self.i_and.val();
+        // The ROM reads the registered AND result (the input register, `and_d[0]`).
+        self.rom.and_in.next = self.and_d[0].q.val();
         self.depth.word.next = self.rom.word.val();
         // Every signal crossing a module boundary is written exactly once per evaluation
         // (no default-then-override): an intermediate value on a port that feeds back
         // into the writer's inputs makes event-driven simulators (Icarus) loop at zero
         // delay. Hence literal indices of the last registers (checked in `new`).
-        self.depth.zc.next = self.zc_d[1].q.val();
-        self.depth.sx.next = self.sx_d[1].q.val();
-        self.depth.sy.next = self.sy_d[1].q.val();
-        self.out_valid.next = self.valid_d[5].q.val();
-        self.out_hit.next = self.hit_d[5].q.val();
-        self.out_steps.next = self.steps_d[5].q.val();
-        self.out_and.next = self.and_d[5].q.val();
-        self.out_rom.next = self.word_d[3].q.val();
+        self.depth.zc.next = self.zc_d[4].q.val();
+        self.depth.sx.next = self.sx_d[4].q.val();
+        self.depth.sy.next = self.sy_d[4].q.val();
+        self.out_valid.next = self.valid_d[10].q.val();
+        self.out_hit.next = self.hit_d[10].q.val();
+        self.out_steps.next = self.steps_d[10].q.val();
+        self.out_and.next = self.and_d[10].q.val();
+        self.out_rom.next = self.word_d[5].q.val();
         self.out_z1.next = self.depth.z1.val();
         self.out_z2.next = self.depth.z2.val();
         self.out_zmin.next = self.depth.zmin.val();

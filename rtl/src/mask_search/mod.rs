@@ -26,8 +26,8 @@
 //! 53-bit two's complement. Every register has a synchronous reset (`rst`, to zero).
 //! `docs/rtl_mask_search.md` gives ports, handshakes, latencies and synthesis figures.
 //!
-//! One block per file: [`iter`] with its [`mask_gen`], [`stage`], [`pipe`], [`back_end`], [`depth_calc`] with
-//! its [`shift_add`], and [`offset_rom`]; each file carries a short smoke simulation and
+//! One block per file: [`iter`] with its [`mask_gen`], [`stage`], [`pipe`], [`back_end`], [`depth_calc`]
+//! and [`offset_rom`]; each file carries a short smoke simulation and
 //! a Yosys check of its block (the exhaustive comparisons are in the testbench crate);
 //! this module holds the widths, latencies and errors they share, and its `ports` macros
 //! declare the ports that the two units and the back end have in common.
@@ -49,7 +49,6 @@ pub mod offset_rom;
 pub mod pipe;
 pub mod pipe_stream;
 pub mod result_fifo;
-pub mod shift_add;
 pub mod stage;
 
 pub use back_end::SearchBackEnd;
@@ -61,7 +60,6 @@ pub use offset_rom::{OffsetRom, ROM_LATENCY, WORD_BITS};
 pub use pipe::MaskSearchPipe;
 pub use pipe_stream::{pipe_fifo_depth, MaskSearchPipeStream};
 pub use result_fifo::ResultFifo;
-pub use shift_add::ShiftAdd;
 pub use stage::{SearchStage, StageProbe};
 
 use pixelproc_formats::abuffer::{MaskSize, SearchFamily, PLANE_BITS};
@@ -81,9 +79,12 @@ const _: () = assert!(
 /// Width of the line index and of the step count.
 pub const LINE_BITS: usize = 5;
 /// Clocks through the depth calculator.
-pub const DEPTH_LATENCY: usize = 4;
+pub const DEPTH_LATENCY: usize = 6;
+/// The back end's input register (the search result is registered before the ROM reads
+/// it).
+pub const IN_LATENCY: usize = 1;
 /// Clocks from a search result (the clock its last line is tested) to the result ports.
-pub const BACK_LATENCY: usize = ROM_LATENCY + DEPTH_LATENCY;
+pub const BACK_LATENCY: usize = IN_LATENCY + ROM_LATENCY + DEPTH_LATENCY;
 
 /// Width of a stream search word (`s_tdata`) for `b`-bit masks. Fields, LSB first:
 /// `zc[48]` at 0, `sx[48]` at 48, `sy[48]` at 96, `corner[2]` at 144, `mask[b]` at 146.
@@ -408,7 +409,7 @@ mod tests {
             Err(MaskSearchError::TooManyLines { .. })
         ));
         let p = MaskSearchPipe::<64>::new(MaskSize::S8X8, SearchFamily::DIAGONAL).unwrap();
-        assert_eq!(p.latency(), 15 + 6);
+        assert_eq!(p.latency(), 15 + 11);
         assert!(mask_search_verilog(Variant::Pipelined, MaskSize::new(4, 2).unwrap()).is_err());
     }
 }

@@ -7,20 +7,24 @@
 //! its most and least significant set bits. The hardware therefore is
 //!
 //! 1. two priority selectors that isolate the most and the least significant set bit as
-//!    one-hot vectors (`msb = x & !(bits above)`, `lsb = x & !(bits below)`, the "above" and
-//!    "below" vectors built by a logarithmic shift-OR smear, no carry chain);
-//! 2. the `n·m`-entry table of 8-bit [`SubOffset`] words, read at both one-hot addresses as
-//!    an AND-OR per output bit (bit `b` of the word is set iff the selected entry has bit
-//!    `b`: one constant column mask per bit);
-//! 3. `pair = (msb ≠ lsb)`.
+//!    one-hot vectors, in two levels so that no path crosses the whole mask: the mask is cut
+//!    into groups of `g = n` bits (a subpixel row); R1 isolates the highest and lowest set
+//!    bit inside each group (`x & !(bits above in the group)`, `x & !(bits below)`, each an
+//!    OR of at most `g − 1` shifted copies) and marks every bit of a non-empty group; R2
+//!    keeps a group's bit only if no non-empty group lies above (below) it;
+//! 2. the `n·m`-entry table of 8-bit [`SubOffset`] words, read at both one-hot
+//!    addresses as an AND-OR per output bit (bit `b` of the word is set iff the selected
+//!    entry has bit `b`: one constant column mask per bit), and `pair = (msb ≠ lsb)`;
+//!    again in two levels: R3 ORs inside each group, R4 across the groups.
 //!
 //! The output is the golden [`RomWord`] packing, 17 bits: `[7:0]` end 1 (most significant
 //! set bit), `[15:8]` end 2 (least significant), `[16]` pair. An all-zero input reads 0
 //! (both ends (0, 0), no pair); the search unit only uses the ROM after a hit.
 //!
-//! Timing: two register stages. `and_in` is sampled at rising edge `E` into the one-hot
-//! registers; the word register is loaded at `E + 1` and shows on `word` after it
-//! ([`ROM_LATENCY`] = 2). `rst` (synchronous) clears both stages.
+//! Timing: four register stages, each at most a few LUT levels deep. `and_in` is sampled
+//! at rising edge `E` into the R1 registers, R2 at `E + 1`, R3 at `E + 2`, the word
+//! register at `E + 3`; the word shows after it ([`ROM_LATENCY`] = 4). `rst`
+//! (synchronous) clears every stage.
 //!
 //! [`SubOffset`]: pixelproc_formats::abuffer::SubOffset
 //! [`RomWord`]: pixelproc_formats::abuffer::RomWord
@@ -29,7 +33,7 @@ use pixelproc_formats::abuffer::{offset_rom_table, MaskSize, ROM_WORD_BITS};
 use rust_hdl::prelude::*;
 
 /// Clocks from `and_in` to `word`.
-pub const ROM_LATENCY: usize = 2;
+pub const ROM_LATENCY: usize = 4;
 
 /// Width of the ROM word (the golden `RomWord`).
 pub const WORD_BITS: usize = ROM_WORD_BITS as usize;
@@ -45,21 +49,40 @@ pub struct OffsetRom<const B: usize> {
     pub and_in: Signal<In, Bits<B>>,
     /// The ROM word, [`ROM_LATENCY`] clocks after `and_in`.
     pub word: Signal<Out, Bits<WORD_BITS>>,
+    /// R1: highest / lowest set bit of each group, and every bit of a non-empty group.
+    gmsb_r: DFF<Bits<B>>,
+    glsb_r: DFF<Bits<B>>,
+    grp_r: DFF<Bits<B>>,
+    /// R2: the one-hot highest / lowest set bit.
     hi_r: DFF<Bits<B>>,
     lo_r: DFF<Bits<B>>,
+    /// R3: per word bit `b`, bit `i·g` of `p1[b]` (`p2[b]`) is bit `b` of the table entry
+    /// group `i` selects for end 1 (end 2); `px_r` bit `i·g`: group `i` holds one end
+    /// and not the other. Only those bits are kept; Yosys removes the others (constant 0).
+    p1: Vec<DFF<Bits<B>>>,
+    p2: Vec<DFF<Bits<B>>>,
+    px_r: DFF<Bits<B>>,
     word_r: DFF<Bits<WORD_BITS>>,
     /// Column masks: entry `b` holds the bit indices whose ROM word has bit `b` set.
     k_col: Vec<Constant<Bits<B>>>,
-    /// Shift distances of the smear: 1, 2, 4, ... below `B`.
-    k_sh: Vec<Constant<Bits<8>>>,
+    /// Shift distances inside a group: 1 .. g − 1.
+    k_sh_in: Vec<Constant<Bits<8>>>,
+    /// Bits `j` whose bit `j + s` (`s` = `k_sh_in[i]`) is in the same group.
+    k_keep_up: Vec<Constant<Bits<B>>>,
+    /// Bits `j` whose bit `j − s` is in the same group.
+    k_keep_dn: Vec<Constant<Bits<B>>>,
+    /// Shift distances between groups: g, 2g, ... below `B`.
+    k_sh_grp: Vec<Constant<Bits<8>>>,
     /// One-hot word bits `1 << i`, `i = 0..8`.
     k_bit1: Vec<Constant<Bits<WORD_BITS>>>,
     /// One-hot word bits `1 << (i + 8)`, `i = 0..8`.
     k_bit2: Vec<Constant<Bits<WORD_BITS>>>,
     k_pair: Constant<Bits<WORD_BITS>>,
-    k_one: Constant<Bits<8>>,
     k_zero_b: Constant<Bits<B>>,
     k_zero_w: Constant<Bits<WORD_BITS>>,
+    /// The first bit of every group.
+    k_first: Constant<Bits<B>>,
+    red: Signal<Local, Bits<B>>,
     above: Signal<Local, Bits<B>>,
     below: Signal<Local, Bits<B>>,
     t1: Signal<Local, Bits<B>>,
@@ -87,22 +110,45 @@ impl<const B: usize> OffsetRom<B> {
                 Constant::new(m.to_bits())
             })
             .collect();
-        let mut k_sh = Vec::new();
-        let mut s = 1u64;
-        while (s as usize) < B {
-            k_sh.push(Constant::new(s.to_bits()));
-            s *= 2;
-        }
+        let g = size.n() as usize;
+        assert!(
+            g >= 2 && B.is_multiple_of(g),
+            "group size must divide the mask width"
+        );
+        let ones = |f: &dyn Fn(usize) -> bool| -> u64 {
+            (0..B).filter(|&j| f(j)).fold(0u64, |a, j| a | (1u64 << j))
+        };
+        let k_sh_in = (1..g)
+            .map(|s| Constant::new((s as u64).to_bits()))
+            .collect();
+        let k_keep_up = (1..g)
+            .map(|s| Constant::new(ones(&|j| j % g + s < g).to_bits()))
+            .collect();
+        let k_keep_dn = (1..g)
+            .map(|s| Constant::new(ones(&|j| j % g >= s).to_bits()))
+            .collect();
+        let k_sh_grp = (1..B / g)
+            .map(|t| Constant::new(((t * g) as u64).to_bits()))
+            .collect();
         OffsetRom {
             clock: Default::default(),
             rst: Default::default(),
             and_in: Default::default(),
             word: Default::default(),
+            gmsb_r: Default::default(),
+            glsb_r: Default::default(),
+            grp_r: Default::default(),
             hi_r: Default::default(),
             lo_r: Default::default(),
+            p1: super::dff_line(8),
+            p2: super::dff_line(8),
+            px_r: Default::default(),
             word_r: Default::default(),
             k_col,
-            k_sh,
+            k_sh_in,
+            k_keep_up,
+            k_keep_dn,
+            k_sh_grp,
             k_bit1: (0..8)
                 .map(|i| Constant::new((1u64 << i).to_bits()))
                 .collect(),
@@ -110,9 +156,10 @@ impl<const B: usize> OffsetRom<B> {
                 .map(|i| Constant::new((1u64 << (i + 8)).to_bits()))
                 .collect(),
             k_pair: Constant::new((1u64 << 16).to_bits()),
-            k_one: Constant::new(1u64.to_bits()),
             k_zero_b: Constant::new(0u64.to_bits()),
             k_zero_w: Constant::new(0u64.to_bits()),
+            k_first: Constant::new(ones(&|j| j % g == 0).to_bits()),
+            red: Default::default(),
             above: Default::default(),
             below: Default::default(),
             t1: Default::default(),
@@ -125,36 +172,86 @@ impl<const B: usize> OffsetRom<B> {
 impl<const B: usize> Logic for OffsetRom<B> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, hi_r, lo_r, word_r);
-        // Stage 1: isolate the most and least significant set bits (one-hot).
-        // above[i] = OR of and_in[j], j > i; below[i] = OR of and_in[j], j < i.
-        self.above.next = self.and_in.val() >> self.k_one.val();
-        self.below.next = self.and_in.val() << self.k_one.val();
-        for i in 0..self.k_sh.len() {
-            self.above.next = self.above.val() | (self.above.val() >> self.k_sh[i].val());
-            self.below.next = self.below.val() | (self.below.val() << self.k_sh[i].val());
+        dff_setup!(self, clock, gmsb_r, glsb_r, grp_r, hi_r, lo_r, px_r, word_r);
+        for b in 0..self.p1.len() {
+            self.p1[b].clock.next = self.clock.val();
+            self.p2[b].clock.next = self.clock.val();
+            self.p1[b].d.next = self.p1[b].q.val();
+            self.p2[b].d.next = self.p2[b].q.val();
         }
-        self.hi_r.d.next = self.and_in.val() & (!self.above.val());
-        self.lo_r.d.next = self.and_in.val() & (!self.below.val());
-        // Stage 2: read the table at both one-hot addresses (AND-OR per word bit).
-        self.w.next = self.k_zero_w.val();
+        // R1: inside each group, above[j] = OR of the group's bits above j, below[j] of
+        // those below.
+        self.above.next = self.k_zero_b.val();
+        self.below.next = self.k_zero_b.val();
+        for i in 0..self.k_sh_in.len() {
+            self.above.next = self.above.val()
+                | ((self.and_in.val() >> self.k_sh_in[i].val()) & self.k_keep_up[i].val());
+            self.below.next = self.below.val()
+                | ((self.and_in.val() << self.k_sh_in[i].val()) & self.k_keep_dn[i].val());
+        }
+        self.gmsb_r.d.next = self.and_in.val() & (!self.above.val());
+        self.glsb_r.d.next = self.and_in.val() & (!self.below.val());
+        self.grp_r.d.next = (self.and_in.val() | self.above.val()) | self.below.val();
+        // R2: keep a group's highest (lowest) bit if no group above (below) is non-empty.
+        self.above.next = self.k_zero_b.val();
+        self.below.next = self.k_zero_b.val();
+        for i in 0..self.k_sh_grp.len() {
+            self.above.next = self.above.val() | (self.grp_r.q.val() >> self.k_sh_grp[i].val());
+            self.below.next = self.below.val() | (self.grp_r.q.val() << self.k_sh_grp[i].val());
+        }
+        self.hi_r.d.next = self.gmsb_r.q.val() & (!self.above.val());
+        self.lo_r.d.next = self.glsb_r.q.val() & (!self.below.val());
+        // R3: read the table at both one-hot addresses (AND-OR per word bit), first
+        // inside each group (an OR of g bits, gathered at the group's first bit).
         for b in 0..self.k_col.len() {
             self.t1.next = self.hi_r.q.val() & self.k_col[b].val();
+            self.red.next = self.t1.val();
+            for i in 0..self.k_sh_in.len() {
+                self.red.next = self.red.val()
+                    | ((self.t1.val() >> self.k_sh_in[i].val()) & self.k_keep_up[i].val());
+            }
+            self.p1[b].d.next = self.red.val() & self.k_first.val();
             self.t2.next = self.lo_r.q.val() & self.k_col[b].val();
-            if self.t1.val() != self.k_zero_b.val() {
+            self.red.next = self.t2.val();
+            for i in 0..self.k_sh_in.len() {
+                self.red.next = self.red.val()
+                    | ((self.t2.val() >> self.k_sh_in[i].val()) & self.k_keep_up[i].val());
+            }
+            self.p2[b].d.next = self.red.val() & self.k_first.val();
+        }
+        // pair = (msb ≠ lsb): some group holds exactly one of the two one-hot bits.
+        self.t1.next = self.hi_r.q.val() ^ self.lo_r.q.val();
+        self.red.next = self.t1.val();
+        for i in 0..self.k_sh_in.len() {
+            self.red.next = self.red.val()
+                | ((self.t1.val() >> self.k_sh_in[i].val()) & self.k_keep_up[i].val());
+        }
+        self.px_r.d.next = self.red.val() & self.k_first.val();
+        // R4: then across the groups.
+        self.w.next = self.k_zero_w.val();
+        for b in 0..self.k_bit1.len() {
+            if self.p1[b].q.val() != self.k_zero_b.val() {
                 self.w.next = self.w.val() | self.k_bit1[b].val();
             }
-            if self.t2.val() != self.k_zero_b.val() {
+            if self.p2[b].q.val() != self.k_zero_b.val() {
                 self.w.next = self.w.val() | self.k_bit2[b].val();
             }
         }
-        if self.hi_r.q.val() != self.lo_r.q.val() {
+        if self.px_r.q.val() != self.k_zero_b.val() {
             self.w.next = self.w.val() | self.k_pair.val();
         }
         self.word_r.d.next = self.w.val();
         if self.rst.val() {
+            self.gmsb_r.d.next = self.k_zero_b.val();
+            self.glsb_r.d.next = self.k_zero_b.val();
+            self.grp_r.d.next = self.k_zero_b.val();
             self.hi_r.d.next = self.k_zero_b.val();
             self.lo_r.d.next = self.k_zero_b.val();
+            self.px_r.d.next = self.k_zero_b.val();
+            for b in 0..self.p1.len() {
+                self.p1[b].d.next = self.k_zero_b.val();
+                self.p2[b].d.next = self.k_zero_b.val();
+            }
             self.word_r.d.next = self.k_zero_w.val();
         }
         self.word.next = self.word_r.q.val();

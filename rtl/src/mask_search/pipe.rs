@@ -14,7 +14,7 @@ search_unit! {
     /// (`k = 0 .. lines`) holds the mask `k` edges after it was sampled and tests line `k`
     /// unless an earlier line hit; the last stage's outcome enters the back end at the next
     /// edge. A mask sampled at edge `E` shows its result on `out_*` after edge
-    /// `E + latency()`, `latency() = lines + 6` (13 for 4×4, 21 for 8×8), with `out_valid`.
+    /// `E + latency()`, `latency() = lines + 11` (18 for 4×4, 26 for 8×8; `BACK_LATENCY` = 11), with `out_valid`.
     /// Result fields are meaningful only with `out_valid`.
     pub struct MaskSearchPipe {
     }

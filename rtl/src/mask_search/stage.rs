@@ -203,11 +203,14 @@ impl<const B: usize> Logic for SearchStage<B> {
         self.o_found.next = self.found_r.q.val();
         self.o_and.next = self.and_r.q.val();
         self.o_steps.next = self.steps_r.q.val();
+        // Without an earlier hit the AND result so far is 0 (stage 0 gets 0, a stage only
+        // loads a non-zero result together with `found`), so this line's AND result is
+        // passed on whether it is zero or not: `o_and` does not wait for the zero detector.
         if self.test.val() {
             self.o_steps.next = self.k_steps.val();
+            self.o_and.next = self.and_v.val();
             if self.and_v.val() != self.k_zero_b.val() {
                 self.o_found.next = true;
-                self.o_and.next = self.and_v.val();
             }
         }
         self.o_zc.next = self.zc_r.q.val();
