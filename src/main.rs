@@ -153,10 +153,12 @@ fn cmd_render(a: &RenderArgs) -> Result<()> {
     );
     if !fx.shadow_lights.is_empty() {
         say!(
-            "shadows: lights {:?}, {} volumes ({} contain the eye), {} shadow span words",
+            "shadows: lights {:?} ({} shading), {} volumes ({} contain the eye, {} cut by the near plane), {} shadow span words",
             fx.shadow_lights,
+            fx.shading.name(),
             out.shadow.volumes,
             out.shadow.eye_inside,
+            out.shadow.near_caps,
             out.shadow.span_words
         );
     }

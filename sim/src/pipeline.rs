@@ -264,6 +264,7 @@ fn shadow_volumes(
     stats.volumes += sc.stats.volumes;
     stats.span_words += sc.stats.span_words;
     stats.eye_inside += sc.stats.eye_inside;
+    stats.near_caps += sc.stats.near_caps;
     Ok(())
 }
 

@@ -174,6 +174,7 @@ impl SceneStream {
                 stream.shadow_stats.volumes += sc.stats.volumes;
                 stream.shadow_stats.span_words += sc.stats.span_words;
                 stream.shadow_stats.eye_inside += sc.stats.eye_inside;
+                stream.shadow_stats.near_caps += sc.stats.near_caps;
             }
         }
         Ok(stream)
