@@ -1,0 +1,341 @@
+//! Shadows by span parity (seed 001, Matsumoto, "hardware-oriented fast shadow
+//! generation").
+//!
+//! - §2 (basic idea): after the ordinary spans of a scanline, the spans of shadow polygons
+//!   (Crow 1977 shadow volumes) are expanded volume after volume, touching only flags.
+//! - §3 (span data): shadow spans carry attr SP, EV (last span of a volume) or IF (also
+//!   inverts DSF on every pixel: the viewer is inside the volume).
+//! - §4 (per-pixel program): implemented in [`crate::pixel_array`].
+//! - §5 (cautions): joints of one volume's polygons must not be counted twice. Here shadow
+//!   polygons go through the same span setup as ordinary ones, whose top-left rule at pixel
+//!   centres *is* a half-open convention: of two polygons sharing an edge exactly one takes a
+//!   centre on it. The software form (a dummy check span per volume instead of EV) is
+//!   [`ShadowForm::Check`].
+//! - §6 (extensions): an area light is `k` point lights on a disc with a per-pixel counter
+//!   (penumbra = count / k); several lights use a quantized normal class per pixel and a
+//!   table indexed by (normal class, which lights shadow the pixel) giving the factor that
+//!   multiplies the expanded intensity ([`FactorTable`]).
+//!
+//! **Volumes.** Each mesh that casts shadows is split into connected components. A closed
+//! convex component gives one volume: its silhouette edges (one adjacent face toward the
+//! light, one away) extruded to infinity (homogeneous w = 0), so no far cap is needed; the
+//! near cap is the caster itself, which no view ray crosses in front of a visible point. A
+//! component that is open or not convex (an L-shaped block) gives one volume per face
+//! (light-facing faces of a closed component, all faces of an open one): the silhouette
+//! extrusion of a non-convex solid can overlap itself (winding number 2), where parity would
+//! be wrong, while a triangle's volume never does. FSF ORs the volumes.
+//!
+//! **Where counting starts: the near plane.** Span parity counts the shadow polygons a view
+//! ray crosses between the near plane (nothing nearer is drawn) and the visible point, so
+//! the flag a pixel needs at the start is whether its *near point* P (where its ray meets
+//! the near plane) is inside the volume, not whether the eye is. Every volume is convex,
+//! the intersection of half-spaces ([`Volume::planes`]): for one triangle, the planes
+//! through the light and each edge and the triangle's plane; for a convex caster, the
+//! planes through the light and each silhouette edge and the planes of its light-facing
+//! faces (a point of the light's cone over the caster lies beyond the caster exactly when it
+//! is behind every light-facing plane). The near plane's rectangle inside the guard band is
+//! classified against them ([`NearPlane`]): wholly inside, the first span of every row is
+//! IF (P inside for every pixel); wholly outside, nothing; cut, the *near cap* — the
+//! cross-section near rectangle ∩ volume ∩ ray box, convex — is drawn as one more polygon
+//! of the volume at the nearest depth, which toggles DSF on exactly the pixels whose P is
+//! inside (it is in front of every visible surface).
+//!
+//! Why this is exact: for a pixel with visible point Q, `[Q inside] = [P inside] ⊕ (parity
+//! of boundary crossings on PQ)`. The crossings with side polygons beyond the near plane are
+//! the SP spans with `Z < ZB`; the other part of the boundary, the caster's light-facing
+//! faces, is rendered geometry, so a view ray meets it only at or behind its visible point
+//! and never counts it (a surface point takes the shadow of the space in front of it). The
+//! cap must agree with the sides where they meet, on the line where the near plane cuts a
+//! side: its edges there are the side polygon's near edge with *bit-identical* snapped end
+//! points (the side polygons are clipped by [`Projector::clip_polygon`]'s planes with the
+//! same arithmetic, tagging the vertices on the near plane; cap corners elsewhere come from
+//! the float cross-section). With the top-left rule a pixel centre near that edge is then
+//! taken by exactly one of the two polygons when they lie on opposite sides of it, by both
+//! or neither when on the same side: its parity is that of its neighbours, no seam. The
+//! cap's other edges lie on the guard band or the ray box (no visible pixel's P is there:
+//! the segment from the eye to a visible point stays in the box) or on the caster's faces
+//! cut by the near plane (an object edge in the image). Z-fail counting (crossings behind
+//! Q) is not used: the per-pixel program only tests `Z < ZB`, and the far ends of the
+//! extrusions are clipped by the far plane. [`Volume::eye_inside`] (the segment from the
+//! eye to the light crosses the occluder) is kept for statistics only.
+
+use crate::frontend::{class_normal, Projector, GUARD};
+use crate::pixel_array::MORE_SHADE;
+use crate::pixel_array::{Command, ProcState};
+use crate::scene::LoadedScene;
+use crate::setup::{SetupError, SnappedTri, TriSetup};
+use glam::{DVec3, DVec4};
+use pixelproc_formats::core_stream::shade_rgb;
+use pixelproc_formats::{Attr, SpanWord, Z_FAR};
+use rayon::prelude::*;
+use std::collections::HashMap;
+use thiserror::Error;
+
+mod near;
+mod occluder;
+mod shading;
+mod volume;
+
+pub use near::NearPlane;
+use near::*;
+use occluder::*;
+pub use occluder::{occluders, Occluder};
+pub use shading::{apply_to_rgb8, shade, FactorTable, Shading};
+use volume::*;
+pub use volume::{ray_box, volumes, Volume};
+
+/// How a volume's end is marked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ShadowForm {
+    /// Hardware form: the last span of a volume has attr EV (every processor checks DSF).
+    #[default]
+    Ev,
+    /// Software form (§5): a dummy check span over the volume's span range instead of EV.
+    Check,
+}
+
+/// Shadow errors.
+#[derive(Debug, Error)]
+pub enum ShadowError {
+    /// A shadow polygon does not fit the fixed-point formats.
+    #[error("shadow polygon: {0}")]
+    Setup(#[from] SetupError),
+    /// Unsupported light configuration.
+    #[error("{0}")]
+    Lights(String),
+}
+
+/// Largest number of shadowing point lights (bits of the per-pixel light mask).
+pub const MAX_SHADOW_LIGHTS: usize = 8;
+
+/// One light that casts shadows, with its point samples.
+#[derive(Clone, Debug)]
+pub struct ShadowLight {
+    /// Index in the scene's lights.
+    pub index: usize,
+    /// Point lights sampling it (one for a point light).
+    pub samples: Vec<DVec3>,
+    /// Bit in the per-pixel light mask (point lights) or `None` (the area light's counter).
+    pub bit: Option<u8>,
+}
+
+/// Area-light sample positions: `k` points on a disc of radius `r` centred at `c`, facing
+/// `towards` (Vogel spiral, deterministic).
+pub fn disc_samples(c: DVec3, r: f64, k: u32, towards: DVec3) -> Vec<DVec3> {
+    let n = (towards - c).normalize_or(DVec3::NEG_Y);
+    let a = if n.x.abs() < 0.9 { DVec3::X } else { DVec3::Y };
+    let u = n.cross(a).normalize();
+    let v = n.cross(u);
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    (0..k)
+        .map(|i| {
+            let rad = r * ((i as f64 + 0.5) / k as f64).sqrt();
+            let th = i as f64 * golden;
+            c + u * (rad * th.cos()) + v * (rad * th.sin())
+        })
+        .collect()
+}
+
+/// The point samples of a scene light: its position for a point light; for an area light
+/// (`radius > 0`) `samples` (default 8) points on a horizontal disc facing down (−y), so
+/// they depend on the light alone.
+pub fn light_samples(l: &crate::scene::Light) -> Vec<DVec3> {
+    let p = DVec3::from(l.position);
+    if l.radius > 0.0 {
+        disc_samples(p, l.radius, l.samples.unwrap_or(8), p - DVec3::Y)
+    } else {
+        vec![p]
+    }
+}
+
+/// Scene centre: the middle of all mesh vertices' bounding box.
+pub fn scene_centre(ls: &LoadedScene) -> DVec3 {
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for m in &ls.meshes {
+        for p in &m.positions {
+            lo = lo.min(DVec3::from(*p));
+            hi = hi.max(DVec3::from(*p));
+        }
+    }
+    if lo.x.is_finite() {
+        (lo + hi) * 0.5
+    } else {
+        DVec3::ZERO
+    }
+}
+
+/// The shadowing lights of a scene for the given light indices: point lights get mask
+/// bits; at most one area light (radius > 0) uses the per-pixel counter.
+///
+/// An area light's disc is horizontal, facing down (−y, like a ceiling panel): its samples
+/// depend on the light alone, never on where the scene's geometry is.
+pub fn shadow_lights(ls: &LoadedScene, which: &[usize]) -> Result<Vec<ShadowLight>, ShadowError> {
+    let mut out = Vec::new();
+    let (mut bits, mut areas) = (0u8, 0);
+    for &i in which {
+        let l = &ls.scene.lights[i];
+        let p = DVec3::from(l.position);
+        if l.radius > 0.0 {
+            areas += 1;
+            if areas > 1 {
+                return Err(ShadowError::Lights(
+                    "at most one area light may cast shadows (one per-pixel counter)".into(),
+                ));
+            }
+            out.push(ShadowLight {
+                index: i,
+                samples: light_samples(l),
+                bit: None,
+            });
+        } else {
+            if bits as usize == MAX_SHADOW_LIGHTS {
+                return Err(ShadowError::Lights(format!(
+                    "at most {MAX_SHADOW_LIGHTS} point lights may cast shadows (the light mask is 8 bits)"
+                )));
+            }
+            out.push(ShadowLight {
+                index: i,
+                samples: vec![p],
+                bit: Some(bits),
+            });
+            bits += 1;
+        }
+    }
+    Ok(out)
+}
+
+/// Statistics of the shadow stage.
+#[derive(Clone, Debug, Default)]
+pub struct ShadowStats {
+    /// Shadow volumes over all light samples.
+    pub volumes: usize,
+    /// Shadow span words (SP/EV/IF, including empty IF/EV words).
+    pub span_words: u64,
+    /// Volumes containing the eye.
+    pub eye_inside: usize,
+    /// Volumes whose boundary cuts the near plane (drawn with a near cap).
+    pub near_caps: usize,
+}
+
+/// Per-row shadow commands for the array, appended after the OP spans of each row.
+pub struct ShadowCommands {
+    /// Commands of row j.
+    pub rows: Vec<Vec<Command>>,
+    /// Statistics.
+    pub stats: ShadowStats,
+}
+
+/// Builds the shadow commands of all shadowing lights: per light sample, `ClearFlags`, the
+/// volumes' spans (first IF when the eye is inside, last EV or a `Check`), then
+/// `LatchShadow` (point light) or `AccumulateShadow` (area-light sample).
+pub fn shadow_commands(
+    ls: &LoadedScene,
+    pj: &Projector,
+    lights: &[ShadowLight],
+    form: ShadowForm,
+) -> Result<ShadowCommands, ShadowError> {
+    let (w, h) = (ls.scene.width, ls.scene.height);
+    let occ = occluders(ls);
+    let bbox = ray_box(ls, pj.eye);
+    let mut rows: Vec<Vec<Command>> = vec![Vec::new(); h as usize];
+    let mut stats = ShadowStats::default();
+    for l in lights {
+        for &s in &l.samples {
+            for r in rows.iter_mut() {
+                r.push(Command::ClearFlags);
+            }
+            let vols = volumes(&occ, s, pj.eye);
+            stats.volumes += vols.len();
+            stats.eye_inside += vols.iter().filter(|v| v.eye_inside).count();
+            let per_vol: Vec<(Vec<(u32, SpanWord)>, NearPlane)> = vols
+                .par_iter()
+                .map(|v| volume_spans(pj, v, bbox, w, h))
+                .collect::<Result<_, _>>()?;
+            for (spans, near) in per_vol {
+                let inside = near == NearPlane::Inside;
+                stats.near_caps += (near == NearPlane::Cut) as usize;
+                let mut k = 0;
+                for j in 0..h {
+                    let start = k;
+                    while k < spans.len() && spans[k].0 == j {
+                        k += 1;
+                    }
+                    let row = &spans[start..k];
+                    if row.is_empty() && !inside {
+                        continue;
+                    }
+                    let out = &mut rows[j as usize];
+                    let before = out.len();
+                    emit_volume_row(out, row.iter().map(|x| x.1), inside, form, w);
+                    stats.span_words += (out.len() - before) as u64;
+                }
+            }
+            let end = match l.bit {
+                Some(bit) => Command::LatchShadow { bit },
+                None => Command::AccumulateShadow,
+            };
+            for r in rows.iter_mut() {
+                r.push(end);
+            }
+        }
+    }
+    Ok(ShadowCommands { rows, stats })
+}
+
+/// Appends one volume's commands for one row.
+fn emit_volume_row(
+    out: &mut Vec<Command>,
+    spans: impl Iterator<Item = SpanWord>,
+    eye_inside: bool,
+    form: ShadowForm,
+    width: u32,
+) {
+    let empty = SpanWord {
+        xl: 1,
+        xr: 0,
+        ..Default::default()
+    };
+    let start = out.len();
+    let (mut lo, mut hi) = (u16::MAX, 0u16);
+    for s in spans {
+        lo = lo.min(s.xl);
+        hi = hi.max(s.xr);
+        out.push(Command::Span(s));
+    }
+    if eye_inside {
+        match out.get_mut(start) {
+            Some(Command::Span(s)) => s.attr = Attr::If,
+            _ => out.push(Command::Span(SpanWord {
+                attr: Attr::If,
+                ..empty
+            })),
+        }
+    }
+    match form {
+        ShadowForm::Ev => {
+            let n = out.len() - start;
+            let last_is_plain =
+                n > 0 && matches!(out.last(), Some(Command::Span(s)) if s.attr == Attr::Sp);
+            if last_is_plain {
+                if let Some(Command::Span(s)) = out.last_mut() {
+                    s.attr = Attr::Ev;
+                }
+            } else {
+                out.push(Command::Span(SpanWord {
+                    attr: Attr::Ev,
+                    ..empty
+                }));
+            }
+        }
+        ShadowForm::Check => {
+            // With IF every pixel's DSF may change, so the whole line is checked.
+            let (xl, xr) = if eye_inside || lo > hi {
+                (0, width as u16 - 1)
+            } else {
+                (lo, hi)
+            };
+            out.push(Command::Check { xl, xr });
+        }
+    }
+}

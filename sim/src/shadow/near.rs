@@ -1,0 +1,245 @@
+//! Where counting starts: the near plane against each volume (inside, outside, cut), the
+//! near cap of a cut volume, and a volume's span words per row.
+
+use super::*;
+
+/// Where the camera's near plane (its part inside the guard band) lies relative to a
+/// volume.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NearPlane {
+    /// Wholly outside the volume: counting starts at 0.
+    Outside,
+    /// Wholly inside: counting starts at 1 (the IF span).
+    Inside,
+    /// Cut by the volume's boundary: the near cap (the cross-section) is drawn at the
+    /// nearest depth, so counting starts at 1 exactly on the pixels whose near point is
+    /// inside.
+    Cut,
+}
+
+/// Sutherland–Hodgman clipping of a polygon against half-spaces `h·(p, 1) ≥ 0`.
+pub(super) fn clip_planes(mut poly: Vec<DVec3>, planes: &[DVec4]) -> Vec<DVec3> {
+    for h in planes {
+        if poly.is_empty() {
+            break;
+        }
+        let d = |p: &DVec3| h.truncate().dot(*p) + h.w;
+        let mut out = Vec::with_capacity(poly.len() + 1);
+        for i in 0..poly.len() {
+            let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+            let (da, db) = (d(&a), d(&b));
+            if da >= 0.0 {
+                out.push(a);
+            }
+            if (da >= 0.0) != (db >= 0.0) {
+                out.push(a + (b - a) * (da / (da - db)));
+            }
+        }
+        poly = out;
+    }
+    poly
+}
+
+/// The camera's clipping ([`Projector::clip_polygon`], the same planes in the same order
+/// and the same arithmetic, so bit-identical vertices) that also tells which vertices lie
+/// on the near plane: those the near plane created (or that lay on it), and those a later
+/// plane created between two such.
+pub(super) fn clip_tagged(poly: Vec<DVec4>) -> Vec<(DVec4, bool)> {
+    let planes: [fn(&DVec4) -> f64; 6] = [
+        |p| p.z,
+        |p| p.w - p.z,
+        |p| GUARD * p.w - p.x,
+        |p| GUARD * p.w + p.x,
+        |p| GUARD * p.w - p.y,
+        |p| GUARD * p.w + p.y,
+    ];
+    let mut poly: Vec<(DVec4, bool)> = poly.into_iter().map(|p| (p, p.z == 0.0)).collect();
+    for (k, d) in planes.iter().enumerate() {
+        if poly.is_empty() {
+            break;
+        }
+        let mut out = Vec::with_capacity(poly.len() + 2);
+        for i in 0..poly.len() {
+            let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+            let (da, db) = (d(&a.0), d(&b.0));
+            if da >= 0.0 {
+                out.push(a);
+            }
+            if (da >= 0.0) != (db >= 0.0) {
+                let t = da / (da - db);
+                out.push((a.0 + (b.0 - a.0) * t, k == 0 || (a.1 && b.1)));
+            }
+        }
+        poly = out;
+    }
+    poly
+}
+
+/// Snapped screen position of a clip-space point, and its 24-bit depth.
+pub(super) fn snap_clip(pj: &Projector, p: DVec4) -> Result<([i32; 2], u32), SetupError> {
+    let (x, y, z) = pj.to_screen(p);
+    Ok((
+        [crate::setup::snap_coord(x)?, crate::setup::snap_coord(y)?],
+        crate::frontend::depth24(z),
+    ))
+}
+
+/// Rasterizes a snapped polygon as a fan from its first vertex, pushing SP spans.
+pub(super) fn fan_spans(
+    sv: &[([i32; 2], u32)],
+    width: u32,
+    height: u32,
+    spans: &mut Vec<(u32, SpanWord)>,
+) -> Result<(), SetupError> {
+    for i in 1..sv.len().saturating_sub(1) {
+        let t = SnappedTri {
+            v: [sv[0].0, sv[i].0, sv[i + 1].0],
+            z: [sv[0].1, sv[i].1, sv[i + 1].1],
+            ..Default::default()
+        };
+        if let Some(s) = TriSetup::new(&t)? {
+            s.for_each_span(width, height, |j, mut w| {
+                w.attr = Attr::Sp;
+                w.il = [0; 3];
+                w.di = [0; 3];
+                spans.push((j, w));
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The near plane's rectangle inside the guard band, as world points.
+pub(super) fn near_rect(pj: &Projector) -> Vec<DVec3> {
+    let inv = pj.view_proj.inverse();
+    [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+        .iter()
+        .map(|&(x, y)| {
+            let h = inv * DVec4::new(x * GUARD, y * GUARD, 0.0, 1.0);
+            h.truncate() / h.w
+        })
+        .collect()
+}
+
+/// The box as six half-spaces `h·(p, 1) ≥ 0`.
+pub(super) fn box_planes(lo: DVec3, hi: DVec3) -> Vec<DVec4> {
+    (0..3)
+        .flat_map(|a| {
+            let e = [DVec3::X, DVec3::Y, DVec3::Z][a];
+            [e.extend(-lo[a]), (-e).extend(hi[a])]
+        })
+        .collect()
+}
+
+/// Classifies the near plane against a volume.
+pub(super) fn near_plane(pj: &Projector, v: &Volume) -> NearPlane {
+    let rect = near_rect(pj);
+    if v.planes.is_empty() {
+        return NearPlane::Outside;
+    }
+    let inside = |p: &DVec3| v.planes.iter().all(|h| h.truncate().dot(*p) + h.w >= 0.0);
+    if rect.iter().all(inside) {
+        NearPlane::Inside
+    } else if clip_planes(rect, &v.planes).len() < 3 {
+        NearPlane::Outside
+    } else {
+        NearPlane::Cut
+    }
+}
+
+/// The near cap of a volume the near plane cuts: the cross-section (near rectangle ∩
+/// volume ∩ ray box, convex), as a snapped polygon whose edges along the volume's sides are
+/// *bit-identical* to the near edges of the clipped side polygons (`near_edges`). Its
+/// corners are the side polygons' near-edge end points plus the cross-section's other
+/// corners (on the caster's faces, the guard band or the box) that are not within
+/// `4/256` px of one of them, in angular order about the cross-section's centre.
+pub(super) fn near_cap(
+    pj: &Projector,
+    v: &Volume,
+    bbox: (DVec3, DVec3),
+    near_edges: &[[[i32; 2]; 2]],
+) -> Result<Vec<[i32; 2]>, SetupError> {
+    let mut planes = v.planes.clone();
+    planes.extend(box_planes(bbox.0, bbox.1));
+    let cs = clip_planes(near_rect(pj), &planes);
+    if cs.len() < 3 {
+        return Ok(Vec::new());
+    }
+    let one = pixelproc_formats::SUBPIXEL_ONE as f64;
+    let screen: Vec<[f64; 2]> = cs
+        .iter()
+        .map(|p| {
+            let (x, y, _) = pj.to_screen(pj.view_proj * p.extend(1.0));
+            [x * one, y * one]
+        })
+        .collect();
+    let mut pts: Vec<[i32; 2]> = near_edges.iter().flatten().copied().collect();
+    pts.sort_unstable();
+    pts.dedup();
+    let exact = pts.len();
+    for q in &screen {
+        let near_one = pts[..exact].iter().any(|p| {
+            let (dx, dy) = (p[0] as f64 - q[0], p[1] as f64 - q[1]);
+            dx * dx + dy * dy <= 16.0
+        });
+        if !near_one {
+            let (x, y) = (q[0] / one, q[1] / one);
+            pts.push([crate::setup::snap_coord(x)?, crate::setup::snap_coord(y)?]);
+        }
+    }
+    let n = screen.len() as f64;
+    let c = screen
+        .iter()
+        .fold([0.0, 0.0], |s, q| [s[0] + q[0] / n, s[1] + q[1] / n]);
+    let angle = |p: &[i32; 2]| (p[1] as f64 - c[1]).atan2(p[0] as f64 - c[0]);
+    pts.sort_by(|a, b| angle(a).total_cmp(&angle(b)).then(a.cmp(b)));
+    pts.dedup();
+    Ok(pts)
+}
+
+/// Projects a volume's polygons (clip to the ray box, then the view frustum; snap) and
+/// returns its span words per row, in polygon order, each with attr SP, then those of its
+/// near cap when the near plane cuts it; and where the near plane lies.
+pub(super) fn volume_spans(
+    pj: &Projector,
+    v: &Volume,
+    bbox: (DVec3, DVec3),
+    width: u32,
+    height: u32,
+) -> Result<(Vec<(u32, SpanWord)>, NearPlane), SetupError> {
+    let mut spans = Vec::new();
+    let mut near_edges = Vec::new();
+    for poly in &v.polys {
+        let poly = clip_to_box(poly, bbox.0, bbox.1);
+        if poly.len() < 3 {
+            continue;
+        }
+        let cv: Vec<DVec4> = poly.iter().map(|p| pj.view_proj * *p).collect();
+        let clipped = clip_tagged(cv);
+        if clipped.len() < 3 || clipped.iter().any(|c| c.0.w <= 0.0) {
+            continue;
+        }
+        let sv: Vec<([i32; 2], u32)> = clipped
+            .iter()
+            .map(|c| snap_clip(pj, c.0))
+            .collect::<Result<_, _>>()?;
+        if !clipped.iter().all(|c| c.1) {
+            for i in 0..clipped.len() {
+                let k = (i + 1) % clipped.len();
+                if clipped[i].1 && clipped[k].1 && sv[i].0 != sv[k].0 {
+                    near_edges.push([sv[i].0, sv[k].0]);
+                }
+            }
+        }
+        fan_spans(&sv, width, height, &mut spans)?;
+    }
+    let near = near_plane(pj, v);
+    if near == NearPlane::Cut {
+        let cap = near_cap(pj, v, bbox, &near_edges)?;
+        let zn = crate::frontend::depth24(0.0);
+        let sv: Vec<([i32; 2], u32)> = cap.into_iter().map(|p| (p, zn)).collect();
+        fan_spans(&sv, width, height, &mut spans)?;
+    }
+    spans.sort_by_key(|(j, _)| *j);
+    Ok((spans, near))
+}
