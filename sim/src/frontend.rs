@@ -357,35 +357,42 @@ fn project_3d(ls: &LoadedScene, channels: &[usize]) -> Result<Projected, FrontEr
     Ok(out)
 }
 
-/// Emits a world triangle (with `a` its lit vertex intensities) and, per shade channel,
-/// its copy lit without that channel's light; pushes all into `out`.
-#[allow(clippy::too_many_arguments)]
-fn emit_shaded(
-    pj: &Projector,
-    wt: &WorldTri,
-    shade: impl Fn(usize, Option<usize>) -> DVec3,
-    channels: &[usize],
+/// What a world triangle's snapped pieces carry besides geometry and intensity.
+struct Face {
     tag: u16,
     host: Option<HostPlane>,
     nclass: u8,
     origin: Origin,
+}
+
+/// Emits world triangle `p` lit by `shade(vertex, None)` and, per shade channel, its copy
+/// lit by `shade(vertex, Some(light))` (without that light); pushes all into `out`.
+fn emit_shaded(
+    pj: &Projector,
+    p: [DVec3; 3],
+    shade: impl Fn(usize, Option<usize>) -> DVec3,
+    channels: &[usize],
+    f: &Face,
     out: &mut Projected,
 ) -> Result<Vec<SnappedTri>, FrontError> {
     let err = |out: &Projected, e| FrontError::Setup {
         index: out.tris.len(),
         source: e,
     };
-    let tris = emit(pj, wt, tag, host, nclass).map_err(|e| err(out, e))?;
+    let lit = |skip: Option<usize>| WorldTri {
+        p,
+        a: [0, 1, 2].map(|k| shade(k, skip)),
+    };
+    let tris = emit(pj, &lit(None), f.tag, f.host, f.nclass).map_err(|e| err(out, e))?;
     let mut copies = Vec::with_capacity(channels.len());
     for (c, &l) in channels.iter().enumerate() {
-        let a = [0, 1, 2].map(|k| shade(k, Some(l)));
-        let ct = emit(pj, &WorldTri { p: wt.p, a }, tag, host, nclass).map_err(|e| err(out, e))?;
+        let ct = emit(pj, &lit(Some(l)), f.tag, f.host, f.nclass).map_err(|e| err(out, e))?;
         debug_assert_eq!(ct.len(), tris.len());
         copies.push((c, ct));
     }
     for (i, st) in tris.iter().enumerate() {
         out.tris.push(*st);
-        out.origin.push(origin);
+        out.origin.push(f.origin);
         for (c, ct) in &copies {
             let mut t = ct[i];
             // The same clipped and snapped geometry as the polygon (the clip depends on
@@ -421,18 +428,13 @@ fn project_meshes(
                 None => fnorm,
             };
             let shade = |k: usize, skip| lambert_without(ls, p[k], n(k), mr.color, skip);
-            let a = [0, 1, 2].map(|k| shade(k, None));
-            let tris = emit_shaded(
-                pj,
-                &WorldTri { p, a },
-                shade,
-                channels,
+            let face = Face {
                 tag,
-                None,
-                normal_class(fnorm),
-                Origin::Mesh { mesh: mi, face: fi },
-                out,
-            )?;
+                host: None,
+                nclass: normal_class(fnorm),
+                origin: Origin::Mesh { mesh: mi, face: fi },
+            };
+            let tris = emit_shaded(pj, p, shade, channels, &face, out)?;
             if tris.is_empty() {
                 out.clipped_away += 1;
             }
@@ -469,18 +471,13 @@ fn project_pattern(
         for i in 1..piece.len() - 1 {
             let tri = [piece[0], piece[i], piece[i + 1]];
             let shade = |i: usize, skip| lambert_without(ls, tri[i], n, pat.color, skip);
-            let a = [0, 1, 2].map(|i| shade(i, None));
-            emit_shaded(
-                pj,
-                &WorldTri { p: tri, a },
-                shade,
-                channels,
-                0x8000 | k as u16,
-                Some(hp),
-                normal_class(n),
-                Origin::Pattern(k),
-                out,
-            )?;
+            let face = Face {
+                tag: 0x8000 | k as u16,
+                host: Some(hp),
+                nclass: normal_class(n),
+                origin: Origin::Pattern(k),
+            };
+            emit_shaded(pj, tri, shade, channels, &face, out)?;
         }
     }
     if !placed {

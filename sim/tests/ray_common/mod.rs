@@ -1,5 +1,7 @@
 //! Vector helpers and a ray–triangle test for the float ray casters the shadow tests
 //! write (independent of the model's geometry code).
+// Each test binary that declares `mod ray_common` compiles its own copy and uses a
+// different subset of these helpers; the rest would warn as dead code in that binary.
 #![allow(dead_code)]
 
 /// A point or direction.
