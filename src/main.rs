@@ -161,6 +161,13 @@ fn cmd_render(a: &RenderArgs) -> Result<()> {
             out.shadow.near_caps,
             out.shadow.span_words
         );
+        if out.shadow.sample_passes > 0 {
+            say!(
+                "shadows sampled like the image: {} array passes at {}'s sample positions",
+                out.shadow.sample_passes,
+                fx.aa.label()
+            );
+        }
     }
     print_timings(&out);
     print_aa_report(&fx.aa, &out);

@@ -79,6 +79,49 @@ pub struct Projector {
     pub width: f64,
     /// Screen height.
     pub height: f64,
+    /// The sample grid the raster's pixel centres stand for (the screen's own pixel
+    /// centres unless [`Projector::for_grid`] moved them).
+    pub grid: SampleGrid,
+}
+
+/// Where the raster's pixel centres sample the screen: raster pixel `(a, b)`'s centre is
+/// the screen point `(x0 + a·step_x, y0 + b·step_y)` (pixels), and the raster is
+/// `cols × rows`. An anti-aliasing method's sample lattice (e.g. one of `k × k`
+/// sub-pixel offsets) becomes an ordinary raster this way: the array renders it as a
+/// frame, shadows included. Applied before snapping, like the viewport.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SampleGrid {
+    /// Screen x of raster column 0's centre, pixels.
+    pub x0: f64,
+    /// Screen y of raster row 0's centre, pixels.
+    pub y0: f64,
+    /// Screen pixels between raster columns.
+    pub step_x: f64,
+    /// Screen pixels between raster rows.
+    pub step_y: f64,
+    /// Raster columns.
+    pub cols: u32,
+    /// Raster rows.
+    pub rows: u32,
+}
+
+impl SampleGrid {
+    /// The screen's own pixel centres: `(i + ½, j + ½)`, `width × height`.
+    pub fn pixels(width: u32, height: u32) -> SampleGrid {
+        SampleGrid {
+            x0: 0.5,
+            y0: 0.5,
+            step_x: 1.0,
+            step_y: 1.0,
+            cols: width,
+            rows: height,
+        }
+    }
+
+    /// Whether this is the screen's own pixel grid.
+    fn is_identity(&self) -> bool {
+        self.x0 == 0.5 && self.y0 == 0.5 && self.step_x == 1.0 && self.step_y == 1.0
+    }
 }
 
 /// A clip-space vertex with attributes carried through clipping.
@@ -114,7 +157,18 @@ impl Projector {
             eye,
             width: s.width as f64,
             height: s.height as f64,
+            grid: SampleGrid::pixels(s.width, s.height),
         }
+    }
+
+    /// The same camera rendering the sample grid `g` instead of the pixel centres.
+    pub fn for_grid(&self, g: SampleGrid) -> Projector {
+        Projector { grid: g, ..*self }
+    }
+
+    /// Raster size, `(cols, rows)`.
+    pub fn raster_size(&self) -> (u32, u32) {
+        (self.grid.cols, self.grid.rows)
     }
 
     /// World point to clip space.
@@ -159,12 +213,18 @@ impl Projector {
         poly
     }
 
-    /// Screen position (pixels, y down) and depth in 0..1 of a clipped vertex.
+    /// Raster position (pixels, y down; the screen's pixels unless a [`SampleGrid`] is set)
+    /// and depth in 0..1 of a clipped vertex.
     pub fn to_screen(&self, p: DVec4) -> (f64, f64, f64) {
         let (x, y, z) = (p.x / p.w, p.y / p.w, p.z / p.w);
+        let (sx, sy) = ((x + 1.0) * 0.5 * self.width, (1.0 - y) * 0.5 * self.height);
+        let g = &self.grid;
+        if g.is_identity() {
+            return (sx, sy, z.clamp(0.0, 1.0));
+        }
         (
-            (x + 1.0) * 0.5 * self.width,
-            (1.0 - y) * 0.5 * self.height,
+            (sx - g.x0) / g.step_x + 0.5,
+            (sy - g.y0) / g.step_y + 0.5,
             z.clamp(0.0, 1.0),
         )
     }
@@ -208,6 +268,10 @@ pub fn lambert_without(
 /// Runs the front end on a loaded scene.
 pub fn project(ls: &LoadedScene) -> Result<Projected, FrontError> {
     project_shaded(ls, &[])
+}
+
+fn project_3d(ls: &LoadedScene, channels: &[usize]) -> Result<Projected, FrontError> {
+    project_3d_with(ls, &Projector::new(ls), channels)
 }
 
 /// Runs the front end with exact-shading channels: for each triangle, one copy per light
@@ -344,15 +408,20 @@ fn emit(
     Ok(out)
 }
 
-fn project_3d(ls: &LoadedScene, channels: &[usize]) -> Result<Projected, FrontError> {
-    let pj = Projector::new(ls);
+/// [`project_shaded`] of a 3-D scene through the projector `pj` (e.g. one rendering an
+/// anti-aliasing method's sample grid, [`Projector::for_grid`]).
+pub fn project_3d_with(
+    ls: &LoadedScene,
+    pj: &Projector,
+    channels: &[usize],
+) -> Result<Projected, FrontError> {
     let mut out = Projected {
         channels: channels.len(),
         ..Default::default()
     };
-    let first_piece = project_meshes(ls, &pj, channels, &mut out)?;
+    let first_piece = project_meshes(ls, pj, channels, &mut out)?;
     for k in 0..ls.scene.patterns.len() {
-        project_pattern(ls, &pj, k, &first_piece, channels, &mut out)?;
+        project_pattern(ls, pj, k, &first_piece, channels, &mut out)?;
     }
     Ok(out)
 }

@@ -14,6 +14,8 @@ use crate::{aa, abuffer};
 use std::time::{Duration, Instant};
 use thiserror::Error;
 
+mod shadow_samples;
+
 /// Render errors.
 #[derive(Debug, Error)]
 pub enum RenderError {
@@ -130,6 +132,10 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
     let projected = timed(&mut timings, Stage::FrontEnd, || {
         frontend::project_shaded(ls, fx.shade_channels())
     })?;
+    // Under anti-aliasing: the shadowed fraction per pixel from the method's own samples,
+    // and how many sample lattices the array rendered for it.
+    let mut fraction: Option<Vec<u8>> = None;
+    let mut shadow_passes = 0;
     let (data, array, aa) = match &shape {
         Plan::Array(a) => {
             let arr = run_array(ls, fx, a, &projected, bg, &lights, &mut timings)?;
@@ -141,25 +147,65 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
                 None => None,
             };
             let stage = Stage::Antialias(*method);
-            let mut out = timed(&mut timings, stage, || run_aa(&projected, w, h, bg, &fx.aa))?;
-            if let Some(ArrayOut {
-                frame,
-                table: Some(t),
-                ..
-            }) = &arr
-            {
-                timed(&mut timings, Stage::ShadowApply, || {
-                    shadow::apply_to_rgb8(&mut out.rgb, frame, t)
-                });
+            let shadowed = arr
+                .as_ref()
+                .and_then(|a| a.table.as_ref().map(|t| (&a.frame, t)));
+            if let (AaMethod::PostFx(p), Some((frame, t))) = (&fx.aa, shadowed) {
+                // Post-processing starts from the shaded baseline and treats shadow
+                // boundaries as edges (`aa::postfx::render_with`).
+                let (mut out, f) = timed(&mut timings, stage, || {
+                    postfx_shadowed(&projected, w, h, bg, p, frame, t)
+                })?;
+                fraction = f;
+                (std::mem::take(&mut out.rgb), arr, Some(out))
+            } else {
+                let mut out = timed(&mut timings, stage, || run_aa(&projected, w, h, bg, &fx.aa))?;
+                if let (
+                    Some(ArrayOut {
+                        frame,
+                        table: Some(t),
+                        ..
+                    }),
+                    Some(a),
+                ) = (&arr, array)
+                {
+                    let sampled = timed(&mut timings, Stage::ShadowApply, || {
+                        let inp = shadow_samples::PassInput {
+                            ls,
+                            fx,
+                            a,
+                            lights: &lights,
+                            table: t,
+                            bg,
+                        };
+                        shadow_samples::sample_shadows(&inp, &fx.aa, &mut out.rgb)
+                    })?;
+                    match sampled {
+                        Some(s) => {
+                            shadow_passes = s.passes;
+                            fraction = Some(s.fraction);
+                        }
+                        // A method without a sample lattice of its own would take the
+                        // array's centre samples (every lattice-less method is handled
+                        // above; kept so a new method cannot silently lose its shadows).
+                        None => shadow::apply_to_rgb8(&mut out.rgb, frame, t),
+                    }
+                }
+                (std::mem::take(&mut out.rgb), arr, Some(out))
             }
-            (std::mem::take(&mut out.rgb), arr, Some(out))
         }
     };
     let mut aovs = Vec::new();
     if let (Some(arr), Some(a)) = (&array, shape.array()) {
         for &aov in &a.aovs {
-            let img = timed(&mut timings, Stage::Aov(aov), || {
-                aov_image(aov, &arr.frame, arr.table.as_ref())
+            let img = timed(&mut timings, Stage::Aov(aov), || match (&fraction, aov) {
+                (Some(f), Aov::Shadow) => Image {
+                    width: w,
+                    height: h,
+                    channels: 1,
+                    data: f.clone(),
+                },
+                _ => aov_image(aov, &arr.frame, arr.table.as_ref()),
             });
             aovs.push((aov, img));
         }
@@ -180,7 +226,14 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
         aovs.push((Aov::Coverage, img));
     }
     let (span_words, shadow, frame) = match array {
-        Some(a) => (a.span_words, a.shadow, Some(a.frame)),
+        Some(a) => (
+            a.span_words,
+            ShadowStats {
+                sample_passes: shadow_passes,
+                ..a.shadow
+            },
+            Some(a.frame),
+        ),
         None => (0, ShadowStats::default(), None),
     };
     Ok(RenderOutput {
@@ -218,8 +271,10 @@ fn run_array(
     let mut shadow_rows: Vec<Vec<Command>> = vec![Vec::new(); h as usize];
     let mut stats = ShadowStats::default();
     for &light in &a.shadow_lights {
+        // Shadows need a camera: planning allows them only for 3-D scenes.
+        let pj = frontend::Projector::new(ls);
         timed(timings, Stage::ShadowVolumes { light }, || {
-            shadow_volumes(ls, fx, lights, light, &mut shadow_rows, &mut stats)
+            shadow_volumes(ls, &pj, fx, lights, light, &mut shadow_rows, &mut stats)
         })?;
     }
     let mut frame = timed(timings, Stage::PixelArray, || {
@@ -245,19 +300,19 @@ fn run_array(
 /// One light's shadow volumes, appended to each row's shadow commands.
 fn shadow_volumes(
     ls: &LoadedScene,
+    pj: &frontend::Projector,
     fx: &Effects,
     lights: &[ShadowLight],
     light: usize,
     rows: &mut [Vec<Command>],
     stats: &mut ShadowStats,
 ) -> Result<(), RenderError> {
-    let pj = frontend::Projector::new(ls);
     let l: Vec<ShadowLight> = lights
         .iter()
         .filter(|x| x.index == light)
         .cloned()
         .collect();
-    let sc = shadow::shadow_commands(ls, &pj, &l, fx.shadow_form)?;
+    let sc = shadow::shadow_commands(ls, pj, &l, fx.shadow_form)?;
     for (dst, src) in rows.iter_mut().zip(sc.rows) {
         dst.extend(src);
     }
@@ -266,6 +321,33 @@ fn shadow_volumes(
     stats.eye_inside += sc.stats.eye_inside;
     stats.near_caps += sc.stats.near_caps;
     Ok(())
+}
+
+/// Post-processing of the array's shadowed baseline: the image and the shadowed fraction.
+fn postfx_shadowed(
+    projected: &Projected,
+    w: u32,
+    h: u32,
+    bg: [u8; 3],
+    p: &aa::PostFxParams,
+    frame: &Frame,
+    t: &FactorTable,
+) -> Result<(AaOut, Option<Vec<u8>>), RenderError> {
+    let rgb = frame.rgb8();
+    let level: Vec<u8> = frame.px.iter().map(|s| t.shadow_level(s)).collect();
+    let base = aa::postfx::ShadowedBaseline {
+        rgb: &rgb,
+        level: &level,
+    };
+    let (f, fraction) = aa::postfx::render_with(&projected.tris, w, h, bg, p, Some(base))?;
+    Ok((
+        AaOut {
+            rgb: f.rgb,
+            coverage: None,
+            report: AaReport::Other(f.stats),
+        },
+        fraction,
+    ))
 }
 
 /// The anti-aliasing stage.

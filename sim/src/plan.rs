@@ -229,7 +229,7 @@ impl fmt::Display for Stage {
             Stage::PixelArray => write!(f, "pixel-processor array"),
             Stage::ShadowShade => write!(f, "shadow shading"),
             Stage::Antialias(m) => write!(f, "anti-aliasing: {m}"),
-            Stage::ShadowApply => write!(f, "shadow factor on AA image"),
+            Stage::ShadowApply => write!(f, "shadows at the method's samples"),
             Stage::Aov(a) => write!(f, "aov {a}"),
         }
     }
@@ -311,7 +311,8 @@ impl Plan {
         }
         if let Plan::Antialias { method, .. } = self {
             st.push(Stage::Antialias(*method));
-            if shadows {
+            // Post-processing takes the shaded baseline and its shadow edges itself.
+            if shadows && *method != AaKind::PostFx {
                 st.push(Stage::ShadowApply);
             }
         }

@@ -19,6 +19,7 @@ pub mod corner;
 pub mod multiscan;
 pub mod postfx;
 pub mod sampler;
+pub mod shadow_samples;
 pub mod ssaa;
 
 use std::time::Instant;

@@ -590,6 +590,15 @@ fn crease_pass(
     done
 }
 
+/// The array's shadows, for post-processing a shadowed baseline.
+pub struct ShadowedBaseline<'a> {
+    /// The baseline's colours after shadow shading, RGB8 row-major (the image the
+    /// post-process starts from instead of the unshaded one).
+    pub rgb: &'a [u8],
+    /// The shadow level per pixel, 0..=255 (0 on the background).
+    pub level: &'a [u8],
+}
+
 /// Renders the baseline and post-processes it.
 pub fn render(
     tris: &[SnappedTri],
@@ -598,11 +607,48 @@ pub fn render(
     bg: [u8; 3],
     p: &PostFxParams,
 ) -> Result<AaFrame, AaError> {
+    render_with(tris, width, height, bg, p, None).map(|(f, _)| f)
+}
+
+/// Marks a class-2 edge between neighbours whose shadow levels differ, where no edge is
+/// yet: a shadow boundary is an edge of the image like an object's (seed 004 finds edges
+/// in the z-buffer; the shadow flags are one more per-pixel buffer of the same array).
+fn add_shadow_edges(e: &mut Edges, level: &[u8]) {
+    let (w, h) = (e.w, e.h);
+    for y in 0..h {
+        for x in 0..w {
+            let k = y * w + x;
+            if x + 1 < w && level[k] != level[k + 1] && e.ex[k] == 0 {
+                e.ex[k] = 2;
+            }
+            if y + 1 < h && level[k] != level[k + w] && e.ey[k] == 0 {
+                e.ey[k] = 2;
+            }
+        }
+    }
+}
+
+/// [`render`] of a baseline with shadows: the post-process starts from the shaded colours,
+/// treats a change of shadow level between neighbours as an edge, and blends the shadow
+/// levels with the same coefficients as the colours (returned second: the shadowed
+/// fraction in the method's own weights). Without `shadow`, exactly [`render`].
+pub fn render_with(
+    tris: &[SnappedTri],
+    width: u32,
+    height: u32,
+    bg: [u8; 3],
+    p: &PostFxParams,
+    shadow: Option<ShadowedBaseline>,
+) -> Result<(AaFrame, Option<Vec<u8>>), AaError> {
     let src = SpanSource::new(tris, width, height)?;
     let frame = render_frame(&src, bg, width as usize, |_, _| {});
     let z = frame.depth();
     let (w, h) = (width as usize, height as usize);
-    let img: Vec<[u8; 3]> = frame.rgb8().chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let base = match &shadow {
+        Some(s) => s.rgb.to_vec(),
+        None => frame.rgb8(),
+    };
+    let img: Vec<[u8; 3]> = base.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
     // Second differences and normals: from the finished buffers, or the buffers kept
     // during drawing (which also give the visible triangle).
     let need_draw = p.d2_source == SecondDiffSource::DuringDraw
@@ -626,28 +672,38 @@ pub fn render(
         let (visible, evals) = super::baseline_visible(tris, width, height)?;
         (d2x, d2y, None, visible, evals, 0)
     };
-    let e = detect_edges_from(&z, &d2x, &d2y, stored.as_deref(), w, h, p);
+    let mut e = detect_edges_from(&z, &d2x, &d2y, stored.as_deref(), w, h, p);
+    if let Some(s) = &shadow {
+        add_shadow_edges(&mut e, s.level);
+    }
+    // Loop 1, then loop 2 (x pass then y pass, combined through the flag).
+    let post = |img: &[[u8; 3]], reads: &mut u64| {
+        let mut after1 = img.to_vec();
+        let skip = if p.creases {
+            crease_pass(img, &mut after1, &z, &d2x, &d2y, &e, reads)
+        } else {
+            vec![false; w * h]
+        };
+        let mut out = after1.clone();
+        let mut flag = vec![false; w * h];
+        let mut bufs = PassBufs {
+            src: &after1,
+            dst: &mut out,
+            flag: &mut flag,
+            skip: &skip,
+            reads,
+        };
+        run_pass(&mut bufs, &e, false, p.window);
+        run_pass(&mut bufs, &e, true, p.window);
+        out
+    };
     let mut reads = extra;
-    // Loop 1.
-    let mut after1 = img.clone();
-    let skip = if p.creases {
-        crease_pass(&img, &mut after1, &z, &d2x, &d2y, &e, &mut reads)
-    } else {
-        vec![false; w * h]
-    };
-    // Loop 2: x pass then y pass, combined through the flag.
-    let mut out = after1.clone();
-    let mut flag = vec![false; w * h];
-    let mut bufs = PassBufs {
-        src: &after1,
-        dst: &mut out,
-        flag: &mut flag,
-        skip: &skip,
-        reads: &mut reads,
-    };
-    run_pass(&mut bufs, &e, false, p.window);
-    run_pass(&mut bufs, &e, true, p.window);
-    Ok(AaFrame {
+    let out = post(&img, &mut reads);
+    let fraction = shadow.map(|s| {
+        let grey: Vec<[u8; 3]> = s.level.iter().map(|&l| [l; 3]).collect();
+        post(&grey, &mut 0).iter().map(|c| c[0]).collect()
+    });
+    let frame = AaFrame {
         width,
         height,
         rgb: out.iter().flat_map(|c| *c).collect(),
@@ -659,7 +715,8 @@ pub fn render(
             sample_reads: 2 * (w * h) as u64 + reads,
             ..Default::default()
         },
-    })
+    };
+    Ok((frame, fraction))
 }
 
 #[cfg(test)]

@@ -216,6 +216,9 @@ pub struct ShadowStats {
     pub eye_inside: usize,
     /// Volumes whose boundary cuts the near plane (drawn with a near cap).
     pub near_caps: usize,
+    /// Under anti-aliasing: array frames rendered at the method's sample lattices for
+    /// its shadows (0 when the method takes the array's one sample per pixel).
+    pub sample_passes: usize,
 }
 
 /// Per-row shadow commands for the array, appended after the OP spans of each row.
@@ -235,7 +238,7 @@ pub fn shadow_commands(
     lights: &[ShadowLight],
     form: ShadowForm,
 ) -> Result<ShadowCommands, ShadowError> {
-    let (w, h) = (ls.scene.width, ls.scene.height);
+    let (w, h) = pj.raster_size();
     let occ = occluders(ls);
     let bbox = ray_box(ls, pj.eye);
     let mut rows: Vec<Vec<Command>> = vec![Vec::new(); h as usize];

@@ -182,10 +182,11 @@ impl FactorTable {
             })
     }
 
-    /// Shadowed fraction of the pixel's lights, 0..=255, for the shadow AOV.
+    /// Shadowed fraction of the pixel's lights, 0..=255, for the shadow AOV; 0 on the
+    /// background (no surface: shadow spans still toggle its flags, but nothing is shaded).
     pub fn shadow_level(&self, s: &ProcState) -> u8 {
         let n = self.point_lights + (self.area_samples > 0) as u32;
-        if n == 0 {
+        if n == 0 || s.zb == Z_FAR {
             return 0;
         }
         let pts = (s.mask as u32 & ((1 << self.bits) - 1)).count_ones() as f64;
