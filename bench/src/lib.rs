@@ -25,6 +25,7 @@ pub mod methods;
 pub mod report;
 pub mod scenes;
 pub mod settings;
+pub mod shadow_sweep;
 pub mod sweep;
 pub mod timing;
 
@@ -125,5 +126,17 @@ pub fn run_tradeoff(o: &TradeoffOptions) -> Result<(Sweep, Written), TradeoffErr
         None,
     )?;
     let w = write_outputs(&sw, &o.out_dir, &o.command)?;
+    if o.scenes_dir.is_none() {
+        // The built-in set also measures shadow boundaries on 3-D scenes with real shadow
+        // volumes, against a ray cast (`shadows.md`, `shadows.csv`).
+        let sc = shadow_sweep::shadow_scenes(o.quick);
+        let rows = shadow_sweep::run_shadow_sweep(
+            &sc,
+            &shadow_sweep::shadow_settings(o.quick),
+            o.runs,
+            o.progress,
+        )?;
+        shadow_sweep::write_shadow_outputs(&rows, &sc, &o.out_dir)?;
+    }
     Ok((sw, w))
 }

@@ -55,7 +55,7 @@ pub fn time_setting(
 
 /// CPU time consumed by the calling thread, seconds.
 #[cfg(unix)]
-fn thread_cpu_seconds() -> Option<f64> {
+pub(crate) fn thread_cpu_seconds() -> Option<f64> {
     let mut ts = libc::timespec {
         tv_sec: 0,
         tv_nsec: 0,
@@ -67,7 +67,7 @@ fn thread_cpu_seconds() -> Option<f64> {
 
 /// No thread clock: the caller falls back to wall-clock time.
 #[cfg(not(unix))]
-fn thread_cpu_seconds() -> Option<f64> {
+pub(crate) fn thread_cpu_seconds() -> Option<f64> {
     None
 }
 
