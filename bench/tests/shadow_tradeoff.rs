@@ -38,32 +38,44 @@ fn quick_shadow_sweep_errors_fall_with_each_parameter() {
 /// cast's fraction is 0 or 1 and the array's flags (no anti-aliasing) agree exactly.
 #[test]
 fn ray_cast_and_array_agree_away_from_boundaries() {
-    let sc = &shadow_scenes(true)[0].scene;
-    let rc = ray_cast_fraction(sc);
-    let ov = Overrides {
-        aovs: vec![Aov::Shadow],
-        ..Default::default()
-    };
-    let mut fx = Effects::resolve(sc, &ov).unwrap();
-    fx.aa = AaMethod::None;
-    let out = render(sc, &fx).unwrap();
-    let f = &out.aovs[0].1.data;
-    let (w, h) = (sc.scene.width as usize, sc.scene.height as usize);
-    let (mut compared, mut shadowed) = (0, 0);
-    for j in 1..h - 1 {
-        for i in 1..w - 1 {
-            let k = j * w + i;
-            let same = (0..3).all(|dy| (0..3).all(|dx| rc[(j + dy - 1) * w + i + dx - 1] == rc[k]));
-            if !same || (rc[k] > 0.0 && rc[k] < 1.0) {
-                continue;
+    for s in shadow_scenes(false) {
+        let sc = &s.scene;
+        let rc = ray_cast_fraction(sc);
+        let ov = Overrides {
+            aovs: vec![Aov::Shadow],
+            ..Default::default()
+        };
+        let mut fx = Effects::resolve(sc, &ov).unwrap();
+        fx.aa = AaMethod::None;
+        let out = render(sc, &fx).unwrap();
+        let f = &out.aovs[0].1.data;
+        let (w, h) = (sc.scene.width as usize, sc.scene.height as usize);
+        let (mut compared, mut shadowed) = (0, 0);
+        for j in 1..h - 1 {
+            for i in 1..w - 1 {
+                let k = j * w + i;
+                let same =
+                    (0..3).all(|dy| (0..3).all(|dx| rc[(j + dy - 1) * w + i + dx - 1] == rc[k]));
+                if !same {
+                    continue;
+                }
+                // Area light: a uniform penumbra level is compared too (count / k).
+                assert_eq!(
+                    f[k],
+                    (rc[k] * 255.0).round() as u8,
+                    "{}: pixel ({i}, {j})",
+                    s.name
+                );
+                compared += 1;
+                shadowed += (rc[k] > 0.0) as usize;
             }
-            assert_eq!(f[k] as f64, rc[k] * 255.0, "pixel ({i}, {j})");
-            compared += 1;
-            shadowed += (rc[k] == 1.0) as usize;
         }
+        // The poles' shadows are thinner than the 3×3 neighbourhood: boundary pixels only.
+        let min_shadowed = if s.name.starts_with("poles") { 0 } else { 50 };
+        assert!(
+            compared > 3000 && shadowed >= min_shadowed,
+            "{}: {compared} compared, {shadowed} shadowed",
+            s.name
+        );
     }
-    assert!(
-        compared > 3000 && shadowed > 50,
-        "{compared} compared, {shadowed} shadowed"
-    );
 }
