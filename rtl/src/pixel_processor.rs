@@ -25,7 +25,9 @@
 //! The depth compare therefore drives one flip-flop instead of the enables of 56 state
 //! flip-flops. A token directly behind another one sees the `ZB` its predecessor is about
 //! to write: stage A compares against `zb_next`, the value `ZB` takes at the coming edge
-//! (the bypass), so back-to-back spans at one processor are exact.
+//! (the bypass), so back-to-back spans at one processor are exact. The bypass sits behind
+//! the compare, not in front of it: `Z` is compared with the held `ZB`, the depth being
+//! written and `Z_FAR` in parallel, and the registered stage-B state selects the result.
 //!
 //! **OP span** (`op = SPAN`, `attr = OP`): if `XL <= col <= XR` and `Z < ZB` (`Z <= ZB`
 //! for a decal span), `ZB := Z`, `RGB := clamp(I >> 12, 0, 255)` per channel,
@@ -177,6 +179,14 @@ pub struct PixelProcessor {
     z_lt: Signal<Local, Bit>,
     z_pass: Signal<Local, Bit>,
     zb_next: Signal<Local, Bits<ZB_W>>,
+    /// `Z < ZB`, `Z <= ZB` against the held ZB and the value being written; `Z < Z_FAR`.
+    lt_held: Signal<Local, Bit>,
+    le_held: Signal<Local, Bit>,
+    lt_new: Signal<Local, Bit>,
+    le_new: Signal<Local, Bit>,
+    lt_far: Signal<Local, Bit>,
+    /// Stage B holds CLEAR_LINE or RESET (ZB becomes Z_FAR at the coming edge).
+    sel_far: Signal<Local, Bit>,
     l_i: Signal<Local, Bits<I3_W>>,
     l_rgb: Signal<Local, Bits<RGB_BITS>>,
     l_lane_i: Signal<Local, Bits<IACC_W>>,
@@ -267,6 +277,12 @@ impl PixelProcessor {
             z_lt: Default::default(),
             z_pass: Default::default(),
             zb_next: Default::default(),
+            lt_held: Default::default(),
+            le_held: Default::default(),
+            lt_new: Default::default(),
+            le_new: Default::default(),
+            lt_far: Default::default(),
+            sel_far: Default::default(),
             l_i: Default::default(),
             l_rgb: Default::default(),
             l_lane_i: Default::default(),
@@ -432,10 +448,29 @@ impl Logic for PixelProcessor {
         // `((z >> 12) as u32) < ZB` (or `<=` for decals); intensity clamp.
         self.zv.next = self.tok_z.q.val().get_bits::<ZB_W>(12);
         self.z_hi_ok.next = self.tok_z.q.val().get_bits::<CH_W>(36) == self.k_zero8.val();
-        self.z_lt.next = self.zv.val() < self.zb_next.val();
-        self.z_pass.next = self.z_lt.val();
-        if self.tok_head.q.val().get_value_decal() {
-            self.z_pass.next = self.zv.val() <= self.zb_next.val();
+        // The compares run in parallel against the three values `zb_next` can take, all
+        // straight from flip-flops (or constant), and the registered stage-B state picks
+        // one: no multiplexer in front of the carry chains.
+        self.lt_held.next = self.zv.val() < self.zb_r.q.val();
+        self.le_held.next = self.zv.val() <= self.zb_r.q.val();
+        self.lt_new.next = self.zv.val() < self.b_z.q.val();
+        self.le_new.next = self.zv.val() <= self.b_z.q.val();
+        self.lt_far.next = self.zv.val() < self.k_zfar.val();
+        self.sel_far.next = (self.b_op.q.val() == self.k_clear_line.val())
+            | (self.b_op.q.val() == self.k_reset.val());
+        self.z_lt.next = self.lt_held.val();
+        self.z_pass.next = self.le_held.val();
+        if self.b_write.q.val() {
+            self.z_lt.next = self.lt_new.val();
+            self.z_pass.next = self.le_new.val();
+        }
+        if self.sel_far.val() {
+            // (`Z <= Z_FAR` holds for every 24-bit Z.)
+            self.z_lt.next = self.lt_far.val();
+            self.z_pass.next = true;
+        }
+        if !self.tok_head.q.val().get_value_decal() {
+            self.z_pass.next = self.z_lt.val();
         }
         self.b_op.d.next = self.tok_head.q.val().get_value_op();
         self.b_attr.d.next = self.tok_head.q.val().get_value_attr();

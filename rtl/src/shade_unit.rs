@@ -2,12 +2,16 @@
 //! it in the frame buffer"; section 6 for the table indexed by the normal class and the
 //! light mask or counter), on the core's readout path.
 //!
-//! Each pixel read out of the array passes through two registers. Stage 1 registers the
+//! Each pixel read out of the array passes through four registers. Stage 1 registers the
 //! readout word and reads the shading table at `{NCLASS, MASK[2:0], COUNT[3:0]}`
 //! (`pixelproc_formats::core_stream::SHADE_ADDR_FIELDS`; a synchronous-read RAM of
-//! 2^15 × 18 bits holding `{G, F}`, written through `tw_*`). Stage 2 computes, per channel
+//! 2^15 × 18 bits holding `{G, F}`, written through `tw_*`). The rest computes, per channel
 //! `c` with `s` the same channel of shade register `SH`,
-//! `max(0, min((c·F + 128) >> 8, 255) − ((max(0, c − s)·G + 128) >> 8))`: the seed's
+//! `max(0, min((c·F + 128) >> 8, 255) − ((max(0, c − s)·G + 128) >> 8))` in three steps,
+//! one register each (no step longer than one multiply or one add and compare): stage 2
+//! registers the table entry (the block RAM's output register) and `d = max(0, c − s)`;
+//! stage 3 the products `c·F + 128` and `d·G + 128`; stage 4 the clamp, the subtraction
+//! and the floor at 0. This is the seed's
 //! factor `F` (table mode, `G = 0`) or the exact removal of the shadowed share `G` of
 //! light 0 (exact mode, `F = 256`). A background pixel (`ZB = Z_FAR`) and every pixel of
 //! a unit built without shading keep their colour. This is
@@ -19,12 +23,13 @@
 //! | port | dir | width | meaning |
 //! |---|---|---|---|
 //! | `clock` | in | 1 | rising edge |
-//! | `rst` | in | 1 | synchronous: no pixel leaves for the next two edges |
+//! | `rst` | in | 1 | synchronous: no pixel leaves for the next four edges |
 //! | `in_valid`, `in_word`, `in_meta` | in | 1, 99, 2 | a pixel: readout word, and two flags carried along |
 //! | `tw_en`, `tw_addr`, `tw_data` | in | 1, 15, 18 | table write `{G, F}` (ignored without shading) |
-//! | `out_valid`, `out_word`, `out_meta` | out | 1, 99, 2 | the pixel two edges later, its RGB shaded |
+//! | `out_valid`, `out_word`, `out_meta` | out | 1, 99, 2 | the pixel four edges later, its RGB shaded |
 //!
-//! Latency: a pixel on the inputs before edge `E` is on the outputs after edge `E + 1`.
+//! Latency: a pixel on the inputs before edge `E` is on the outputs after edge `E + 3`
+//! ([`LATENCY`] edges).
 
 use crate::layout::{ReadoutFields, ReadoutLowFields, ShadeAddrFields, READOUT_W};
 use pixelproc_formats::core_stream::{FACTOR_BITS, SHADE_ADDR_BITS};
@@ -34,12 +39,22 @@ use rust_hdl::prelude::*;
 /// Width of the meta flags carried beside each pixel.
 pub const META_W: usize = 2;
 
+/// Rising edges from a pixel on the inputs to the same pixel on the outputs
+/// (`pixelproc_formats::core_stream::SHADE_STAGES`, which the golden core model uses).
+pub const LATENCY: usize = pixelproc_formats::core_stream::SHADE_STAGES;
+const _: () = assert!(LATENCY == 4);
+
+/// Width of one product field (`c·F + 128 < 2^17`). The kernel spells it as the literal
+/// 18 (a kernel takes literal widths and offsets).
+const PROD_W: usize = 18;
+const _: () = assert!(PROD_W == 18);
+
 /// The shading unit. Build with [`ShadeUnit::new`].
 #[derive(LogicBlock)]
 pub struct ShadeUnit {
     /// Clock.
     pub clock: Signal<In, Clock>,
-    /// Synchronous reset: empties the two stages.
+    /// Synchronous reset: empties the four stages.
     pub rst: Signal<In, Bit>,
     /// A pixel is on `in_word`.
     pub in_valid: Signal<In, Bit>,
@@ -66,6 +81,23 @@ pub struct ShadeUnit {
     s2_v: DFF<Bit>,
     s2_word: DFF<Bits<READOUT_W>>,
     s2_meta: DFF<Bits<META_W>>,
+    s2_f: DFF<Bits<16>>,
+    s2_g: DFF<Bits<16>>,
+    s2_d: DFF<Bits<24>>,
+    s3_v: DFF<Bit>,
+    s3_word: DFF<Bits<READOUT_W>>,
+    s3_meta: DFF<Bits<META_W>>,
+    s3_pf: DFF<Bits<{ 3 * PROD_W }>>,
+    s3_pd: DFF<Bits<{ 3 * PROD_W }>>,
+    s4_v: DFF<Bit>,
+    s4_word: DFF<Bits<READOUT_W>>,
+    s4_meta: DFF<Bits<META_W>>,
+    l_pf: Signal<Local, Bits<{ 3 * PROD_W }>>,
+    l_pd: Signal<Local, Bits<{ 3 * PROD_W }>>,
+    l_p: Signal<Local, Bits<32>>,
+    l_dd: Signal<Local, Bits<24>>,
+    l_rgb3: Signal<Local, Bits<24>>,
+    l_q: Signal<Local, Bits<PROD_W>>,
     l_addr: Signal<Local, Bits<SHADE_ADDR_BITS>>,
     l_f: Signal<Local, Bits<16>>,
     l_g: Signal<Local, Bits<16>>,
@@ -73,7 +105,7 @@ pub struct ShadeUnit {
     l_sh: Signal<Local, Bits<24>>,
     l_ch: Signal<Local, Bits<8>>,
     l_sc: Signal<Local, Bits<8>>,
-    l_d: Signal<Local, Bits<16>>,
+    l_d: Signal<Local, Bits<8>>,
     l_drop: Signal<Local, Bits<32>>,
     l_c: Signal<Local, Bits<32>>,
     l_out: Signal<Local, Bits<24>>,
@@ -86,7 +118,9 @@ pub struct ShadeUnit {
     k_zero_addr: Constant<Bits<SHADE_ADDR_BITS>>,
     k_zero24: Constant<Bits<24>>,
     k_zero16: Constant<Bits<16>>,
+    k_zero8: Constant<Bits<8>>,
     k_zero32: Constant<Bits<32>>,
+    k_zero54: Constant<Bits<{ 3 * PROD_W }>>,
 }
 
 /// Width of a table entry `{G, F}`.
@@ -115,6 +149,23 @@ impl ShadeUnit {
             s2_v: Default::default(),
             s2_word: Default::default(),
             s2_meta: Default::default(),
+            s2_f: Default::default(),
+            s2_g: Default::default(),
+            s2_d: Default::default(),
+            s3_v: Default::default(),
+            s3_word: Default::default(),
+            s3_meta: Default::default(),
+            s3_pf: Default::default(),
+            s3_pd: Default::default(),
+            s4_v: Default::default(),
+            s4_word: Default::default(),
+            s4_meta: Default::default(),
+            l_pf: Default::default(),
+            l_pd: Default::default(),
+            l_p: Default::default(),
+            l_dd: Default::default(),
+            l_rgb3: Default::default(),
+            l_q: Default::default(),
             l_addr: Default::default(),
             l_f: Default::default(),
             l_g: Default::default(),
@@ -135,7 +186,9 @@ impl ShadeUnit {
             k_zero_addr: Constant::new(0u64.to_bits()),
             k_zero24: Constant::new(0u64.to_bits()),
             k_zero16: Constant::new(0u64.to_bits()),
+            k_zero8: Constant::new(0u64.to_bits()),
             k_zero32: Constant::new(0u64.to_bits()),
+            k_zero54: Constant::new(0u64.to_bits()),
         }
     }
 }
@@ -143,7 +196,10 @@ impl ShadeUnit {
 impl Logic for ShadeUnit {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, s1_v, s1_word, s1_meta, s2_v, s2_word, s2_meta);
+        dff_setup!(
+            self, clock, s1_v, s1_word, s1_meta, s2_v, s2_word, s2_meta, s2_f, s2_g, s2_d, s3_v,
+            s3_word, s3_meta, s3_pf, s3_pd, s4_v, s4_word, s4_meta
+        );
         self.ftab.read_clock.next = self.clock.val();
         self.ftab.write_clock.next = self.clock.val();
         self.ftab.write_enable.next = self.tw_en.val() & self.k_on.val();
@@ -164,8 +220,8 @@ impl Logic for ShadeUnit {
         self.s1_v.d.next = self.in_valid.val();
         self.s1_word.d.next = self.in_word.val();
         self.s1_meta.d.next = self.in_meta.val();
-        // ---- Stage 2, per channel: lit = min((c·F + 128) >> 8, 255), drop =
-        // (max(0, c − s)·G + 128) >> 8, out = max(0, lit − drop).
+        // ---- Stage 2: the table entry (override: background, or no shading) and, per
+        // channel, d = max(0, c − s).
         self.l_f.next =
             bit_cast::<16, FACTOR_BITS>(self.ftab.read_data.val().get_bits::<FACTOR_BITS>(0));
         self.l_g.next = bit_cast::<16, FACTOR_BITS>(
@@ -177,21 +233,55 @@ impl Logic for ShadeUnit {
         }
         self.l_rgb.next = self.s1_word.q.val().get_value_rgb();
         self.l_sh.next = self.s1_word.q.val().get_value_sh();
-        self.l_out.next = self.k_zero24.val();
+        self.l_dd.next = self.k_zero24.val();
         for c in 0..3 {
             self.l_ch.next = self.l_rgb.val().get_bits::<8>(8 * c);
             self.l_sc.next = self.l_sh.val().get_bits::<8>(8 * c);
-            self.l_c.next =
-                ((bit_cast::<16, 8>(self.l_ch.val()) * self.l_f.val()) + self.k_half.val()) >> 8;
+            self.l_d.next = self.k_zero8.val();
+            if self.l_ch.val() > self.l_sc.val() {
+                self.l_d.next = self.l_ch.val() - self.l_sc.val();
+            }
+            self.l_dd.next = (self.l_dd.val() >> 8) | (bit_cast::<24, 8>(self.l_d.val()) << 16);
+        }
+        self.s2_v.d.next = self.s1_v.q.val();
+        self.s2_word.d.next = self.s1_word.q.val();
+        self.s2_meta.d.next = self.s1_meta.q.val();
+        self.s2_f.d.next = self.l_f.val();
+        self.s2_g.d.next = self.l_g.val();
+        self.s2_d.d.next = self.l_dd.val();
+        // ---- Stage 3, per channel: c·F + 128 and d·G + 128.
+        self.l_rgb3.next = self.s2_word.q.val().get_value_rgb();
+        self.l_pf.next = self.k_zero54.val();
+        self.l_pd.next = self.k_zero54.val();
+        for c in 0..3 {
+            self.l_ch.next = self.l_rgb3.val().get_bits::<8>(8 * c);
+            self.l_p.next =
+                (bit_cast::<16, 8>(self.l_ch.val()) * self.s2_f.q.val()) + self.k_half.val();
+            self.l_pf.next = (self.l_pf.val() >> 18)
+                | (bit_cast::<54, 18>(self.l_p.val().get_bits::<18>(0)) << 36);
+            self.l_sc.next = self.s2_d.q.val().get_bits::<8>(8 * c);
+            self.l_p.next =
+                (bit_cast::<16, 8>(self.l_sc.val()) * self.s2_g.q.val()) + self.k_half.val();
+            self.l_pd.next = (self.l_pd.val() >> 18)
+                | (bit_cast::<54, 18>(self.l_p.val().get_bits::<18>(0)) << 36);
+        }
+        self.s3_v.d.next = self.s2_v.q.val();
+        self.s3_word.d.next = self.s2_word.q.val();
+        self.s3_meta.d.next = self.s2_meta.q.val();
+        self.s3_pf.d.next = self.l_pf.val();
+        self.s3_pd.d.next = self.l_pd.val();
+        // ---- Stage 4, per channel: lit = min(pf >> 8, 255), drop = pd >> 8,
+        // out = max(0, lit − drop).
+        self.l_out.next = self.k_zero24.val();
+        for c in 0..3 {
+            // (A kernel's loop index cannot go into a function's arguments: via `l_q`.)
+            self.l_q.next = self.s3_pf.q.val().get_bits::<18>(18 * c);
+            self.l_c.next = bit_cast::<32, 18>(self.l_q.val()) >> 8;
             if self.l_c.val() > self.k_max.val() {
                 self.l_c.next = self.k_max.val();
             }
-            self.l_d.next = self.k_zero16.val();
-            if self.l_ch.val() > self.l_sc.val() {
-                self.l_d.next =
-                    bit_cast::<16, 8>(self.l_ch.val()) - bit_cast::<16, 8>(self.l_sc.val());
-            }
-            self.l_drop.next = ((self.l_d.val() * self.l_g.val()) + self.k_half.val()) >> 8;
+            self.l_q.next = self.s3_pd.q.val().get_bits::<18>(18 * c);
+            self.l_drop.next = bit_cast::<32, 18>(self.l_q.val()) >> 8;
             if self.l_drop.val() > self.l_c.val() {
                 self.l_c.next = self.k_zero32.val();
             } else {
@@ -200,17 +290,19 @@ impl Logic for ShadeUnit {
             self.l_out.next = (self.l_out.val() >> 8)
                 | (bit_cast::<24, 8>(self.l_c.val().get_bits::<8>(0)) << 16);
         }
-        self.l_word.next = self.s1_word.q.val();
+        self.l_word.next = self.s3_word.q.val();
         self.l_word.next.set_value_rgb(self.l_out.val());
-        self.s2_v.d.next = self.s1_v.q.val();
-        self.s2_word.d.next = self.l_word.val();
-        self.s2_meta.d.next = self.s1_meta.q.val();
-        self.out_valid.next = self.s2_v.q.val();
-        self.out_word.next = self.s2_word.q.val();
-        self.out_meta.next = self.s2_meta.q.val();
+        self.s4_v.d.next = self.s3_v.q.val();
+        self.s4_word.d.next = self.l_word.val();
+        self.s4_meta.d.next = self.s3_meta.q.val();
+        self.out_valid.next = self.s4_v.q.val();
+        self.out_word.next = self.s4_word.q.val();
+        self.out_meta.next = self.s4_meta.q.val();
         if self.rst.val() {
             self.s1_v.d.next = false;
             self.s2_v.d.next = false;
+            self.s3_v.d.next = false;
+            self.s4_v.d.next = false;
         }
     }
 }
@@ -283,9 +375,9 @@ mod tests {
                     u.in_word.next = word(&s);
                     u.in_meta.next = 2u64.to_bits();
                     edge(&mut u);
-                    if want.len() >= 2 {
+                    if want.len() >= LATENCY {
                         assert!(u.out_valid.val());
-                        assert_eq!(u.out_word.val(), word(&want[want.len() - 2]));
+                        assert_eq!(u.out_word.val(), word(&want[want.len() - LATENCY]));
                     }
                 }
             }

@@ -1690,6 +1690,12 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
     reg  z_lt;
     reg  z_pass;
     reg  [23:0] zb_next;
+    reg  lt_held;
+    reg  le_held;
+    reg  lt_new;
+    reg  le_new;
+    reg  lt_far;
+    reg  sel_far;
     reg  [101:0] l_i;
     reg  [23:0] l_rgb;
     reg  [33:0] l_lane_i;
@@ -1993,10 +1999,24 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         zb_r$d = zb_next;
         zv = tok_z$q[(32'hc)+:(24)];
         z_hi_ok = tok_z$q[(32'h24)+:(8)] == k_zero8;
-        z_lt = zv < zb_next;
-        z_pass = z_lt;
-        if (tok_head$q[(32'h5)+:(1)]) begin
-            z_pass = zv <= zb_next;
+        lt_held = zv < zb_r$q;
+        le_held = zv <= zb_r$q;
+        lt_new = zv < b_z$q;
+        le_new = zv <= b_z$q;
+        lt_far = zv < k_zfar;
+        sel_far = (b_op$q == k_clear_line) | (b_op$q == k_reset);
+        z_lt = lt_held;
+        z_pass = le_held;
+        if (b_write$q) begin
+            z_lt = lt_new;
+            z_pass = le_new;
+        end
+        if (sel_far) begin
+            z_lt = lt_far;
+            z_pass = 1'b1;
+        end
+        if (~tok_head$q[(32'h5)+:(1)]) begin
+            z_pass = z_lt;
         end
         b_op$d = tok_head$q[(32'h0)+:(3)];
         b_attr$d = tok_head$q[(32'h3)+:(2)];
@@ -2720,7 +2740,9 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     localparam  k_zero_addr = 15'b0;
     localparam  k_zero24 = 24'h0;
     localparam  k_zero16 = 16'h0;
+    localparam  k_zero8 = 8'h0;
     localparam  k_zero32 = 32'h0;
+    localparam  k_zero54 = 54'h0;
     
     // Stub signals
     reg  [14:0] ftab$read_address;
@@ -2748,8 +2770,47 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  [1:0] s2_meta$d;
     wire  [1:0] s2_meta$q;
     reg  s2_meta$clock;
+    reg  [15:0] s2_f$d;
+    wire  [15:0] s2_f$q;
+    reg  s2_f$clock;
+    reg  [15:0] s2_g$d;
+    wire  [15:0] s2_g$q;
+    reg  s2_g$clock;
+    reg  [23:0] s2_d$d;
+    wire  [23:0] s2_d$q;
+    reg  s2_d$clock;
+    reg  s3_v$d;
+    wire  s3_v$q;
+    reg  s3_v$clock;
+    reg  [98:0] s3_word$d;
+    wire  [98:0] s3_word$q;
+    reg  s3_word$clock;
+    reg  [1:0] s3_meta$d;
+    wire  [1:0] s3_meta$q;
+    reg  s3_meta$clock;
+    reg  [53:0] s3_pf$d;
+    wire  [53:0] s3_pf$q;
+    reg  s3_pf$clock;
+    reg  [53:0] s3_pd$d;
+    wire  [53:0] s3_pd$q;
+    reg  s3_pd$clock;
+    reg  s4_v$d;
+    wire  s4_v$q;
+    reg  s4_v$clock;
+    reg  [98:0] s4_word$d;
+    wire  [98:0] s4_word$q;
+    reg  s4_word$clock;
+    reg  [1:0] s4_meta$d;
+    wire  [1:0] s4_meta$q;
+    reg  s4_meta$clock;
     
     // Local signals
+    reg  [53:0] l_pf;
+    reg  [53:0] l_pd;
+    reg  [31:0] l_p;
+    reg  [23:0] l_dd;
+    reg  [23:0] l_rgb3;
+    reg  [17:0] l_q;
     reg  [14:0] l_addr;
     reg  [15:0] l_f;
     reg  [15:0] l_g;
@@ -2757,7 +2818,7 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  [23:0] l_sh;
     reg  [7:0] l_ch;
     reg  [7:0] l_sc;
-    reg  [15:0] l_d;
+    reg  [7:0] l_d;
     reg  [31:0] l_drop;
     reg  [31:0] l_c;
     reg  [23:0] l_out;
@@ -2803,6 +2864,61 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(s2_meta$q),
         .clock(s2_meta$clock)
     );
+    pixelproc_top$array$e2_m s2_f(
+        .d(s2_f$d),
+        .q(s2_f$q),
+        .clock(s2_f$clock)
+    );
+    pixelproc_top$array$e2_m s2_g(
+        .d(s2_g$d),
+        .q(s2_g$q),
+        .clock(s2_g$clock)
+    );
+    pixelproc_top$array$e1_bg s2_d(
+        .d(s2_d$d),
+        .q(s2_d$q),
+        .clock(s2_d$clock)
+    );
+    pixelproc_top$array$procs$b_covered s3_v(
+        .d(s3_v$d),
+        .q(s3_v$q),
+        .clock(s3_v$clock)
+    );
+    pixelproc_top$array$procs$cap_r s3_word(
+        .d(s3_word$d),
+        .q(s3_word$q),
+        .clock(s3_word$clock)
+    );
+    pixelproc_top$array$procs$b_attr s3_meta(
+        .d(s3_meta$d),
+        .q(s3_meta$q),
+        .clock(s3_meta$clock)
+    );
+    pixelproc_top$shade$s3_pd s3_pf(
+        .d(s3_pf$d),
+        .q(s3_pf$q),
+        .clock(s3_pf$clock)
+    );
+    pixelproc_top$shade$s3_pd s3_pd(
+        .d(s3_pd$d),
+        .q(s3_pd$q),
+        .clock(s3_pd$clock)
+    );
+    pixelproc_top$array$procs$b_covered s4_v(
+        .d(s4_v$d),
+        .q(s4_v$q),
+        .clock(s4_v$clock)
+    );
+    pixelproc_top$array$procs$cap_r s4_word(
+        .d(s4_word$d),
+        .q(s4_word$q),
+        .clock(s4_word$clock)
+    );
+    pixelproc_top$array$procs$b_attr s4_meta(
+        .d(s4_meta$d),
+        .q(s4_meta$q),
+        .clock(s4_meta$clock)
+    );
     
     // Update code
     always @(*) begin
@@ -2812,12 +2928,34 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         s2_v$clock = clock;
         s2_word$clock = clock;
         s2_meta$clock = clock;
+        s2_f$clock = clock;
+        s2_g$clock = clock;
+        s2_d$clock = clock;
+        s3_v$clock = clock;
+        s3_word$clock = clock;
+        s3_meta$clock = clock;
+        s3_pf$clock = clock;
+        s3_pd$clock = clock;
+        s4_v$clock = clock;
+        s4_word$clock = clock;
+        s4_meta$clock = clock;
         s1_v$d = s1_v$q;
         s1_word$d = s1_word$q;
         s1_meta$d = s1_meta$q;
         s2_v$d = s2_v$q;
         s2_word$d = s2_word$q;
         s2_meta$d = s2_meta$q;
+        s2_f$d = s2_f$q;
+        s2_g$d = s2_g$q;
+        s2_d$d = s2_d$q;
+        s3_v$d = s3_v$q;
+        s3_word$d = s3_word$q;
+        s3_meta$d = s3_meta$q;
+        s3_pf$d = s3_pf$q;
+        s3_pd$d = s3_pd$q;
+        s4_v$d = s4_v$q;
+        s4_word$d = s4_word$q;
+        s4_meta$d = s4_meta$q;
         ftab$read_clock = clock;
         ftab$write_clock = clock;
         ftab$write_enable = tw_en & k_on;
@@ -2839,54 +2977,68 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         end
         l_rgb = s1_word$q[(32'ha)+:(24)];
         l_sh = s1_word$q[(32'h4a)+:(24)];
-        l_out = k_zero24;
+        l_dd = k_zero24;
         l_ch = l_rgb[(32'h8 * 0)+:(8)];
         l_sc = l_sh[(32'h8 * 0)+:(8)];
-        l_c = (({{8{1'b0}}, l_ch} * l_f) + k_half) >> 32'h8;
-        if (l_c > k_max) begin
-            l_c = k_max;
-        end
-        l_d = k_zero16;
+        l_d = k_zero8;
         if (l_ch > l_sc) begin
-            l_d = {{8{1'b0}}, l_ch} - {{8{1'b0}}, l_sc};
+            l_d = l_ch - l_sc;
         end
-        l_drop = ((l_d * l_g) + k_half) >> 32'h8;
-        if (l_drop > l_c) begin
-            l_c = k_zero32;
-        end
-        else begin
-            l_c = l_c - l_drop;
-        end
-        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_c[(32'h0)+:(8)]} << 32'h10);
+        l_dd = (l_dd >> 32'h8) | ({{16{1'b0}}, l_d} << 32'h10);
         l_ch = l_rgb[(32'h8 * 1)+:(8)];
         l_sc = l_sh[(32'h8 * 1)+:(8)];
-        l_c = (({{8{1'b0}}, l_ch} * l_f) + k_half) >> 32'h8;
-        if (l_c > k_max) begin
-            l_c = k_max;
-        end
-        l_d = k_zero16;
+        l_d = k_zero8;
         if (l_ch > l_sc) begin
-            l_d = {{8{1'b0}}, l_ch} - {{8{1'b0}}, l_sc};
+            l_d = l_ch - l_sc;
         end
-        l_drop = ((l_d * l_g) + k_half) >> 32'h8;
-        if (l_drop > l_c) begin
-            l_c = k_zero32;
-        end
-        else begin
-            l_c = l_c - l_drop;
-        end
-        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_c[(32'h0)+:(8)]} << 32'h10);
+        l_dd = (l_dd >> 32'h8) | ({{16{1'b0}}, l_d} << 32'h10);
         l_ch = l_rgb[(32'h8 * 2)+:(8)];
         l_sc = l_sh[(32'h8 * 2)+:(8)];
-        l_c = (({{8{1'b0}}, l_ch} * l_f) + k_half) >> 32'h8;
+        l_d = k_zero8;
+        if (l_ch > l_sc) begin
+            l_d = l_ch - l_sc;
+        end
+        l_dd = (l_dd >> 32'h8) | ({{16{1'b0}}, l_d} << 32'h10);
+        s2_v$d = s1_v$q;
+        s2_word$d = s1_word$q;
+        s2_meta$d = s1_meta$q;
+        s2_f$d = l_f;
+        s2_g$d = l_g;
+        s2_d$d = l_dd;
+        l_rgb3 = s2_word$q[(32'ha)+:(24)];
+        l_pf = k_zero54;
+        l_pd = k_zero54;
+        l_ch = l_rgb3[(32'h8 * 0)+:(8)];
+        l_p = ({{8{1'b0}}, l_ch} * s2_f$q) + k_half;
+        l_pf = (l_pf >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
+        l_sc = s2_d$q[(32'h8 * 0)+:(8)];
+        l_p = ({{8{1'b0}}, l_sc} * s2_g$q) + k_half;
+        l_pd = (l_pd >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
+        l_ch = l_rgb3[(32'h8 * 1)+:(8)];
+        l_p = ({{8{1'b0}}, l_ch} * s2_f$q) + k_half;
+        l_pf = (l_pf >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
+        l_sc = s2_d$q[(32'h8 * 1)+:(8)];
+        l_p = ({{8{1'b0}}, l_sc} * s2_g$q) + k_half;
+        l_pd = (l_pd >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
+        l_ch = l_rgb3[(32'h8 * 2)+:(8)];
+        l_p = ({{8{1'b0}}, l_ch} * s2_f$q) + k_half;
+        l_pf = (l_pf >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
+        l_sc = s2_d$q[(32'h8 * 2)+:(8)];
+        l_p = ({{8{1'b0}}, l_sc} * s2_g$q) + k_half;
+        l_pd = (l_pd >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
+        s3_v$d = s2_v$q;
+        s3_word$d = s2_word$q;
+        s3_meta$d = s2_meta$q;
+        s3_pf$d = l_pf;
+        s3_pd$d = l_pd;
+        l_out = k_zero24;
+        l_q = s3_pf$q[(32'h12 * 0)+:(18)];
+        l_c = {{14{1'b0}}, l_q} >> 32'h8;
         if (l_c > k_max) begin
             l_c = k_max;
         end
-        l_d = k_zero16;
-        if (l_ch > l_sc) begin
-            l_d = {{8{1'b0}}, l_ch} - {{8{1'b0}}, l_sc};
-        end
-        l_drop = ((l_d * l_g) + k_half) >> 32'h8;
+        l_q = s3_pd$q[(32'h12 * 0)+:(18)];
+        l_drop = {{14{1'b0}}, l_q} >> 32'h8;
         if (l_drop > l_c) begin
             l_c = k_zero32;
         end
@@ -2894,17 +3046,47 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
             l_c = l_c - l_drop;
         end
         l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_c[(32'h0)+:(8)]} << 32'h10);
-        l_word = s1_word$q;
+        l_q = s3_pf$q[(32'h12 * 1)+:(18)];
+        l_c = {{14{1'b0}}, l_q} >> 32'h8;
+        if (l_c > k_max) begin
+            l_c = k_max;
+        end
+        l_q = s3_pd$q[(32'h12 * 1)+:(18)];
+        l_drop = {{14{1'b0}}, l_q} >> 32'h8;
+        if (l_drop > l_c) begin
+            l_c = k_zero32;
+        end
+        else begin
+            l_c = l_c - l_drop;
+        end
+        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_c[(32'h0)+:(8)]} << 32'h10);
+        l_q = s3_pf$q[(32'h12 * 2)+:(18)];
+        l_c = {{14{1'b0}}, l_q} >> 32'h8;
+        if (l_c > k_max) begin
+            l_c = k_max;
+        end
+        l_q = s3_pd$q[(32'h12 * 2)+:(18)];
+        l_drop = {{14{1'b0}}, l_q} >> 32'h8;
+        if (l_drop > l_c) begin
+            l_c = k_zero32;
+        end
+        else begin
+            l_c = l_c - l_drop;
+        end
+        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_c[(32'h0)+:(8)]} << 32'h10);
+        l_word = s3_word$q;
         l_word[(32'ha)+:(24)] = l_out;
-        s2_v$d = s1_v$q;
-        s2_word$d = l_word;
-        s2_meta$d = s1_meta$q;
-        out_valid = s2_v$q;
-        out_word = s2_word$q;
-        out_meta = s2_meta$q;
+        s4_v$d = s3_v$q;
+        s4_word$d = l_word;
+        s4_meta$d = s3_meta$q;
+        out_valid = s4_v$q;
+        out_word = s4_word$q;
+        out_meta = s4_meta$q;
         if (rst) begin
             s1_v$d = 1'b0;
             s2_v$d = 1'b0;
+            s3_v$d = 1'b0;
+            s4_v$d = 1'b0;
         end
     end
     
@@ -2938,5 +3120,24 @@ module pixelproc_top$shade$ftab(read_address,read_clock,read_data,write_address,
     end
                 
 endmodule // pixelproc_top$shade$ftab
+
+
+module pixelproc_top$shade$s3_pd(d,q,clock);
+    
+    // Module arguments
+    input wire  [53:0] d;
+    output reg  [53:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 54'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // pixelproc_top$shade$s3_pd
 
 

@@ -66,8 +66,9 @@ pub struct CoreModel {
     pending: (bool, u32, bool),
     job: Job,
     track: [Track; 3],
-    s1: Track,
-    s2: Track,
+    /// The shading step's stages: `s[0]` holds the pixel and its table entry (read as it
+    /// enters), the last stage's pixel goes to the output FIFO.
+    s: [Track; SHADE_STAGES],
     inflight: u32,
     pub(super) err: bool,
     table: Vec<(u16, u16)>,
@@ -94,8 +95,7 @@ impl CoreModel {
             pending: (false, 0, false),
             job: Job::default(),
             track: [Track::default(); 3],
-            s1: Track::default(),
-            s2: Track::default(),
+            s: [Track::default(); SHADE_STAGES],
             inflight: 0,
             err: false,
             table: vec![(0, 0); 1 << SHADE_ADDR_BITS],
@@ -184,8 +184,9 @@ impl CoreModel {
                 (f as u32, g as u32)
             }
         };
-        // Readout pipeline: t1 <- go, t2 <- t1, t3 <- t2, s1 <- t3 (+ table read), s2 <- s1.
-        let s2_out = self.s2;
+        // Readout pipeline: t1 <- go, t2 <- t1, t3 <- t2, s[0] <- t3 (+ table read),
+        // s[k] <- s[k − 1].
+        let s2_out = self.s[SHADE_STAGES - 1];
         let mut s1_new = self.track[2];
         (s1_new.factor, s1_new.drop) = old_table_entry(&s1_new, &self.table, self.shadows);
         let mut t1_new = Track::default();
@@ -195,7 +196,7 @@ impl CoreModel {
                 1 | ((a == self.job.last) as u8) << 1 | ((a == 0 && self.job.sof) as u8) << 2;
             t1_new.px = self.job.line.get(a as usize).copied().unwrap_or_default();
         }
-        // Output FIFO: the shaded pixel in s2 goes in.
+        // Output FIFO: the shaded pixel in the last stage goes in.
         let push = (s2_out.flags & 1 != 0).then(|| self.pixel_beat(&s2_out));
         if push.is_some() && !self.out_fifo.in_ready(rst) {
             self.overflow |= !rst;
@@ -208,8 +209,8 @@ impl CoreModel {
             (false, true) => self.inflight -= 1,
             _ => {}
         }
-        self.s2 = self.s1;
-        self.s1 = s1_new;
+        self.s.copy_within(0..SHADE_STAGES - 1, 1);
+        self.s[0] = s1_new;
         self.track = [t1_new, self.track[0], self.track[1]];
         // Job wait and sweep.
         if self.job.valid && self.job.wait != 0 {
@@ -274,8 +275,9 @@ impl CoreModel {
             self.job.wait = 0;
             self.job.addr = 0;
             self.track = [Track::default(); 3];
-            self.s1.flags = 0;
-            self.s2.flags = 0;
+            for t in self.s.iter_mut() {
+                t.flags = 0;
+            }
             self.inflight = 0;
             self.err = false;
             self.base = 0;
