@@ -34,7 +34,7 @@ use pixelproc_sim::aa::AaError;
 use thiserror::Error;
 
 pub use chart::{chart, heat_montage};
-pub use judge::{judge, pareto_frontier, Judgement};
+pub use judge::{judge, pareto_frontier, reference_filter, Judgement};
 pub use report::{csv, markdown, scenes_csv, write_outputs, Written, CSV_HEADER};
 pub use scenes::{builtin_scenes, load_scene_dir, TestScene};
 pub use settings::{sweep_settings, Setting};
