@@ -183,7 +183,7 @@ fn heat_colour(e: f64) -> [u8; 3] {
 }
 
 /// A montage of difference heat maps for the kept scene: per setting, the largest channel
-/// error against the reference per pixel (black 0, red, yellow, white ≥ 64), the tiles
+/// error against the reference of its filter per pixel (black 0, red, yellow, white ≥ 64), the tiles
 /// labelled. Returns (RGB8, width, height).
 pub fn heat_montage(sw: &Sweep) -> Result<Option<(Vec<u8>, u32, u32)>, TradeoffError> {
     let Some(h) = &sw.heat else { return Ok(None) };
@@ -201,6 +201,7 @@ pub fn heat_montage(sw: &Sweep) -> Result<Option<(Vec<u8>, u32, u32)>, TradeoffE
     );
     let mut buf = vec![255u8; (w * hh * 3) as usize];
     for (k, img) in h.images.iter().enumerate() {
+        let rf = h.reference_of[k].map_or(&h.reference, |i| &h.filtered[i]);
         let (cx, cy) = (k as u32 % cols, k as u32 / cols);
         let (ox, oy) = (
             pad + cx * (tw + pad),
@@ -210,7 +211,7 @@ pub fn heat_montage(sw: &Sweep) -> Result<Option<(Vec<u8>, u32, u32)>, TradeoffE
             for x in 0..tw {
                 let p = ((y / scale) * h.width + x / scale) as usize;
                 let e = (0..3)
-                    .map(|ch| (img[3 * p + ch] as f64 - h.reference[p][ch]).abs())
+                    .map(|ch| (img[3 * p + ch] as f64 - rf[p][ch]).abs())
                     .fold(0.0, f64::max);
                 let o = (((oy + y) * w + ox + x) * 3) as usize;
                 buf[o..o + 3].copy_from_slice(&heat_colour(e));

@@ -1,8 +1,24 @@
-//! Judging an image against the exact box-filtered reference of
+//! Judging an image against the exact reference of its own filter from
 //! [`pixelproc_sim::reference`] (see `docs/accuracy.md`), and the Pareto frontier of error
 //! against time.
 
-use pixelproc_sim::reference::RefImage;
+use pixelproc_sim::aa::multiscan::GAUSS_SIGMA;
+use pixelproc_sim::aa::{AaMethod, Filter};
+use pixelproc_sim::reference::{RefFilter, RefImage};
+
+/// The filter a method resolves with, hence the reference it is judged against: the
+/// seed-002 Gaussian or cone for multi-scanning with those filters, the pixel box for
+/// every other method.
+pub fn reference_filter(aa: &AaMethod) -> RefFilter {
+    match aa {
+        AaMethod::Multiscan(p) => match p.filter {
+            Filter::Box => RefFilter::Box,
+            Filter::Gauss => RefFilter::Gauss { sigma: GAUSS_SIGMA },
+            Filter::Cone => RefFilter::Cone,
+        },
+        _ => RefFilter::Box,
+    }
+}
 
 /// How far one rendered image is from the reference.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -2,10 +2,11 @@
 //!
 //! Every anti-aliasing method of [`pixelproc_sim::aa`] with every setting of the sweep
 //! ([`sweep_settings`]) renders every scene of a set ([`builtin_scenes`], or a folder of
-//! scene files, [`load_scene_dir`]). Each image is judged against the exact box-filtered
-//! reference of [`pixelproc_sim::reference`] ([`judge()`]): RMSE and maximum error on the
-//! 0..255 scale, and the pixels whose visible surface (the triangle with the largest
-//! visible area) differs from the reference's. Cost is the median time of `runs` renders on
+//! scene files, [`load_scene_dir`]). Each image is judged against the exact reference of
+//! its own filter from [`pixelproc_sim::reference`] ([`reference_filter`], [`judge()`]):
+//! box-filtered for most methods, the seed-002 Gaussian or cone for multi-scanning with
+//! those filters: RMSE and maximum error on the 0..255 scale, and the pixels whose visible
+//! surface (the triangle with the largest visible area) differs from the reference's. Cost is the median time of `runs` renders on
 //! **one thread** ([`timing`]), the depth evaluations and sample-memory reads per pixel the
 //! methods count themselves, and the shade levels a long near-horizontal / near-vertical
 //! edge gets ([`pixelproc_sim::aa::edge_shade_levels`]).
@@ -35,7 +36,7 @@ use pixelproc_sim::aa::AaError;
 use thiserror::Error;
 
 pub use chart::{chart, heat_montage};
-pub use judge::{judge, pareto_frontier, Judgement};
+pub use judge::{judge, pareto_frontier, reference_filter, Judgement};
 pub use report::{csv, markdown, scenes_csv, write_outputs, Written, CSV_HEADER};
 pub use scenes::{builtin_scenes, load_scene_dir, TestScene};
 pub use settings::{sweep_settings, Setting};

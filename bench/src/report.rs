@@ -126,7 +126,8 @@ fn md_intro(s: &mut String, sw: &Sweep, command: &str) {
          one thread (a one-thread rayon pool); `ms/frame` is that thread's CPU time, the \
          median of {} runs per scene averaged over the {} scenes (`wall` is wall-clock \
          time of the same runs, which other load on the machine inflates). Errors are on the 0..255 scale against the exact \
-         box-filtered reference, pooled over all {px} pixels of the set; they are \
+         reference of each method's filter (the pixel box; the seed-002 Gaussian for \
+         `gauss` multi-scanning), pooled over all {px} pixels of the set; they are \
          deterministic, times are not.\n",
         sw.cores,
         sw.runs,

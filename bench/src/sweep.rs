@@ -9,9 +9,9 @@ use pixelproc_formats::abuffer::MaskSize;
 use pixelproc_sim::aa::{edge_shade_levels, render_aa, AaError, AaMethod};
 use pixelproc_sim::abuffer::{render_abuffer, AbufferError, AbufferParams};
 use pixelproc_sim::mask_search::DepthSelect;
-use pixelproc_sim::reference::{reference_image, RefImage};
+use pixelproc_sim::reference::{filtered_reference_image, reference_image, RefFilter, RefImage};
 
-use crate::judge::judge;
+use crate::judge::{judge, reference_filter};
 use crate::scenes::TestScene;
 use crate::settings::Setting;
 use crate::timing::{one_thread_pool, time_setting};
@@ -186,8 +186,13 @@ pub struct HeatData {
     pub width: u32,
     /// Height.
     pub height: u32,
-    /// Reference, f64 RGB.
+    /// Reference, f64 RGB (box filter).
     pub reference: Vec<[f64; 3]>,
+    /// References under the other filters some settings use, f64 RGB.
+    pub filtered: Vec<Vec<[f64; 3]>>,
+    /// Per setting (sweep order): the index into `filtered` of its reference, or `None`
+    /// for the box reference.
+    pub reference_of: Vec<Option<usize>>,
     /// Per setting (sweep order): RGB8.
     pub images: Vec<Vec<u8>>,
 }
@@ -266,7 +271,7 @@ fn with_scene(aa: &AaMethod, sc: &TestScene) -> AaMethod {
 }
 
 /// Measures one setting on one scene: an untimed render judged against the reference `r`
-/// (any thread count gives the same image), then `runs` timed renders on the one-thread
+/// of the setting's filter (any thread count gives the same image), then `runs` timed renders on the one-thread
 /// pool. Returns the measurements and the untimed image (RGB8).
 fn measure(
     one: &rayon::ThreadPool,
@@ -353,21 +358,35 @@ pub fn run_sweep(
     for sc in scenes {
         bar.set_message(format!("{}: reference", sc.name));
         let r = reference_image(&sc.tris, sc.width, sc.height, sc.bg);
+        // Each setting is judged against the reference of its own filter.
+        let mut filtered: Vec<(RefFilter, RefImage)> = Vec::new();
+        for row in &rows {
+            let f = reference_filter(&row.setting.aa);
+            if f != RefFilter::Box && !filtered.iter().any(|(g, _)| *g == f) {
+                let img = filtered_reference_image(&sc.tris, sc.width, sc.height, sc.bg, f);
+                filtered.push((f, img.image));
+            }
+        }
         for v in &mut variants {
             v.add_scene(sc)?;
         }
         bar.inc(1);
         let keep = sc.name == heat_name;
         let mut images = Vec::new();
+        let mut reference_of = Vec::new();
         for row in rows.iter_mut() {
             bar.set_message(format!(
                 "{}: {} {}",
                 sc.name, row.setting.method, row.setting.setting
             ));
-            let (res, rgb) = measure(&one, sc, &r, &row.setting, opts.runs)?;
+            let f = reference_filter(&row.setting.aa);
+            let own = filtered.iter().position(|(g, _)| *g == f);
+            let rf = own.map_or(&r, |i| &filtered[i].1);
+            let (res, rgb) = measure(&one, sc, rf, &row.setting, opts.runs)?;
             row.scenes.push(res);
             if keep {
                 images.push(rgb);
+                reference_of.push(own);
             }
             bar.inc(1);
         }
@@ -377,6 +396,8 @@ pub fn run_sweep(
                 width: sc.width,
                 height: sc.height,
                 reference: r.rgb,
+                filtered: filtered.into_iter().map(|(_, img)| img.rgb).collect(),
+                reference_of,
                 images,
             });
         }

@@ -22,6 +22,13 @@
 //! which needs no depth evaluation and contains the depth of every covered subpixel. A
 //! group's mask is the OR of its parts, its depth the min of theirs.
 //!
+//! **Patterns on their face.** Before merge, fragments with identical depth planes of
+//! which at least one is a decal (a pattern lying on its host face) take one common
+//! ordering depth, the nearest (farthest) pick of the class ([`coplanar_common_depth`]):
+//! they are compared at a common point, not each at its own extreme subpixel, and the
+//! tie order below puts the pattern in front of its face (seed 002, §3). The search unit
+//! and its picks are unchanged; every other fragment keeps its own pick.
+//!
 //! **Packing.** Groups in order of `(zmin, zmax, decal first, first triangle index)`; the
 //! free mask starts full; a group's visible bits are `mask & free`, then `free &= !mask`.
 //! Inside a group the visible bits go to its parts in the same order, each bit once.
@@ -42,7 +49,9 @@ use thiserror::Error;
 
 mod pixel;
 mod search_stream;
-pub use pixel::{merge, pack, process_pixel, resolve, Group, Packed, PixelOut};
+pub use pixel::{
+    coplanar_common_depth, merge, pack, process_pixel, resolve, Group, Packed, PixelOut,
+};
 pub use search_stream::{search_stream, SearchRequest};
 
 /// Why a frame cannot be rendered.

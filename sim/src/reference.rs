@@ -26,6 +26,9 @@ use rayon::prelude::*;
 
 use crate::setup::SnappedTri;
 
+mod filtered;
+pub use filtered::{filtered_reference_image, FilteredRef, RefFilter};
+
 /// Two planes whose depth difference is below this (in 24-bit depth units) at every
 /// vertex of the region they share are treated as coplanar.
 pub const COPLANAR_EPS: f64 = 1e-6;
@@ -277,15 +280,15 @@ fn coplanar_wins(q: usize, qt: &RefTri, p: usize, pt: &RefTri) -> bool {
     }
 }
 
-/// Triangles whose bounding box touches each row.
-fn bin_rows(rt: &[Option<RefTri>], height: u32) -> Vec<Vec<usize>> {
-    let mut rows: Vec<Vec<usize>> = vec![Vec::new(); height as usize];
+/// Triangles whose bounding box touches each row `j` of `rlo..rhi` (at index `j − rlo`).
+fn bin_rows(rt: &[Option<RefTri>], rlo: i64, rhi: i64) -> Vec<Vec<usize>> {
+    let mut rows: Vec<Vec<usize>> = vec![Vec::new(); (rhi - rlo).max(0) as usize];
     for (k, t) in rt.iter().enumerate() {
         let Some(t) = t else { continue };
-        let lo = t.bbox[1].floor().max(0.0) as i64;
-        let hi = (t.bbox[3].ceil() as i64 - 1).min(height as i64 - 1);
-        for j in lo.max(0)..=hi {
-            rows[j as usize].push(k);
+        let lo = (t.bbox[1].floor() as i64).max(rlo);
+        let hi = (t.bbox[3].ceil() as i64 - 1).min(rhi - 1);
+        for j in lo..=hi {
+            rows[(j - rlo) as usize].push(k);
         }
     }
     rows
@@ -355,6 +358,19 @@ fn visible_pieces(rt: &[Option<RefTri>], cands: &[(usize, Poly)], pi: usize) -> 
     pieces
 }
 
+/// The visible pieces of one pixel square: per candidate triangle (in candidate order),
+/// its input index and the convex pieces of it that nothing hides.
+type SquarePieces = Vec<(usize, Vec<Poly>)>;
+
+/// The visible-area decomposition of the pixel square at `(x0, y0)`: the one computation
+/// every filter of the reference integrates over.
+fn square_pieces(rt: &[Option<RefTri>], row: &[usize], x0: f64, y0: f64) -> SquarePieces {
+    let cands = candidates(rt, row, x0, y0);
+    (0..cands.len())
+        .map(|pi| (cands[pi].0, visible_pieces(rt, &cands, pi)))
+        .collect()
+}
+
 /// One reference pixel.
 struct RefPixel {
     rgb: [f64; 3],
@@ -366,20 +382,15 @@ struct RefPixel {
 
 /// Integrates one pixel: visible area × colour at the piece's centroid (colours are affine),
 /// plus the background over the uncovered rest. Adds each triangle's visible area to `vis`.
-fn pixel(
-    rt: &[Option<RefTri>],
-    cands: &[(usize, Poly)],
-    bgf: [f64; 3],
-    vis: &mut [f64],
-) -> RefPixel {
+fn pixel(rt: &[Option<RefTri>], sq: &SquarePieces, bgf: [f64; 3], vis: &mut [f64]) -> RefPixel {
     let mut acc = [0.0; 3];
     let mut covered = 0.0;
     let mut best = (-1i32, 0.0f64);
     let mut surfaces = 0;
-    for (pi, (p, _)) in cands.iter().enumerate() {
+    for (p, pieces) in sq {
         let Some(pt) = rt[*p].as_ref() else { continue };
         let mut area = 0.0;
-        for piece in &visible_pieces(rt, cands, pi) {
+        for piece in pieces {
             let (a, c) = area_centroid(piece);
             area += a;
             for (ch, v) in acc.iter_mut().enumerate() {
@@ -416,7 +427,7 @@ fn pixel(
 /// skipped, as in the renderer.
 pub fn reference_image(tris: &[SnappedTri], width: u32, height: u32, bg: [u8; 3]) -> RefImage {
     let rt: Vec<Option<RefTri>> = tris.iter().map(to_ref).collect();
-    let rows = bin_rows(&rt, height);
+    let rows = bin_rows(&rt, 0, height as i64);
     let bgf = bg.map(|v| v as f64);
     let per_row: Vec<(Vec<RefPixel>, Vec<f64>)> = (0..height)
         .into_par_iter()
@@ -424,13 +435,23 @@ pub fn reference_image(tris: &[SnappedTri], width: u32, height: u32, bg: [u8; 3]
             let mut vis = vec![0.0; tris.len()];
             let px = (0..width)
                 .map(|i| {
-                    let cands = candidates(&rt, &rows[j as usize], i as f64, j as f64);
-                    pixel(&rt, &cands, bgf, &mut vis)
+                    let sq = square_pieces(&rt, &rows[j as usize], i as f64, j as f64);
+                    pixel(&rt, &sq, bgf, &mut vis)
                 })
                 .collect();
             (px, vis)
         })
         .collect();
+    assemble(width, height, tris.len(), per_row)
+}
+
+/// The image of per-row pixels and per-row visible areas (summed in row order).
+fn assemble(
+    width: u32,
+    height: u32,
+    ntris: usize,
+    per_row: Vec<(Vec<RefPixel>, Vec<f64>)>,
+) -> RefImage {
     let mut img = RefImage {
         width,
         height,
@@ -438,7 +459,7 @@ pub fn reference_image(tris: &[SnappedTri], width: u32, height: u32, bg: [u8; 3]
         covered: Vec::new(),
         dominant: Vec::new(),
         dominant_area: Vec::new(),
-        visible_area: vec![0.0; tris.len()],
+        visible_area: vec![0.0; ntris],
         mixed: Vec::new(),
     };
     for (px, vis) in per_row {

@@ -3,11 +3,12 @@
 
 mod aa_common;
 use aa_common::*;
+use pixelproc_sim::aa::multiscan::GAUSS_SIGMA;
 use pixelproc_sim::aa::{
     edge_shade_levels, render_aa, AaMethod, CornerParams, Filter, MultiscanParams, Pattern,
     PostFxParams,
 };
-use pixelproc_sim::reference::{reference_image, RefImage};
+use pixelproc_sim::reference::{filtered_reference_image, reference_image, RefFilter, RefImage};
 use pixelproc_sim::setup::SnappedTri;
 
 const W: u32 = 64;
@@ -50,10 +51,17 @@ fn multiscan_box_error_falls_from_1_to_8_subscanlines() {
 }
 
 #[test]
-fn multiscan_gauss_error_falls_from_1_to_4_subscanlines() {
-    for (k, (t, r)) in scenes().iter().enumerate() {
-        let e = multiscan_errors(t, r, &[1, 2, 4], Filter::Gauss);
-        assert!(e.windows(2).all(|w| w[1] < w[0]), "scene {k}: {e:?}");
+fn multiscan_gauss_and_cone_errors_fall_from_1_to_8_subscanlines_against_their_filter() {
+    for (k, (t, _)) in scenes().iter().enumerate() {
+        for (f, rf) in [
+            (Filter::Gauss, RefFilter::Gauss { sigma: GAUSS_SIGMA }),
+            (Filter::Cone, RefFilter::Cone),
+        ] {
+            let r = filtered_reference_image(t, W, H, BG, rf).image;
+            let e = multiscan_errors(t, &r, &[1, 2, 4, 8], f);
+            assert!(e.windows(2).all(|w| w[1] < w[0]), "scene {k} {f:?}: {e:?}");
+            assert!(e[3] < 1.0, "scene {k} {f:?}: n=8 RMSE {}", e[3]);
+        }
     }
 }
 

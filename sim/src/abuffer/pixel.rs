@@ -9,6 +9,35 @@ use crate::mask_search::{DepthPick, DepthSelect, DepthSelector};
 use pixelproc_formats::abuffer::MaskSize;
 use pixelproc_formats::I_FRAC;
 
+/// The seed-002 order of a pattern on its face (Nishita & Nakamae, §3: "pattern in front
+/// of face"), applied before merge and packing: fragments whose depth planes are
+/// identical, at least one of them a decal, are one surface, so they are compared at a
+/// common point instead of at their own extreme subpixels. Every member of such a class
+/// takes the class's nearest `zmin` (and farthest `zmax`), a depth of the shared plane
+/// over the union of their masks; the packing keys then tie on depth and the tie order
+/// decides (decal first, later decal over earlier). Other fragments keep their picks.
+pub fn coplanar_common_depth(frags: &[Fragment], picks: &mut [DepthPick]) {
+    if !frags.iter().any(|f| f.decal) {
+        return;
+    }
+    let n = frags.len();
+    for k in 0..n {
+        let same = |q: &usize| frags[*q].plane == frags[k].plane;
+        let mut class = (0..n).filter(same);
+        if !class.clone().any(|q| frags[q].decal) || class.clone().count() < 2 {
+            continue;
+        }
+        let zmin = class.clone().map(|q| picks[q].zmin).min();
+        let zmax = class.by_ref().filter_map(|q| picks[q].zmax).max();
+        if let Some(z) = zmin {
+            picks[k].zmin = z;
+        }
+        if picks[k].zmax.is_some() {
+            picks[k].zmax = zmax;
+        }
+    }
+}
+
 /// A merged group of fragments (indices into the pixel's fragment list).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Group {
@@ -211,6 +240,8 @@ pub fn process_pixel(
             .collect();
         let e = picks.iter().map(|p| p.evals).sum();
         let s = picks.iter().map(|p| p.steps).sum();
+        let mut picks = picks;
+        coplanar_common_depth(frags, &mut picks);
         (picks, e, s)
     } else {
         let p = frags.iter().map(|f| DepthPick {
@@ -328,6 +359,7 @@ impl PixelScratch {
                 steps += p.steps;
                 self.picks.push(p);
             }
+            coplanar_common_depth(frags, &mut self.picks);
         } else {
             self.picks.extend(frags.iter().map(|f| DepthPick {
                 zmin: f.plane.zc,

@@ -2,7 +2,7 @@
 //! axisymmetric Gaussian and cone): integer weight tables integrated per sub-scanline,
 //! and the per-pixel accumulator that sums weighted colours and per-triangle weights.
 
-use super::Filter;
+use super::{Filter, GAUSS_SIGMA};
 
 /// Integer filter tables: `f[m][k]` for `m = 0..=n`, `k = 0..=64`, and the total weight
 /// of a fully covered pixel.
@@ -18,7 +18,7 @@ pub(super) fn tables(filter: Filter, n: u32) -> Tables {
             return 0.0;
         }
         match filter {
-            Filter::Gauss => (-r * r / (2.0 * 0.4 * 0.4)).exp(),
+            Filter::Gauss => (-r * r / (2.0 * GAUSS_SIGMA * GAUSS_SIGMA)).exp(),
             Filter::Cone => 1.0 - r,
             Filter::Box => 1.0,
         }

@@ -81,6 +81,9 @@ const ONE16: i64 = 1 << 16;
 /// Fractional bits of the depth values compared by the walk.
 const ZF: u32 = 20;
 
+/// σ of the Gaussian filter, pixels (radius 1, §2.2.2 leaves σ to the implementation).
+pub const GAUSS_SIGMA: f64 = 0.4;
+
 /// Filter of the multi-scanning resolve.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Filter {
