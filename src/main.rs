@@ -611,8 +611,33 @@ fn cmd_verilog(a: &VerilogArgs) -> Result<()> {
     Ok(())
 }
 
+/// The hardware configuration of `pixelproc tradeoff`, checked (one-line errors).
+fn tradeoff_hw(a: &TradeoffArgs) -> Result<pixelproc_bench::HwConfig> {
+    let n: u64 = a.array_width.trim().parse().map_err(|_| {
+        anyhow::anyhow!(
+            "--array-width {}: expected a whole number of processors, 1..=4096",
+            a.array_width
+        )
+    })?;
+    let mhz: f64 = a.clock_mhz.trim().parse().map_err(|_| {
+        anyhow::anyhow!(
+            "--clock-mhz {}: expected a frequency in MHz above 0 and at most 2000",
+            a.clock_mhz
+        )
+    })?;
+    // Errors name the value as typed (`nan`, not `NaN`).
+    pixelproc_bench::HwConfig::new(n, mhz).map_err(|e| match e {
+        pixelproc_sim::hwcost::HwCostError::Clock(_) => anyhow::anyhow!(
+            "--clock-mhz {}: expected a frequency in MHz above 0 and at most 2000",
+            a.clock_mhz
+        ),
+        e => anyhow::anyhow!("{e}"),
+    })
+}
+
 fn cmd_tradeoff(a: &TradeoffArgs) -> Result<()> {
-    use pixelproc_bench::{run_tradeoff, TradeoffOptions};
+    use pixelproc_bench::{run_tradeoff_with, TradeoffOptions};
+    let hw = tradeoff_hw(a)?;
     let mut command = String::from("pixelproc tradeoff");
     if let Some(d) = &a.scenes {
         command += &format!(" --scenes {}", d.display());
@@ -621,22 +646,32 @@ fn cmd_tradeoff(a: &TradeoffArgs) -> Result<()> {
     if a.quick {
         command += " --quick";
     }
-    let (sw, w) = run_tradeoff(&TradeoffOptions {
-        scenes_dir: a.scenes.clone(),
-        out_dir: a.output.clone(),
-        runs: a.runs,
-        quick: a.quick,
-        progress: true,
-        command,
-    })?;
+    command += &format!(
+        " --array-width {} --clock-mhz {}",
+        hw.array_width, hw.clock_mhz
+    );
+    let (sw, w) = run_tradeoff_with(
+        &TradeoffOptions {
+            scenes_dir: a.scenes.clone(),
+            out_dir: a.output.clone(),
+            runs: a.runs,
+            quick: a.quick,
+            progress: true,
+            command,
+        },
+        &hw,
+    )?;
     say!(
-        "{} settings × {} scenes, median of {} runs on one thread",
+        "{} settings × {} scenes, median of {} runs on one thread; hardware model at 1920x1080, N = {}, {} MHz",
         sw.rows.len(),
         sw.scenes.len(),
-        sw.runs
+        sw.runs,
+        hw.array_width,
+        hw.clock_mhz
     );
     for p in [&w.csv, &w.scenes_csv, &w.markdown, &w.chart]
         .into_iter()
+        .chain(w.hw_chart.as_ref())
         .chain(w.heatmap.as_ref())
     {
         say!("wrote {}", p.display());

@@ -406,3 +406,25 @@ fn usage_errors_exit_2_and_other_errors_exit_1() {
     let o = pixelproc(d.path(), &["render", "nothing.json"]);
     assert_eq!(o.status.code(), Some(1));
 }
+
+/// `tradeoff`'s hardware configuration: a bad `--array-width` or `--clock-mhz` (zero,
+/// negative, not a number, absurd) is one `error:` line naming the flag, exit 1, before any
+/// sweep runs or any file is written.
+#[test]
+fn tradeoff_rejects_bad_hardware_configurations() {
+    let d = tempfile::tempdir().unwrap();
+    let run = |flag: &str, v: &str| {
+        expect_error(
+            d.path(),
+            &["tradeoff", "--quick", "--runs", "1", "-o", "t", flag, v],
+            &[flag, v],
+        );
+        assert!(!d.path().join("t").exists(), "{flag} {v} wrote output");
+    };
+    for v in ["0", "-3", "eight", "4097", "1e3", "99999999999999999999"] {
+        run("--array-width", v);
+    }
+    for v in ["0", "-81", "fast", "nan", "inf", "1e9"] {
+        run("--clock-mhz", v);
+    }
+}
