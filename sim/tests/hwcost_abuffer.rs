@@ -126,3 +126,43 @@ fn a_frames_searches_match_the_unit_and_the_renderer() {
         }
     }
 }
+
+/// The A-buffer's frame by hand on a 4×2 screen: a far triangle over everything and a near
+/// one over x < 2.75 (constant depths, different planes: no merge). Fragments: 8 far + 6
+/// near = 14; pixels 0..=2 of each row hold two, so 12 searches, each hitting on line 0
+/// (every mask holds the top-left subpixel: full masks, and the near one's columns 0..=2
+/// at x = 2.125..2.625). Iterative: 12 clocks + 11 = 23; pipelined: 11 + 7 + 12 = 30;
+/// both above the 14 fragments and 8 pixels. `center` searches nothing: 14.
+#[test]
+fn a_small_frame_by_hand() {
+    use pixelproc_sim::hwcost::abuffer::cost;
+    use pixelproc_sim::hwcost::{Frame, HwConfig};
+    use pixelproc_sim::setup::SnappedTri;
+    let tri = |v: [[f64; 2]; 3], z: u32| SnappedTri {
+        v: v.map(|p| [(p[0] * 256.0) as i32, (p[1] * 256.0) as i32]),
+        z: [z; 3],
+        c: [[(100 << 12) + 2048; 3]; 3],
+        ..Default::default()
+    };
+    let tris = vec![
+        tri([[-1.0, -1.0], [12.0, -1.0], [-1.0, 12.0]], 5000),
+        tri([[2.75, -10.0], [2.75, 10.0], [-20.0, 0.0]], 1000),
+    ];
+    let frame = Frame {
+        tris: &tris,
+        width: 4,
+        height: 2,
+    };
+    let cfg = HwConfig::DEFAULT;
+    let p = |depth| AbufferParams {
+        size: MaskSize::S4X4,
+        depth,
+        interpenetrating: false,
+        compare_variants: false,
+    };
+    let c = |depth, kind| cost(&frame, &cfg, &p(depth), kind).unwrap();
+    let it = c(DepthSelect::Search, SearchKind::Iterative);
+    assert_eq!((it.samples, it.cycles), (14, 23));
+    assert_eq!(c(DepthSelect::Search, SearchKind::Pipelined).cycles, 30);
+    assert_eq!(c(DepthSelect::Center, SearchKind::Pipelined).cycles, 14);
+}
