@@ -139,6 +139,24 @@ pub(crate) struct TradeoffArgs {
     /// A small subset of scenes and settings (tests, CI).
     #[arg(long)]
     pub(crate) quick: bool,
+    /// Hardware figures: processors in the array, 1..=4096 (default 64; only N = 8 was
+    /// placed and routed, so other widths extrapolate its clock).
+    #[arg(
+        long,
+        value_name = "N",
+        default_value = "64",
+        allow_hyphen_values = true
+    )]
+    pub(crate) array_width: String,
+    /// Hardware figures: clock in MHz, above 0 and at most 2000 (default 81.04: the core
+    /// at N = 8 without shadows, placed and routed on an ECP5, docs/fpga.md).
+    #[arg(
+        long,
+        value_name = "MHZ",
+        default_value = "81.04",
+        allow_hyphen_values = true
+    )]
+    pub(crate) clock_mhz: String,
 }
 
 #[derive(Args, Default)]

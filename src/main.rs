@@ -618,8 +618,47 @@ fn cmd_verilog(a: &VerilogArgs) -> Result<()> {
     Ok(())
 }
 
+/// The hardware configuration of `pixelproc tradeoff`, checked (one-line errors).
+/// A bad flag value found after parsing: reported on one line, exit code 2 (a usage error,
+/// as clap's own).
+#[derive(Debug)]
+struct UsageError(String);
+
+impl std::fmt::Display for UsageError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for UsageError {}
+
+fn tradeoff_hw(a: &TradeoffArgs) -> Result<pixelproc_bench::HwConfig> {
+    let width_err = || {
+        UsageError(format!(
+            "--array-width {}: expected a whole number of processors, 1..=4096",
+            a.array_width
+        ))
+    };
+    let clock_err = || {
+        UsageError(format!(
+            "--clock-mhz {}: expected a frequency in MHz above 0 and at most 2000",
+            a.clock_mhz
+        ))
+    };
+    let n: u64 = a.array_width.trim().parse().map_err(|_| width_err())?;
+    let mhz: f64 = a.clock_mhz.trim().parse().map_err(|_| clock_err())?;
+    // Errors name the value as typed (`nan`, not `NaN`).
+    pixelproc_bench::HwConfig::new(n, mhz).map_err(|e| {
+        anyhow::Error::new(match e {
+            pixelproc_sim::hwcost::HwCostError::Clock(_) => clock_err(),
+            _ => width_err(),
+        })
+    })
+}
+
 fn cmd_tradeoff(a: &TradeoffArgs) -> Result<()> {
-    use pixelproc_bench::{run_tradeoff, TradeoffOptions};
+    use pixelproc_bench::{run_tradeoff_with, TradeoffOptions};
+    let hw = tradeoff_hw(a)?;
     let mut command = String::from("pixelproc tradeoff");
     if let Some(d) = &a.scenes {
         command += &format!(" --scenes {}", d.display());
@@ -628,22 +667,32 @@ fn cmd_tradeoff(a: &TradeoffArgs) -> Result<()> {
     if a.quick {
         command += " --quick";
     }
-    let (sw, w) = run_tradeoff(&TradeoffOptions {
-        scenes_dir: a.scenes.clone(),
-        out_dir: a.output.clone(),
-        runs: a.runs,
-        quick: a.quick,
-        progress: true,
-        command,
-    })?;
+    command += &format!(
+        " --array-width {} --clock-mhz {}",
+        hw.array_width, hw.clock_mhz
+    );
+    let (sw, w) = run_tradeoff_with(
+        &TradeoffOptions {
+            scenes_dir: a.scenes.clone(),
+            out_dir: a.output.clone(),
+            runs: a.runs,
+            quick: a.quick,
+            progress: true,
+            command,
+        },
+        &hw,
+    )?;
     say!(
-        "{} settings × {} scenes, median of {} runs on one thread",
+        "{} settings × {} scenes, median of {} runs on one thread; hardware model at 1920x1080, N = {}, {} MHz",
         sw.rows.len(),
         sw.scenes.len(),
-        sw.runs
+        sw.runs,
+        hw.array_width,
+        hw.clock_mhz
     );
     for p in [&w.csv, &w.scenes_csv, &w.markdown, &w.chart]
         .into_iter()
+        .chain(w.hw_chart.as_ref())
         .chain(w.heatmap.as_ref())
     {
         say!("wrote {}", p.display());
@@ -652,7 +701,8 @@ fn cmd_tradeoff(a: &TradeoffArgs) -> Result<()> {
 }
 
 /// Exit codes: 0 success; 1 an error (bad input, a failed run, RTL and golden model
-/// disagree); 2 a command-line usage error (from clap).
+/// disagree); 2 a command-line usage error (from clap, or a flag value checked after
+/// parsing).
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let res = match &cli.cmd {
@@ -674,7 +724,11 @@ fn main() -> ExitCode {
         Err(e) => {
             // Returning (not `process::exit`) runs every destructor: temporaries go.
             eprintln!("error: {e:#}");
-            ExitCode::from(1)
+            if e.downcast_ref::<UsageError>().is_some() {
+                ExitCode::from(2)
+            } else {
+                ExitCode::from(1)
+            }
         }
     }
 }

@@ -406,3 +406,27 @@ fn usage_errors_exit_2_and_other_errors_exit_1() {
     let o = pixelproc(d.path(), &["render", "nothing.json"]);
     assert_eq!(o.status.code(), Some(1));
 }
+
+/// `tradeoff`'s hardware configuration: a bad `--array-width` or `--clock-mhz` (zero,
+/// negative, not a number, absurd) is a usage error: exit 2, one `error:` line naming the
+/// flag and the value as typed, no panic, before any sweep runs or any file is written.
+#[test]
+fn tradeoff_rejects_bad_hardware_configurations() {
+    let d = tempfile::tempdir().unwrap();
+    let run = |flag: &str, v: &str| {
+        let args = ["tradeoff", "--quick", "--runs", "1", "-o", "t", flag, v];
+        let o = pixelproc(d.path(), &args);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{args:?}: expected one line: {err}");
+        assert!(err.starts_with(&format!("error: {flag} {v}: ")), "{err}");
+        assert!(!d.path().join("t").exists(), "{flag} {v} wrote output");
+    };
+    for v in ["0", "-3", "eight", "4097", "1e3", "99999999999999999999"] {
+        run("--array-width", v);
+    }
+    for v in ["0", "-81", "fast", "nan", "inf", "1e9"] {
+        run("--clock-mhz", v);
+    }
+}

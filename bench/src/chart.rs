@@ -1,10 +1,10 @@
 //! The sweep's pictures: RMSE against time per frame (log–log) with the Pareto frontier,
-//! and a montage of per-pixel error heat maps for one scene (see `docs/accuracy.md`).
+//! for the model's CPU time and for the modelled hardware's time, and a montage of per-pixel error heat maps for one scene (see `docs/accuracy.md`).
 
 use plotters::prelude::*;
 
 use crate::judge::pareto_frontier;
-use crate::report::points;
+use crate::report::{hw_points, points};
 use crate::sweep::Sweep;
 use crate::TradeoffError;
 
@@ -54,8 +54,50 @@ type LogChart<'a, 'b> =
 /// Draws RMSE against time (log–log), one colour per method family, the Pareto frontier
 /// as a line with its points labelled. Returns the PNG's RGB8 pixels.
 pub fn chart(sw: &Sweep, width: u32, height: u32) -> Result<Vec<u8>, TradeoffError> {
+    chart_of(
+        sw,
+        &points(sw),
+        "RMSE against the exact reference vs time per frame (one thread)",
+        "ms per frame (thread CPU time, median, one thread; log scale)",
+        width,
+        height,
+    )
+}
+
+/// The same chart against the modelled hardware's time per frame at 1920×1080
+/// ([`crate::hardware`]), with its own Pareto frontier; `None` if the sweep has no
+/// hardware figures.
+pub fn chart_hw(sw: &Sweep, width: u32, height: u32) -> Result<Option<Vec<u8>>, TradeoffError> {
+    let Some(hw) = &sw.hardware else {
+        return Ok(None);
+    };
+    let c = &hw.config;
+    let caption = format!(
+        "RMSE vs hardware time per frame at 1920x1080 (N = {}, {} MHz, model)",
+        c.array_width, c.clock_mhz
+    );
+    chart_of(
+        sw,
+        &hw_points(sw),
+        &caption,
+        "ms per frame on the modelled hardware (cycles / clock; log scale)",
+        width,
+        height,
+    )
+    .map(Some)
+}
+
+/// Draws RMSE (the second coordinate of `pts`) against the time in `pts`.
+fn chart_of(
+    sw: &Sweep,
+    pts: &[(f64, f64)],
+    caption: &str,
+    x_desc: &str,
+    width: u32,
+    height: u32,
+) -> Result<Vec<u8>, TradeoffError> {
     register_font()?;
-    let pts = points(sw);
+    let pts = pts.to_vec();
     let front = pareto_frontier(&pts);
     let mut buf = vec![255u8; (width * height * 3) as usize];
     {
@@ -63,10 +105,7 @@ pub fn chart(sw: &Sweep, width: u32, height: u32) -> Result<Vec<u8>, TradeoffErr
         root.fill(&WHITE).map_err(plot_err("chart"))?;
         let ((t0, t1), (e0, e1)) = axis_ranges(&pts);
         let mut ch = ChartBuilder::on(&root)
-            .caption(
-                "RMSE against the exact reference vs time per frame (one thread)",
-                ("sans-serif", 22),
-            )
+            .caption(caption, ("sans-serif", 22))
             .margin(16)
             .x_label_area_size(48)
             .y_label_area_size(64)
@@ -76,7 +115,7 @@ pub fn chart(sw: &Sweep, width: u32, height: u32) -> Result<Vec<u8>, TradeoffErr
             )
             .map_err(plot_err("chart"))?;
         ch.configure_mesh()
-            .x_desc("ms per frame (thread CPU time, median, one thread; log scale)")
+            .x_desc(x_desc)
             .y_desc("RMSE, 0..255 scale (log scale)")
             .label_style(("sans-serif", 14))
             .axis_desc_style(("sans-serif", 16))

@@ -12,8 +12,9 @@
 //! edge gets ([`pixelproc_sim::aa::edge_shade_levels`]).
 //!
 //! Outputs ([`write_outputs`]): a CSV per setting, a CSV per setting and scene, a
-//! Markdown report ([`report`]), a PNG chart of error against time with the Pareto frontier
-//! marked, and a montage of difference heat maps for one scene ([`mod@chart`]).
+//! Markdown report ([`report`]), PNG charts of error against time with the Pareto frontier
+//! marked (the model's CPU time, and the modelled hardware's time at 1920×1080,
+//! [`hardware`]), and a montage of difference heat maps for one scene ([`mod@chart`]).
 //!
 //! This crate measures the golden model; the model itself (`pixelproc-sim`) does not
 //! depend on it.
@@ -21,6 +22,7 @@
 #![warn(missing_docs)]
 
 pub mod chart;
+pub mod hardware;
 pub mod judge;
 pub mod methods;
 pub mod report;
@@ -35,8 +37,10 @@ use std::path::{Path, PathBuf};
 use pixelproc_sim::aa::AaError;
 use thiserror::Error;
 
-pub use chart::{chart, heat_montage};
+pub use chart::{chart, chart_hw, heat_montage};
+pub use hardware::{hardware_sweep, HwRow, HwSweep};
 pub use judge::{judge, pareto_frontier, reference_filter, Judgement};
+pub use pixelproc_sim::hwcost::HwConfig;
 pub use report::{csv, markdown, scenes_csv, write_outputs, Written, CSV_HEADER};
 pub use scenes::{builtin_scenes, load_scene_dir, TestScene};
 pub use settings::{sweep_settings, Setting};
@@ -110,14 +114,23 @@ pub struct TradeoffOptions {
     pub command: String,
 }
 
-/// Runs the sweep and writes every output. Returns the result and the files written.
+/// Runs the sweep and writes every output, with the hardware figures for the default
+/// configuration ([`HwConfig::DEFAULT`]). Returns the result and the files written.
 pub fn run_tradeoff(o: &TradeoffOptions) -> Result<(Sweep, Written), TradeoffError> {
+    run_tradeoff_with(o, &HwConfig::DEFAULT)
+}
+
+/// [`run_tradeoff`] with the hardware figures for `hw` (array width and clock).
+pub fn run_tradeoff_with(
+    o: &TradeoffOptions,
+    hw: &HwConfig,
+) -> Result<(Sweep, Written), TradeoffError> {
     let scenes = match &o.scenes_dir {
         Some(d) => load_scene_dir(d)?,
         None => builtin_scenes(o.quick),
     };
     let settings = sweep_settings(o.quick);
-    let sw = run_sweep(
+    let mut sw = run_sweep(
         &scenes,
         &settings,
         &SweepOptions {
@@ -126,6 +139,7 @@ pub fn run_tradeoff(o: &TradeoffOptions) -> Result<(Sweep, Written), TradeoffErr
         },
         None,
     )?;
+    sw.hardware = Some(hardware_sweep(&scenes, &settings, hw)?);
     let w = write_outputs(&sw, &o.out_dir, &o.command)?;
     if o.scenes_dir.is_none() {
         // The built-in set also measures shadow boundaries on 3-D scenes with real shadow

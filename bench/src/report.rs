@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use pixelproc_sim::mask_search::DepthSelect;
 
-use crate::chart::{chart, heat_montage, png_rgb};
+use crate::chart::{chart, chart_hw, heat_montage, png_rgb};
 use crate::judge::pareto_frontier;
 use crate::sweep::{Row, Sweep};
 use crate::TradeoffError;
@@ -23,12 +23,14 @@ pub struct Written {
     pub markdown: PathBuf,
     /// Error-against-time chart.
     pub chart: PathBuf,
+    /// Error against the modelled hardware's time (if the sweep has hardware figures).
+    pub hw_chart: Option<PathBuf>,
     /// Heat-map montage (if a heat-map scene was kept).
     pub heatmap: Option<PathBuf>,
 }
 
 /// The CSV header of the per-setting file.
-pub const CSV_HEADER: &str = "method,setting,ms_per_frame,wall_ms_per_frame,depth_evals_per_px,reads_per_px,rmse,max_err,wrong_visible,wrong_visible_clear,shade_levels_h,shade_levels_v,pareto";
+pub const CSV_HEADER: &str = "method,setting,ms_per_frame,wall_ms_per_frame,depth_evals_per_px,reads_per_px,rmse,max_err,wrong_visible,wrong_visible_clear,shade_levels_h,shade_levels_v,pareto,hw_cycles_per_frame,hw_ms_per_frame,hw_fps,hw_pareto";
 
 /// Each row's (ms per frame, RMSE), the plane of the frontier and the chart.
 pub(crate) fn points(sw: &Sweep) -> Vec<(f64, f64)> {
@@ -36,6 +38,32 @@ pub(crate) fn points(sw: &Sweep) -> Vec<(f64, f64)> {
         .iter()
         .map(|r| (r.ms_per_frame(), r.rmse()))
         .collect()
+}
+
+/// Each row's (hardware ms per frame at 1920×1080, RMSE): the plane of the hardware
+/// frontier and chart; empty without hardware figures.
+pub(crate) fn hw_points(sw: &Sweep) -> Vec<(f64, f64)> {
+    match &sw.hardware {
+        Some(hw) => (0..sw.rows.len())
+            .map(|k| (hw.ms(k), sw.rows[k].rmse()))
+            .collect(),
+        None => Vec::new(),
+    }
+}
+
+/// Row `k`'s hardware columns for the CSV: cycles, ms, fps, on the hardware frontier
+/// (zeros without hardware figures).
+fn hw_csv(sw: &Sweep, k: usize, front: &[usize]) -> String {
+    match &sw.hardware {
+        Some(hw) => format!(
+            "{},{:.4},{:.2},{}",
+            hw.rows[k].cycles(),
+            hw.ms(k),
+            hw.fps(k),
+            front.contains(&k) as u8
+        ),
+        None => "0,0,0,0".into(),
+    }
 }
 
 /// A setting's figures, in the column order of the CSV and the Markdown table: method,
@@ -59,16 +87,18 @@ fn figures(r: &Row, cost: usize, rmse: usize, max: usize) -> [String; 10] {
 /// The per-setting CSV text.
 pub fn csv(sw: &Sweep) -> String {
     let front = pareto_frontier(&points(sw));
+    let hw_front = pareto_frontier(&hw_points(sw));
     let mut s = String::from(CSV_HEADER);
     s.push('\n');
     for (k, r) in sw.rows.iter().enumerate() {
         let _ = writeln!(
             s,
-            "{},{},{},{}",
+            "{},{},{},{},{}",
             figures(r, 4, 4, 2).join(","),
             r.shade_levels.0,
             r.shade_levels.1,
-            front.contains(&k) as u8
+            front.contains(&k) as u8,
+            hw_csv(sw, k, &hw_front)
         );
     }
     s
@@ -109,6 +139,7 @@ pub fn markdown(sw: &Sweep, command: &str) -> String {
     md_intro(&mut s, sw, command);
     md_settings(&mut s, sw, &front);
     md_frontier(&mut s, sw, &front);
+    md_hardware(&mut s, sw);
     md_per_scene(&mut s, sw);
     if !sw.variants.is_empty() {
         md_variants(&mut s, sw);
@@ -154,20 +185,84 @@ fn md_settings(s: &mut String, sw: &Sweep, front: &[usize]) {
          differs from the reference's; `clear`: of those, pixels where the reference's \
          surface covers ≥ 3/4 of the pixel. `levels h/v`: distinct shades along a long \
          near-horizontal / near-vertical edge. `frontier`: on the Pareto frontier of \
-         RMSE against time.\n"
+         RMSE against time. `hw …`: the modelled hardware at 1920×1080 (see \
+         \"Hardware time\" below): cycles, ms and frames per second per frame, the \
+         ECP5 LUT4/FF of the blocks that have RTL (`~`: extrapolated), and `hw front`: \
+         on the frontier of RMSE against hardware time.\n"
     );
+    let hw_front = pareto_frontier(&hw_points(sw));
     let _ = writeln!(
         s,
-        "| method | setting | ms/frame | wall | depth evals/px | reads/px | RMSE | max err | wrong vis. | clear | levels h/v | frontier |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---|"
+        "| method | setting | ms/frame | wall | depth evals/px | reads/px | RMSE | max err | wrong vis. | clear | levels h/v | frontier | hw cycles/frame | hw ms | hw fps | LUT4/FF (RTL) | hw front |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---|---:|---:|---:|---|---|"
     );
     for (k, r) in sw.rows.iter().enumerate() {
         let _ = writeln!(
             s,
-            "| {} | {}/{} | {} |",
+            "| {} | {}/{} | {} | {} |",
             figures(r, 2, 3, 1).join(" | "),
             r.shade_levels.0,
             r.shade_levels.1,
-            if front.contains(&k) { "●" } else { "" }
+            if front.contains(&k) { "●" } else { "" },
+            hw_cells(sw, k, &hw_front)
+        );
+    }
+}
+
+/// Row `k`'s hardware cells for the Markdown table (dashes without hardware figures).
+fn hw_cells(sw: &Sweep, k: usize, front: &[usize]) -> String {
+    let Some(hw) = &sw.hardware else {
+        return "— | — | — | — |".into();
+    };
+    let res = hw.rows[k].resources().map_or("—".to_string(), |r| {
+        let t = if r.measured { "" } else { "~" };
+        format!("{t}{} / {t}{}", r.lut4, r.ff)
+    });
+    format!(
+        "{} | {:.2} | {:.1} | {} | {}",
+        hw.rows[k].cycles(),
+        hw.ms(k),
+        hw.fps(k),
+        res,
+        if front.contains(&k) { "●" } else { "" }
+    )
+}
+
+/// The hardware configuration, what the figures mean and the hardware frontier.
+fn md_hardware(s: &mut String, sw: &Sweep) {
+    let Some(hw) = &sw.hardware else {
+        return;
+    };
+    let c = &hw.config;
+    let _ = writeln!(
+        s,
+        "\n## Hardware time (model, 1920×1080)\n\n\
+         Array width N = {}, clock {} MHz{}. Each scene is scaled to 1920×1080 and run \
+         through the cycle model of its method (`sim::hwcost`); `hw cycles/frame` is the \
+         mean over the scenes. The no-AA array's count is the streaming core's exact \
+         cycle count; the other methods add stated assumptions (passes per pixel row, \
+         one fragment per clock), documented per method in `sim::hwcost` and \
+         `docs/accuracy.md`.\n",
+        c.array_width,
+        c.clock_mhz,
+        if c.routed() {
+            ""
+        } else {
+            " (an extrapolation: only the core at N = 8 was placed and routed)"
+        }
+    );
+    let _ = writeln!(s, "Pareto frontier on hardware time (fastest first):\n");
+    for &k in &pareto_frontier(&hw_points(sw)) {
+        let r = &sw.rows[k];
+        let _ = writeln!(
+            s,
+            "- {} {}: {} cycles, {:.2} ms/frame, {:.1} frames/s, {:.2} passes per row, RMSE {:.3}",
+            r.setting.method,
+            r.setting.setting,
+            hw.rows[k].cycles(),
+            hw.ms(k),
+            hw.fps(k),
+            hw.rows[k].passes_per_row(),
+            r.rmse()
         );
     }
 }
@@ -246,8 +341,8 @@ fn md_variants(s: &mut String, sw: &Sweep) {
     }
 }
 
-/// Writes `tradeoff.csv`, `tradeoff_scenes.csv`, `tradeoff.md`, `tradeoff.png` and
-/// `heatmap.png` into `dir` (created if needed), all or nothing: every file goes to a
+/// Writes `tradeoff.csv`, `tradeoff_scenes.csv`, `tradeoff.md`, `tradeoff.png`,
+/// `tradeoff_hw.png` (with hardware figures) and `heatmap.png` into `dir` (created if needed), all or nothing: every file goes to a
 /// temporary first and they are renamed together.
 pub fn write_outputs(sw: &Sweep, dir: &Path, command: &str) -> Result<Written, TradeoffError> {
     let w = Written {
@@ -255,6 +350,7 @@ pub fn write_outputs(sw: &Sweep, dir: &Path, command: &str) -> Result<Written, T
         scenes_csv: dir.join("tradeoff_scenes.csv"),
         markdown: dir.join("tradeoff.md"),
         chart: dir.join("tradeoff.png"),
+        hw_chart: sw.hardware.as_ref().map(|_| dir.join("tradeoff_hw.png")),
         heatmap: sw.heat.as_ref().map(|_| dir.join("heatmap.png")),
     };
     let out_err = |e: anyhow::Error| TradeoffError::Output(format!("{e:#}"));
@@ -270,6 +366,9 @@ pub fn write_outputs(sw: &Sweep, dir: &Path, command: &str) -> Result<Written, T
     files
         .add(&w.chart, &png_rgb(&chart(sw, cw, chh)?, cw, chh)?)
         .map_err(out_err)?;
+    if let (Some(p), Some(buf)) = (&w.hw_chart, chart_hw(sw, cw, chh)?) {
+        files.add(p, &png_rgb(&buf, cw, chh)?).map_err(out_err)?;
+    }
     if let (Some(p), Some((buf, mw, mh))) = (&w.heatmap, heat_montage(sw)?) {
         files.add(p, &png_rgb(&buf, mw, mh)?).map_err(out_err)?;
     }

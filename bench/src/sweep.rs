@@ -175,6 +175,9 @@ pub struct Sweep {
     pub cores: usize,
     /// The scene of the heat maps, with the reference and each setting's image.
     pub heat: Option<HeatData>,
+    /// Every setting's cycles on the modelled hardware at 1920×1080
+    /// ([`crate::hardware`]); filled by [`crate::run_tradeoff_with`].
+    pub hardware: Option<crate::hardware::HwSweep>,
 }
 
 /// Images of one scene for the heat maps.
@@ -410,5 +413,6 @@ pub fn run_sweep(
         runs: opts.runs,
         cores: std::thread::available_parallelism().map_or(1, |n| n.get()),
         heat,
+        hardware: None,
     })
 }

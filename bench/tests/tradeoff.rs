@@ -200,3 +200,98 @@ fn scene_folder_loads_screen_space_files() {
     assert_eq!(s[0].bg, [0, 0, 255]);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The hardware columns: a quick sweep with N = 8 at 100 MHz writes the hardware chart, its
+/// CSV columns convert cycles to ms and frames/s at that clock, its hardware frontier is
+/// the non-dominated set of (hardware ms, RMSE), and the no-AA row's cycles are the mean of
+/// the core's cycle-level model (`core_model::CoreModel`, no stalls) over the scenes
+/// scaled to 1920×1080.
+#[test]
+fn quick_sweep_reports_hardware_time() {
+    use pixelproc_bench::{builtin_scenes, run_tradeoff_with, HwConfig};
+    use pixelproc_sim::core_model::{run_frame, CoreModel, CoreStream, Stalls, DEFAULT_IN_ABITS};
+    use pixelproc_sim::render::SpanSource;
+    use pixelproc_sim::stream::SceneStream;
+
+    let dir = scratch("tradeoff-hw");
+    let hw = HwConfig::new(8, 100.0).unwrap();
+    let (sw, w) = run_tradeoff_with(
+        &TradeoffOptions {
+            scenes_dir: None,
+            out_dir: dir.clone(),
+            runs: 1,
+            quick: true,
+            progress: false,
+            command: "pixelproc tradeoff --quick --array-width 8 --clock-mhz 100".into(),
+        },
+        &hw,
+    )
+    .expect("sweep");
+    let hw_chart = w.hw_chart.as_ref().expect("hardware chart");
+    let img = image::open(hw_chart).expect("hardware chart decodes");
+    assert_eq!((img.width(), img.height()), (1100, 760));
+
+    let text = std::fs::read_to_string(&w.csv).unwrap();
+    let cols: Vec<&str> = CSV_HEADER.split(',').collect();
+    let col = |name: &str| cols.iter().position(|c| *c == name).unwrap();
+    let rows: Vec<Vec<String>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect();
+    let num = |r: &Vec<String>, c: &str| -> f64 { r[col(c)].parse().unwrap() };
+    let mut pts = Vec::new();
+    for r in &rows {
+        let cycles = num(r, "hw_cycles_per_frame");
+        assert!(cycles > 0.0);
+        // 100 MHz: 100,000 cycles per millisecond.
+        assert!(
+            (num(r, "hw_ms_per_frame") - cycles / 1e5).abs() < 1e-3,
+            "{r:?}"
+        );
+        assert!((num(r, "hw_fps") - 1e8 / cycles).abs() < 1e-2, "{r:?}");
+        pts.push((num(r, "hw_ms_per_frame"), num(r, "rmse")));
+    }
+    let front: Vec<usize> = (0..rows.len())
+        .filter(|&k| rows[k][col("hw_pareto")] == "1")
+        .collect();
+    assert_eq!(front, staircase(&pts));
+
+    // The no-AA row against the core's cycle model on the scaled scenes.
+    let mut total = 0u64;
+    let scenes = builtin_scenes(true);
+    for sc in &scenes {
+        let tris = pixelproc_sim::hwcost::rescale(&sc.tris, sc.width, sc.height, 1920, 1080);
+        let s = SceneStream {
+            bg: sc.bg,
+            spans: SpanSource::new(&tris, 1920, 1080).unwrap(),
+            shadow: vec![Vec::new(); 1080],
+            shadow_stats: Default::default(),
+        };
+        let cs = CoreStream::of_scene(&s, 8, None).unwrap();
+        let mut m = CoreModel::new(8, false, false, DEFAULT_IN_ABITS).unwrap();
+        let run = run_frame(
+            &mut m,
+            &cs.beats,
+            cs.pixels(),
+            &mut Stalls::new(1, 0, 0),
+            1 << 34,
+        )
+        .unwrap();
+        total += run.cycles.cycles;
+    }
+    let n = scenes.len() as u64;
+    let none = rows.iter().find(|r| r[0] == "none").unwrap();
+    assert_eq!(
+        none[col("hw_cycles_per_frame")],
+        ((total + n / 2) / n).to_string()
+    );
+    assert_eq!(sw.hardware.as_ref().unwrap().config, hw);
+
+    let md = std::fs::read_to_string(&w.markdown).unwrap();
+    assert!(md.contains("## Hardware time (model, 1920×1080)"));
+    assert!(md.contains("| hw cycles/frame | hw ms | hw fps | LUT4/FF (RTL) | hw front |"));
+    // N = 8 is the routed configuration: its LUT4/FF are the measured ones.
+    assert!(md.contains("| 6226 / 4829 |"), "measured core resources");
+    let _ = std::fs::remove_dir_all(&dir);
+}

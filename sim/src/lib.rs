@@ -12,6 +12,7 @@ pub mod abuffer;
 pub mod builtin;
 pub mod core_model;
 pub mod frontend;
+pub mod hwcost;
 pub mod input;
 pub mod mask;
 pub mod mask_search;
