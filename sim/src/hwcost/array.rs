@@ -27,6 +27,7 @@
 
 use super::{Frame, HwConfig, HwCost, HwCostError, Resources};
 use crate::core_model::READOUT_WAIT;
+use pixelproc_formats::core_stream::SHADE_STAGES;
 use crate::render::SpanSource;
 use crate::stream::SceneStream;
 
@@ -41,8 +42,9 @@ pub struct TileLine {
 
 /// Clocks from the first beat offered to its issue to the array.
 const FIRST_ISSUE: u64 = 3;
-/// Clocks from a pixel's read to the sink taking it.
-const READ_TO_OUT: u64 = 7;
+/// Clocks from a pixel's read to the sink taking it: three readout registers, the
+/// shading step's stages, the output FIFO's write and its output.
+const READ_TO_OUT: u64 = 3 + SHADE_STAGES as u64 + 2;
 
 /// Cycles of a frame through the core: `table_beats` TABLE beats, the tile-lines in
 /// stream order, then END (see the module header). Exact integer count.
@@ -254,8 +256,8 @@ mod tests {
 
     /// Hand-counted: one tile-line of 3 pixels with 2 commands. TILE issues at edge 3,
     /// commands at 4 and 5, END at 6 (the job only starts there); pixels read at
-    /// 6 + 5 = 11, 12, 13; the last is taken at 13 + 7 = 20. (The cycle model's trace of
-    /// TILE, NOP, END on a 4-wide tile: issues at 3, 4, 5, pixels out at 17..=20.)
+    /// 6 + 5 = 11, 12, 13; the last is taken at 13 + 9 = 22 (3 readout registers, 4 shading
+    /// stages, 2 through the output FIFO).
     #[test]
     fn one_tile_line_by_hand() {
         let c = core_cycles(
@@ -265,18 +267,18 @@ mod tests {
                 pixels: 3,
             }],
         );
-        assert_eq!(c, 20);
+        assert_eq!(c, 22);
     }
 
     /// Two readout-bound tile-lines of 4 pixels, one beat each: TILE0 at 3, TILE1 at 4
     /// (no job yet), END held until 4 + 5 + 4 = 13; last pixel read at 13 + 4 + 4 = 21,
-    /// out at 28.
+    /// out at 21 + 9 = 30.
     #[test]
     fn readout_bound_by_hand() {
         let t = TileLine {
             beats: 1,
             pixels: 4,
         };
-        assert_eq!(core_cycles(0, [t, t]), 28);
+        assert_eq!(core_cycles(0, [t, t]), 30);
     }
 }
