@@ -27,9 +27,9 @@
 
 use super::{Frame, HwConfig, HwCost, HwCostError, Resources};
 use crate::core_model::READOUT_WAIT;
-use pixelproc_formats::core_stream::SHADE_STAGES;
 use crate::render::SpanSource;
 use crate::stream::SceneStream;
+use pixelproc_formats::core_stream::SHADE_STAGES;
 
 /// One tile-line of the core's stream.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
