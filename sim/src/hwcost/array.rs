@@ -13,8 +13,9 @@
 //!   any): 4 clocks of wait (`READOUT_WAIT`), then one processor per clock, so the job
 //!   ends at edge `E + 4 + L` for a tile-line of `L` pixels and the next TILE or END can
 //!   issue at `E + 5 + L`;
-//! - a pixel read at edge `G` is taken by the sink at edge `G + 7` (3 tracking stages, 2
-//!   shading stages, the output FIFO's write and head registers); the END's job reads
+//! - a pixel read at edge `G` is taken by the sink at edge `G + 9` (3 tracking stages, 4
+//!   shading stages, `SHADE_STAGES`, the output FIFO's write and head registers); the
+//!   END's job reads
 //!   its last pixel at `E + 4 + L`.
 //!
 //! So with tile-line `t` holding `b_t` beats (its TILE and the commands binned to it) and
