@@ -171,12 +171,14 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
                 {
                     let sampled = timed(&mut timings, Stage::ShadowApply, || {
                         let inp = shadow_samples::PassInput {
-                            ls,
-                            fx,
-                            a,
-                            lights: &lights,
+                            ctx: ArrayCtx {
+                                ls,
+                                fx,
+                                a,
+                                lights: &lights,
+                                bg,
+                            },
                             table: t,
-                            bg,
                         };
                         shadow_samples::sample_shadows(&inp, &fx.aa, &mut out.rgb)
                     })?;
@@ -268,20 +270,16 @@ fn run_array(
     let src = timed(timings, Stage::SpanSetup, || {
         SpanSource::new(&projected.array_tris(), w, h)
     })?;
-    let mut shadow_rows: Vec<Vec<Command>> = vec![Vec::new(); h as usize];
-    let mut stats = ShadowStats::default();
-    for &light in &a.shadow_lights {
-        // Shadows need a camera: planning allows them only for 3-D scenes.
-        let pj = frontend::Projector::new(ls);
-        timed(timings, Stage::ShadowVolumes { light }, || {
-            shadow_volumes(ls, &pj, fx, lights, light, &mut shadow_rows, &mut stats)
-        })?;
-    }
-    let mut frame = timed(timings, Stage::PixelArray, || {
-        render_frame(&src, bg, fx.array_width, |j, cmds| {
-            cmds.extend_from_slice(&shadow_rows[j as usize])
-        })
-    });
+    // Shadows need a camera: planning allows them only for 3-D scenes.
+    let pj = (!a.shadow_lights.is_empty()).then(|| frontend::Projector::new(ls));
+    let ctx = ArrayCtx {
+        ls,
+        fx,
+        a,
+        lights,
+        bg,
+    };
+    let (mut frame, stats) = ctx.draw(&src, pj.as_ref(), timings)?;
     let table = (!a.shadow_lights.is_empty()).then(|| {
         timed(timings, Stage::ShadowShade, || {
             let t = FactorTable::for_mode(ls, lights, fx.shading);
@@ -295,6 +293,58 @@ fn run_array(
         table,
         shadow: stats,
     })
+}
+
+/// What the array draws a frame with: the scene, its effects and array plan, the
+/// shadowing lights and the background.
+#[derive(Clone, Copy)]
+pub(super) struct ArrayCtx<'a> {
+    /// The scene.
+    pub ls: &'a LoadedScene,
+    /// Its effects.
+    pub fx: &'a Effects,
+    /// The array's part of the plan.
+    pub a: &'a ArrayPlan,
+    /// The shadowing lights.
+    pub lights: &'a [ShadowLight],
+    /// Background colour.
+    pub bg: [u8; 3],
+}
+
+impl ArrayCtx<'_> {
+    /// The array drawing a frame: each shadowing light's volumes through `pj` (timed as
+    /// their own stages), then the span words of `src` with those shadow commands behind
+    /// each row's spans. The frame is not shaded yet.
+    fn draw(
+        &self,
+        src: &SpanSource,
+        pj: Option<&frontend::Projector>,
+        timings: &mut Timings,
+    ) -> Result<(Frame, ShadowStats), RenderError> {
+        let mut shadow_rows: Vec<Vec<Command>> = vec![Vec::new(); src.height() as usize];
+        let mut stats = ShadowStats::default();
+        if let Some(pj) = pj {
+            for &light in &self.a.shadow_lights {
+                timed(timings, Stage::ShadowVolumes { light }, || {
+                    shadow_volumes(
+                        self.ls,
+                        pj,
+                        self.fx,
+                        self.lights,
+                        light,
+                        &mut shadow_rows,
+                        &mut stats,
+                    )
+                })?;
+            }
+        }
+        let frame = timed(timings, Stage::PixelArray, || {
+            render_frame(src, self.bg, self.fx.array_width, |j, cmds| {
+                cmds.extend_from_slice(&shadow_rows[j as usize])
+            })
+        });
+        Ok((frame, stats))
+    }
 }
 
 /// One light's shadow volumes, appended to each row's shadow commands.

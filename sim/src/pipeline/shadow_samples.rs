@@ -12,13 +12,12 @@
 //! method's weights, 0..=255). All integer; a pixel no sample of which is in shadow keeps
 //! exactly the method's colour.
 
-use super::{shadow_volumes, RenderError};
+use super::{ArrayCtx, RenderError};
 use crate::aa::shadow_samples::{grid_of, ShadowTaps};
 use crate::frontend::{self, Projector, SampleGrid};
-use crate::plan::{AaMethod, ArrayPlan, Effects};
-use crate::render::{render_frame, SpanSource};
-use crate::scene::LoadedScene;
-use crate::shadow::{FactorTable, ShadowLight, ShadowStats};
+use crate::plan::AaMethod;
+use crate::render::SpanSource;
+use crate::shadow::FactorTable;
 use pixelproc_formats::{unpack_rgb, Z_FAR};
 use rayon::prelude::*;
 
@@ -30,45 +29,23 @@ pub(super) struct SampledShadow {
     pub passes: usize,
 }
 
-/// What every sample pass renders with: the scene, its effects and array plan, the
-/// shadowing lights, the shading table and the background.
+/// What every sample pass renders with: the array's inputs and the frame's shading table.
 pub(super) struct PassInput<'a> {
-    /// The scene.
-    pub ls: &'a LoadedScene,
-    /// Its effects.
-    pub fx: &'a Effects,
-    /// The array's part of the plan.
-    pub a: &'a ArrayPlan,
-    /// The shadowing lights.
-    pub lights: &'a [ShadowLight],
+    /// The scene, effects, plan, lights and background.
+    pub ctx: ArrayCtx<'a>,
     /// The shading table of the frame.
     pub table: &'a FactorTable,
-    /// Background colour.
-    pub bg: [u8; 3],
 }
 
 /// One rendered lattice: per sample, the darkening `u − v` per channel and the shadow
 /// level.
 fn lattice_pass(inp: &PassInput, pj: &Projector) -> Result<Vec<[u8; 4]>, RenderError> {
-    let PassInput {
-        ls,
-        fx,
-        a,
-        lights,
-        table,
-        bg,
-    } = *inp;
+    let (ls, fx, table) = (inp.ctx.ls, inp.ctx.fx, inp.table);
     let (w, h) = pj.raster_size();
     let projected = frontend::project_3d_with(ls, pj, fx.shade_channels())?;
     let src = SpanSource::new(&projected.array_tris(), w, h)?;
-    let mut rows = vec![Vec::new(); h as usize];
-    let mut stats = ShadowStats::default();
-    for &light in &a.shadow_lights {
-        shadow_volumes(ls, pj, fx, lights, light, &mut rows, &mut stats)?;
-    }
-    let frame = render_frame(&src, bg, fx.array_width, |j, cmds| {
-        cmds.extend_from_slice(&rows[j as usize])
-    });
+    // The pass's own stage times are not reported: the sample stage is timed as a whole.
+    let (frame, _) = inp.ctx.draw(&src, Some(pj), &mut Vec::new())?;
     let stride = if frame.more.is_empty() {
         0
     } else {
@@ -105,7 +82,7 @@ pub(super) fn sample_shadows(
     method: &AaMethod,
     rgb: &mut [u8],
 ) -> Result<Option<SampledShadow>, RenderError> {
-    let ls = inp.ls;
+    let ls = inp.ctx.ls;
     let (w, h) = (ls.scene.width, ls.scene.height);
     let Some(taps) = ShadowTaps::for_method(method, w, h) else {
         return Ok(None);
