@@ -59,7 +59,7 @@ pub struct ShadowTaps {
 
 #[derive(Clone, Debug)]
 enum Rule {
-    /// `nx × ny` lattices (column-major within a row: lattice `b·nx + a`), one tap each.
+    /// `nx × ny` lattices (row-major: offset `(a, b)` is lattice `b·nx + a`), one tap each.
     Grid { nx: u32, ny: u32 },
     /// Multi-scanning with `n` sub-scanlines.
     Multiscan { n: u32 },
@@ -67,7 +67,7 @@ enum Rule {
     Corner(corner::CornerParams),
 }
 
-/// `count` lattices of `width × height` at the sub-pixel offsets `(2a+1)/(2nx)`,
+/// `nx·ny` lattices of `width × height` at the sub-pixel offsets `(2a+1)/(2nx)`,
 /// `(2b+1)/(2ny)`.
 fn offset_grid(nx: u32, ny: u32, width: u32, height: u32) -> Vec<Lattice> {
     let mut v = Vec::new();
