@@ -127,10 +127,10 @@ pub fn shade_addr(nclass: u8, mask: u8, count: u8) -> u32 {
 }
 
 /// Register stages of the core's shading step, from the readout word to the shaded pixel:
-/// the table read, the table entry (the block RAM's output register) with `max(0, c − s)`,
-/// the two products, and the clamp and subtraction (`rtl::shade_unit`, the golden
-/// `core_model`).
-pub const SHADE_STAGES: usize = 4;
+/// the table read (every bank), each bank's entry registered at its block RAM with
+/// `max(0, c − s)`, the addressed bank's entry, the two products, and the clamp and
+/// subtraction (`rtl::shade_unit`, the golden `core_model`).
+pub const SHADE_STAGES: usize = 5;
 
 /// A pixel's channels after shading, per channel `c` of `rgb` and `s` of `sh` (shade
 /// register 1), with the table entry's factor `f` and drop weight `g` (both Q0.8):

@@ -2,20 +2,23 @@
 //! it in the frame buffer"; section 6 for the table indexed by the normal class and the
 //! light mask or counter), on the core's readout path.
 //!
-//! Each pixel read out of the array passes through four registers. Stage 1 registers the
-//! readout word and reads the shading table at `{NCLASS, MASK[2:0], COUNT[3:0]}`
-//! (`pixelproc_formats::core_stream::SHADE_ADDR_FIELDS`; a synchronous-read RAM of
-//! 2^15 × 18 bits holding `{G, F}`, written through `tw_*`). The rest computes, per channel
-//! `c` with `s` the same channel of shade register `SH`,
-//! `max(0, min((c·F + 128) >> 8, 255) − ((max(0, c − s)·G + 128) >> 8))` in three steps,
-//! one register each (no step longer than one multiply or one add and compare): stage 2
-//! registers the table entry (the block RAM's output register) and `d = max(0, c − s)`;
-//! stage 3 the products `c·F + 128` and `d·G + 128`; stage 4 the clamp, the subtraction
-//! and the floor at 0. This is the seed's
-//! factor `F` (table mode, `G = 0`) or the exact removal of the shadowed share `G` of
-//! light 0 (exact mode, `F = 256`). A background pixel (`ZB = Z_FAR`) and every pixel of
-//! a unit built without shading keep their colour. This is
-//! `pixelproc_formats::core_stream::shade_rgb`, the golden model's
+//! Each pixel read out of the array passes through five registers. The shading table
+//! (2^15 × 18 bits holding `{G, F}`, written through `tw_*`, indexed by
+//! `{NCLASS, MASK[2:0], COUNT[3:0]}`: `pixelproc_formats::core_stream::SHADE_ADDR_FIELDS`)
+//! is [`BANKS`] synchronous-read RAMs of 2^[`BANK_BITS`] entries, one ECP5 DP16KD each,
+//! all read with the low address bits. Stage 1 registers the readout word and reads every
+//! bank; stage 2 registers every bank's output straight from its block RAM, and per
+//! channel `d = max(0, c − s)` (`c` a colour channel, `s` the same channel of shade
+//! register `SH`); stage 3 picks the entry of the addressed bank (the top address bits,
+//! carried along) and applies the override below; stage 4 the products `c·F + 128` and
+//! `d·G + 128`; stage 5 `max(0, min((c·F + 128) >> 8, 255) − ((d·G + 128) >> 8))`: the
+//! clamp, the subtraction and the floor at 0. No step is longer than one block RAM read,
+//! one 32-way multiplexer, one multiply or one add and compare (a single 2^15-entry RAM
+//! put the block RAMs' read, their 32-way output multiplexer and the override in one
+//! clock: 12.1 ns on an ECP5). This is the seed's factor `F` (table mode, `G = 0`) or the
+//! exact removal of the shadowed share `G` of light 0 (exact mode, `F = 256`). A
+//! background pixel (`ZB = Z_FAR`) and every pixel of a unit built without shading keep
+//! their colour. This is `pixelproc_formats::core_stream::shade_rgb`, the golden model's
 //! `pixelproc_sim::shadow::shade`.
 //!
 //! # Ports
@@ -23,12 +26,12 @@
 //! | port | dir | width | meaning |
 //! |---|---|---|---|
 //! | `clock` | in | 1 | rising edge |
-//! | `rst` | in | 1 | synchronous: no pixel leaves for the next four edges |
+//! | `rst` | in | 1 | synchronous: no pixel leaves for the next five edges |
 //! | `in_valid`, `in_word`, `in_meta` | in | 1, 99, 2 | a pixel: readout word, and two flags carried along |
 //! | `tw_en`, `tw_addr`, `tw_data` | in | 1, 15, 18 | table write `{G, F}` (ignored without shading) |
-//! | `out_valid`, `out_word`, `out_meta` | out | 1, 99, 2 | the pixel four edges later, its RGB shaded |
+//! | `out_valid`, `out_word`, `out_meta` | out | 1, 99, 2 | the pixel five edges later, its RGB shaded |
 //!
-//! Latency: a pixel on the inputs before edge `E` is on the outputs after edge `E + 3`
+//! Latency: a pixel on the inputs before edge `E` is on the outputs after edge `E + 4`
 //! ([`LATENCY`] edges).
 
 use crate::layout::{ReadoutFields, ReadoutLowFields, ShadeAddrFields, READOUT_W};
@@ -42,7 +45,16 @@ pub const META_W: usize = 2;
 /// Rising edges from a pixel on the inputs to the same pixel on the outputs
 /// (`pixelproc_formats::core_stream::SHADE_STAGES`, which the golden core model uses).
 pub const LATENCY: usize = pixelproc_formats::core_stream::SHADE_STAGES;
-const _: () = assert!(LATENCY == 4);
+const _: () = assert!(LATENCY == 5);
+
+/// Address bits of one table bank (2^10 × 18 bits: one ECP5 DP16KD).
+pub const BANK_BITS: usize = 10;
+// The kernel spells the bank number's offset in the address as the literal 10.
+const _: () = assert!(BANK_BITS == 10);
+/// Number of table banks.
+pub const BANKS: usize = 1 << (SHADE_ADDR_BITS - BANK_BITS);
+/// Width of the bank number (the table address's top bits).
+const HI_W: usize = SHADE_ADDR_BITS - BANK_BITS;
 
 /// Width of one product field (`c·F + 128 < 2^17`). The kernel spells it as the literal
 /// 18 (a kernel takes literal widths and offsets).
@@ -74,24 +86,31 @@ pub struct ShadeUnit {
     pub out_word: Signal<Out, Bits<READOUT_W>>,
     /// The flags.
     pub out_meta: Signal<Out, Bits<META_W>>,
-    ftab: RAM<Bits<ENTRY_W>, SHADE_ADDR_BITS>,
+    banks: Vec<RAM<Bits<ENTRY_W>, BANK_BITS>>,
     s1_v: DFF<Bit>,
     s1_word: DFF<Bits<READOUT_W>>,
     s1_meta: DFF<Bits<META_W>>,
+    s1_hi: DFF<Bits<HI_W>>,
     s2_v: DFF<Bit>,
     s2_word: DFF<Bits<READOUT_W>>,
     s2_meta: DFF<Bits<META_W>>,
-    s2_f: DFF<Bits<16>>,
-    s2_g: DFF<Bits<16>>,
+    s2_hi: DFF<Bits<HI_W>>,
+    s2_e: Vec<DFF<Bits<ENTRY_W>>>,
     s2_d: DFF<Bits<24>>,
     s3_v: DFF<Bit>,
     s3_word: DFF<Bits<READOUT_W>>,
     s3_meta: DFF<Bits<META_W>>,
-    s3_pf: DFF<Bits<{ 3 * PROD_W }>>,
-    s3_pd: DFF<Bits<{ 3 * PROD_W }>>,
+    s3_f: DFF<Bits<16>>,
+    s3_g: DFF<Bits<16>>,
+    s3_d: DFF<Bits<24>>,
     s4_v: DFF<Bit>,
     s4_word: DFF<Bits<READOUT_W>>,
     s4_meta: DFF<Bits<META_W>>,
+    s4_pf: DFF<Bits<{ 3 * PROD_W }>>,
+    s4_pd: DFF<Bits<{ 3 * PROD_W }>>,
+    s5_v: DFF<Bit>,
+    s5_word: DFF<Bits<READOUT_W>>,
+    s5_meta: DFF<Bits<META_W>>,
     l_pf: Signal<Local, Bits<{ 3 * PROD_W }>>,
     l_pd: Signal<Local, Bits<{ 3 * PROD_W }>>,
     l_p: Signal<Local, Bits<32>>,
@@ -99,6 +118,7 @@ pub struct ShadeUnit {
     l_rgb3: Signal<Local, Bits<24>>,
     l_q: Signal<Local, Bits<PROD_W>>,
     l_addr: Signal<Local, Bits<SHADE_ADDR_BITS>>,
+    l_e: Signal<Local, Bits<ENTRY_W>>,
     l_f: Signal<Local, Bits<16>>,
     l_g: Signal<Local, Bits<16>>,
     l_rgb: Signal<Local, Bits<24>>,
@@ -111,6 +131,7 @@ pub struct ShadeUnit {
     l_out: Signal<Local, Bits<24>>,
     l_word: Signal<Local, Bits<READOUT_W>>,
     k_on: Constant<Bit>,
+    k_zero_e: Constant<Bits<ENTRY_W>>,
     k_far: Constant<Bits<24>>,
     k_one: Constant<Bits<16>>,
     k_half: Constant<Bits<32>>,
@@ -142,24 +163,31 @@ impl ShadeUnit {
             out_valid: Default::default(),
             out_word: Default::default(),
             out_meta: Default::default(),
-            ftab: Default::default(),
+            banks: (0..BANKS).map(|_| Default::default()).collect(),
             s1_v: Default::default(),
             s1_word: Default::default(),
             s1_meta: Default::default(),
+            s1_hi: Default::default(),
             s2_v: Default::default(),
             s2_word: Default::default(),
             s2_meta: Default::default(),
-            s2_f: Default::default(),
-            s2_g: Default::default(),
+            s2_hi: Default::default(),
+            s2_e: (0..BANKS).map(|_| Default::default()).collect(),
             s2_d: Default::default(),
             s3_v: Default::default(),
             s3_word: Default::default(),
             s3_meta: Default::default(),
-            s3_pf: Default::default(),
-            s3_pd: Default::default(),
+            s3_f: Default::default(),
+            s3_g: Default::default(),
+            s3_d: Default::default(),
             s4_v: Default::default(),
             s4_word: Default::default(),
             s4_meta: Default::default(),
+            s4_pf: Default::default(),
+            s4_pd: Default::default(),
+            s5_v: Default::default(),
+            s5_word: Default::default(),
+            s5_meta: Default::default(),
             l_pf: Default::default(),
             l_pd: Default::default(),
             l_p: Default::default(),
@@ -167,6 +195,7 @@ impl ShadeUnit {
             l_rgb3: Default::default(),
             l_q: Default::default(),
             l_addr: Default::default(),
+            l_e: Default::default(),
             l_f: Default::default(),
             l_g: Default::default(),
             l_rgb: Default::default(),
@@ -179,6 +208,7 @@ impl ShadeUnit {
             l_out: Default::default(),
             l_word: Default::default(),
             k_on: Constant::new(shading),
+            k_zero_e: Constant::new(0u64.to_bits()),
             k_far: Constant::new((Z_FAR as u64).to_bits()),
             k_one: Constant::new(256u64.to_bits()),
             k_half: Constant::new(128u64.to_bits()),
@@ -197,15 +227,11 @@ impl Logic for ShadeUnit {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, s1_v, s1_word, s1_meta, s2_v, s2_word, s2_meta, s2_f, s2_g, s2_d, s3_v,
-            s3_word, s3_meta, s3_pf, s3_pd, s4_v, s4_word, s4_meta
+            self, clock, s1_v, s1_word, s1_meta, s1_hi, s2_v, s2_word, s2_meta, s2_hi, s2_d, s3_v,
+            s3_word, s3_meta, s3_f, s3_g, s3_d, s4_v, s4_word, s4_meta, s4_pf, s4_pd, s5_v,
+            s5_word, s5_meta
         );
-        self.ftab.read_clock.next = self.clock.val();
-        self.ftab.write_clock.next = self.clock.val();
-        self.ftab.write_enable.next = self.tw_en.val() & self.k_on.val();
-        self.ftab.write_address.next = self.tw_addr.val();
-        self.ftab.write_data.next = self.tw_data.val();
-        // ---- Stage 1: register the pixel, read its factor.
+        // ---- Stage 1: register the pixel, read every bank at the low address bits.
         self.l_addr.next = self.k_zero_addr.val();
         self.l_addr
             .next
@@ -216,20 +242,25 @@ impl Logic for ShadeUnit {
         self.l_addr
             .next
             .set_value_snclass(self.in_word.val().get_value_nclass());
-        self.ftab.read_address.next = self.l_addr.val();
+        for i in 0..self.banks.len() {
+            self.banks[i].read_clock.next = self.clock.val();
+            self.banks[i].write_clock.next = self.clock.val();
+            self.banks[i].write_enable.next = self.tw_en.val()
+                & self.k_on.val()
+                & (self.tw_addr.val().get_bits::<HI_W>(10).index() == i);
+            self.banks[i].write_address.next = self.tw_addr.val().get_bits::<BANK_BITS>(0);
+            self.banks[i].write_data.next = self.tw_data.val();
+            self.banks[i].read_address.next = self.l_addr.val().get_bits::<BANK_BITS>(0);
+        }
         self.s1_v.d.next = self.in_valid.val();
         self.s1_word.d.next = self.in_word.val();
         self.s1_meta.d.next = self.in_meta.val();
-        // ---- Stage 2: the table entry (override: background, or no shading) and, per
-        // channel, d = max(0, c − s).
-        self.l_f.next =
-            bit_cast::<16, FACTOR_BITS>(self.ftab.read_data.val().get_bits::<FACTOR_BITS>(0));
-        self.l_g.next = bit_cast::<16, FACTOR_BITS>(
-            self.ftab.read_data.val().get_bits::<FACTOR_BITS>(9), // a kernel takes literal offsets: FACTOR_BITS
-        );
-        if !self.k_on.val() | (self.s1_word.q.val().get_value_zb() == self.k_far.val()) {
-            self.l_f.next = self.k_one.val();
-            self.l_g.next = self.k_zero16.val();
+        self.s1_hi.d.next = self.l_addr.val().get_bits::<HI_W>(10);
+        // ---- Stage 2: every bank's entry, registered at its block RAM; per channel
+        // d = max(0, c − s).
+        for i in 0..self.s2_e.len() {
+            self.s2_e[i].clock.next = self.clock.val();
+            self.s2_e[i].d.next = self.banks[i].read_data.val();
         }
         self.l_rgb.next = self.s1_word.q.val().get_value_rgb();
         self.l_sh.next = self.s1_word.q.val().get_value_sh();
@@ -246,41 +277,61 @@ impl Logic for ShadeUnit {
         self.s2_v.d.next = self.s1_v.q.val();
         self.s2_word.d.next = self.s1_word.q.val();
         self.s2_meta.d.next = self.s1_meta.q.val();
-        self.s2_f.d.next = self.l_f.val();
-        self.s2_g.d.next = self.l_g.val();
+        self.s2_hi.d.next = self.s1_hi.q.val();
         self.s2_d.d.next = self.l_dd.val();
-        // ---- Stage 3, per channel: c·F + 128 and d·G + 128.
-        self.l_rgb3.next = self.s2_word.q.val().get_value_rgb();
+        // ---- Stage 3: the addressed bank's entry (override: background, or no shading).
+        self.l_e.next = self.k_zero_e.val();
+        for i in 0..self.s2_e.len() {
+            if self.s2_hi.q.val().index() == i {
+                self.l_e.next = self.s2_e[i].q.val();
+            }
+        }
+        self.l_f.next = bit_cast::<16, FACTOR_BITS>(self.l_e.val().get_bits::<FACTOR_BITS>(0));
+        self.l_g.next = bit_cast::<16, FACTOR_BITS>(
+            self.l_e.val().get_bits::<FACTOR_BITS>(9), // a kernel takes literal offsets: FACTOR_BITS
+        );
+        if !self.k_on.val() | (self.s2_word.q.val().get_value_zb() == self.k_far.val()) {
+            self.l_f.next = self.k_one.val();
+            self.l_g.next = self.k_zero16.val();
+        }
+        self.s3_v.d.next = self.s2_v.q.val();
+        self.s3_word.d.next = self.s2_word.q.val();
+        self.s3_meta.d.next = self.s2_meta.q.val();
+        self.s3_f.d.next = self.l_f.val();
+        self.s3_g.d.next = self.l_g.val();
+        self.s3_d.d.next = self.s2_d.q.val();
+        // ---- Stage 4, per channel: c·F + 128 and d·G + 128.
+        self.l_rgb3.next = self.s3_word.q.val().get_value_rgb();
         self.l_pf.next = self.k_zero54.val();
         self.l_pd.next = self.k_zero54.val();
         for c in 0..3 {
             self.l_ch.next = self.l_rgb3.val().get_bits::<8>(8 * c);
             self.l_p.next =
-                (bit_cast::<16, 8>(self.l_ch.val()) * self.s2_f.q.val()) + self.k_half.val();
+                (bit_cast::<16, 8>(self.l_ch.val()) * self.s3_f.q.val()) + self.k_half.val();
             self.l_pf.next = (self.l_pf.val() >> 18)
                 | (bit_cast::<54, 18>(self.l_p.val().get_bits::<18>(0)) << 36);
-            self.l_sc.next = self.s2_d.q.val().get_bits::<8>(8 * c);
+            self.l_sc.next = self.s3_d.q.val().get_bits::<8>(8 * c);
             self.l_p.next =
-                (bit_cast::<16, 8>(self.l_sc.val()) * self.s2_g.q.val()) + self.k_half.val();
+                (bit_cast::<16, 8>(self.l_sc.val()) * self.s3_g.q.val()) + self.k_half.val();
             self.l_pd.next = (self.l_pd.val() >> 18)
                 | (bit_cast::<54, 18>(self.l_p.val().get_bits::<18>(0)) << 36);
         }
-        self.s3_v.d.next = self.s2_v.q.val();
-        self.s3_word.d.next = self.s2_word.q.val();
-        self.s3_meta.d.next = self.s2_meta.q.val();
-        self.s3_pf.d.next = self.l_pf.val();
-        self.s3_pd.d.next = self.l_pd.val();
-        // ---- Stage 4, per channel: lit = min(pf >> 8, 255), drop = pd >> 8,
+        self.s4_v.d.next = self.s3_v.q.val();
+        self.s4_word.d.next = self.s3_word.q.val();
+        self.s4_meta.d.next = self.s3_meta.q.val();
+        self.s4_pf.d.next = self.l_pf.val();
+        self.s4_pd.d.next = self.l_pd.val();
+        // ---- Stage 5, per channel: lit = min(pf >> 8, 255), drop = pd >> 8,
         // out = max(0, lit − drop).
         self.l_out.next = self.k_zero24.val();
         for c in 0..3 {
             // (A kernel's loop index cannot go into a function's arguments: via `l_q`.)
-            self.l_q.next = self.s3_pf.q.val().get_bits::<18>(18 * c);
+            self.l_q.next = self.s4_pf.q.val().get_bits::<18>(18 * c);
             self.l_c.next = bit_cast::<32, 18>(self.l_q.val()) >> 8;
             if self.l_c.val() > self.k_max.val() {
                 self.l_c.next = self.k_max.val();
             }
-            self.l_q.next = self.s3_pd.q.val().get_bits::<18>(18 * c);
+            self.l_q.next = self.s4_pd.q.val().get_bits::<18>(18 * c);
             self.l_drop.next = bit_cast::<32, 18>(self.l_q.val()) >> 8;
             if self.l_drop.val() > self.l_c.val() {
                 self.l_c.next = self.k_zero32.val();
@@ -290,19 +341,20 @@ impl Logic for ShadeUnit {
             self.l_out.next = (self.l_out.val() >> 8)
                 | (bit_cast::<24, 8>(self.l_c.val().get_bits::<8>(0)) << 16);
         }
-        self.l_word.next = self.s3_word.q.val();
+        self.l_word.next = self.s4_word.q.val();
         self.l_word.next.set_value_rgb(self.l_out.val());
-        self.s4_v.d.next = self.s3_v.q.val();
-        self.s4_word.d.next = self.l_word.val();
-        self.s4_meta.d.next = self.s3_meta.q.val();
-        self.out_valid.next = self.s4_v.q.val();
-        self.out_word.next = self.s4_word.q.val();
-        self.out_meta.next = self.s4_meta.q.val();
+        self.s5_v.d.next = self.s4_v.q.val();
+        self.s5_word.d.next = self.l_word.val();
+        self.s5_meta.d.next = self.s4_meta.q.val();
+        self.out_valid.next = self.s5_v.q.val();
+        self.out_word.next = self.s5_word.q.val();
+        self.out_meta.next = self.s5_meta.q.val();
         if self.rst.val() {
             self.s1_v.d.next = false;
             self.s2_v.d.next = false;
             self.s3_v.d.next = false;
             self.s4_v.d.next = false;
+            self.s5_v.d.next = false;
         }
     }
 }
@@ -328,7 +380,7 @@ mod tests {
     }
 
     /// Every channel value against a spread of shade registers, factors and drop weights,
-    /// through the RAM, equals `shade_rgb`; background pixels and the unshaded unit pass
+    /// through the banked table (entries in ten banks), equals `shade_rgb`; background pixels and the unshaded unit pass
     /// colours through.
     #[test]
     fn shades_like_the_formula() {
@@ -349,7 +401,8 @@ mod tests {
             ];
             for (i, (f, g)) in entries.iter().enumerate() {
                 u.tw_en.next = true;
-                u.tw_addr.next = (shade_addr(i as u8, 5, 3) as u64).to_bits();
+                // Normal classes 0, 24, 48, …: ten different banks, one low address (bank isolation).
+                u.tw_addr.next = (shade_addr((24 * i) as u8, 5, 3) as u64).to_bits();
                 u.tw_data.next = ((*g as u64) << FACTOR_BITS | *f as u64).to_bits();
                 edge(&mut u);
             }
@@ -363,7 +416,7 @@ mod tests {
                         sh: (v / 2) << 16 | (v * 7 % 256) << 8 | (255 - v / 3),
                         mask: 5,
                         count: 3,
-                        nclass: i as u8,
+                        nclass: (24 * i) as u8,
                         ..Default::default()
                     };
                     let mut out = s;

@@ -137,7 +137,7 @@ fn one_centre_pass_is_the_plain_frame() {
 }
 
 /// The Verilog run of `docs/core.md` ("Cycle accounting": @default 640×360 with shadows,
-/// no stalls, N = 64): 248,926 cycles, the Verilator run's count with the four-stage
+/// no stalls, N = 64): 248,927 cycles, the Verilator run's count with the five-stage
 /// shading step (`pixelproc testbench @default --frame --sim verilator --array-width 64`).
 #[test]
 fn closed_form_gives_the_verilog_figures_of_the_core_page() {
@@ -146,5 +146,5 @@ fn closed_form_gives_the_verilog_figures_of_the_core_page() {
     let table_beats = pixelproc_sim::core_model::table_beats(table.as_ref().unwrap())
         .unwrap()
         .len() as u64;
-    assert_eq!(core_cycles(table_beats, stream_tile_lines(&s, 64)), 248_926);
+    assert_eq!(core_cycles(table_beats, stream_tile_lines(&s, 64)), 248_927);
 }
