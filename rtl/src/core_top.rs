@@ -36,9 +36,10 @@
 //! - TABLE: one shading-table write.
 //!
 //! The sweep sends one address per clock while the output FIFO has room for every pixel
-//! in flight (`level + inflight < 16`). A pixel whose address the array samples at edge
-//! `E` is in the output FIFO after edge `E + 5` (array readout: 2 registers; then the
-//! core's tracking register and the shading unit's two stages).
+//! in flight (`level + inflight < 16`, kept in one register, `credit`). A pixel whose
+//! address the array samples at edge `E` is in the output FIFO after edge
+//! `E + `[`READ_TO_FIFO`] (array readout: 2 registers; then the core's tracking register
+//! and the shading unit's `SHADE_STAGES` stages).
 //!
 //! **Why [`READOUT_WAIT`] = 4 is enough.** A TILE issued at edge `E` reaches processor
 //! `a`'s readout registers at edge `E + 6 + a` (`LATENCY_PROC0 = 6`). The sweep's first
@@ -68,7 +69,7 @@ pub const READOUT_WAIT: u32 = 4;
 /// Address bits of the output FIFO (16 pixels).
 pub const OUT_FIFO_ABITS: usize = 4;
 /// Edges from the array sampling a readout address to the pixel being in the output FIFO.
-pub const READ_TO_FIFO: u32 = 5;
+pub const READ_TO_FIFO: u32 = 3 + pixelproc_formats::core_stream::SHADE_STAGES as u32;
 
 /// The core with an input FIFO of `2^IA` beats (`IA1 = IA + 1`). Build with
 /// [`PixelprocCore::new`].
@@ -121,6 +122,7 @@ pub struct PixelprocCore<const IA: usize, const IA1: usize> {
     t2: DFF<Bits<3>>,
     t3: DFF<Bits<3>>,
     inflight: DFF<Bits<5>>,
+    credit: DFF<Bits<6>>,
     err: DFF<Bit>,
     l_beat: Signal<Local, Bits<BEAT_W>>,
     l_data: Signal<Local, Bits<SPAN_W>>,
@@ -131,7 +133,9 @@ pub struct PixelprocCore<const IA: usize, const IA1: usize> {
     l_arr: Signal<Local, Bit>,
     l_issue: Signal<Local, Bit>,
     l_go: Signal<Local, Bit>,
-    l_credit: Signal<Local, Bits<6>>,
+    l_delta: Signal<Local, Bits<6>>,
+    l_pop: Signal<Local, Bit>,
+    l_lost: Signal<Local, Bit>,
     l_t1: Signal<Local, Bits<3>>,
     l_rdw: Signal<Local, Bits<READOUT_W>>,
     l_user: Signal<Local, Bits<OUT_USER_BITS>>,
@@ -154,6 +158,10 @@ pub struct PixelprocCore<const IA: usize, const IA1: usize> {
     k_zero5: Constant<Bits<5>>,
     k_one5: Constant<Bits<5>>,
     k_room: Constant<Bits<6>>,
+    k_zero6: Constant<Bits<6>>,
+    k_one6: Constant<Bits<6>>,
+    k_minus1_6: Constant<Bits<6>>,
+    k_minus2_6: Constant<Bits<6>>,
     k_debug: Constant<Bit>,
     k_two3: Constant<Bits<3>>,
     k_four3: Constant<Bits<3>>,
@@ -203,6 +211,7 @@ impl<const IA: usize, const IA1: usize> PixelprocCore<IA, IA1> {
             t2: Default::default(),
             t3: Default::default(),
             inflight: Default::default(),
+            credit: Default::default(),
             err: Default::default(),
             l_beat: Default::default(),
             l_data: Default::default(),
@@ -213,7 +222,9 @@ impl<const IA: usize, const IA1: usize> PixelprocCore<IA, IA1> {
             l_arr: Default::default(),
             l_issue: Default::default(),
             l_go: Default::default(),
-            l_credit: Default::default(),
+            l_delta: Default::default(),
+            l_pop: Default::default(),
+            l_lost: Default::default(),
             l_t1: Default::default(),
             l_rdw: Default::default(),
             l_user: Default::default(),
@@ -236,6 +247,10 @@ impl<const IA: usize, const IA1: usize> PixelprocCore<IA, IA1> {
             k_zero5: k(0),
             k_one5: k(1),
             k_room: k(1 << OUT_FIFO_ABITS),
+            k_zero6: k(0),
+            k_one6: k(1),
+            k_minus1_6: k(0b11_1111),
+            k_minus2_6: k(0b11_1110),
             k_debug: Constant::new(debug),
             k_two3: k(2),
             k_four3: k(4),
@@ -286,7 +301,7 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
     fn update(&mut self) {
         dff_setup!(
             self, clock, base_r, pend_v, pend_last, pend_sof, job_v, job_wait, job_last, job_sof,
-            ra, t1, t2, t3, inflight, err
+            ra, t1, t2, t3, inflight, credit, err
         );
         self.in_fifo.clock.next = self.clock.val();
         self.array.clock.next = self.clock.val();
@@ -357,11 +372,12 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
         if self.job_v.q.val() & (self.job_wait.q.val() != self.k_zero3.val()) {
             self.job_wait.d.next = self.job_wait.q.val() - self.k_one3.val();
         }
-        self.l_credit.next =
-            bit_cast::<6, 5>(self.out_fifo.level.val()) + bit_cast::<6, 5>(self.inflight.q.val());
+        // The room check reads `credit`, a register equal to `out_fifo.level + inflight`
+        // after every edge (both count the pixels sent and not yet taken by the sink), so
+        // no FIFO pointer arithmetic sits in front of the sweep's enables.
         self.l_go.next = self.job_v.q.val()
             & (self.job_wait.q.val() == self.k_zero3.val())
-            & (self.l_credit.val() < self.k_room.val());
+            & (self.credit.q.val() < self.k_room.val());
         self.array.rd_addr.next = self.ra.q.val();
         self.l_t1.next = self.k_zero3.val();
         if self.l_go.val() {
@@ -439,6 +455,25 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
         if !self.l_go.val() & self.shade.out_valid.val() {
             self.inflight.d.next = self.inflight.q.val() - self.k_one5.val();
         }
+        // credit' = credit + sent − taken by the sink − lost (a pixel that met a full FIFO,
+        // never in a correct core): level' + inflight' exactly.
+        self.l_pop.next = self.out_fifo.out_valid.val() & self.m_axis_tready.val();
+        self.l_lost.next = self.shade.out_valid.val() & !self.out_fifo.in_ready.val();
+        // The change (+1 .. −2) is decoded from the three bits first: one adder, not three
+        // in a row.
+        self.l_delta.next = self.k_zero6.val();
+        if self.l_go.val() & !self.l_pop.val() & !self.l_lost.val() {
+            self.l_delta.next = self.k_one6.val();
+        }
+        if (self.l_go.val() & self.l_pop.val() & self.l_lost.val())
+            | (!self.l_go.val() & (self.l_pop.val() ^ self.l_lost.val()))
+        {
+            self.l_delta.next = self.k_minus1_6.val();
+        }
+        if !self.l_go.val() & self.l_pop.val() & self.l_lost.val() {
+            self.l_delta.next = self.k_minus2_6.val();
+        }
+        self.credit.d.next = self.credit.q.val() + self.l_delta.val();
         // ---- Pixel stream.
         self.out_fifo.out_ready.next = self.m_axis_tready.val();
         self.m_axis_tvalid.next = self.out_fifo.out_valid.val();
@@ -454,6 +489,7 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
             self.t2.d.next = self.k_zero3.val();
             self.t3.d.next = self.k_zero3.val();
             self.inflight.d.next = self.k_zero5.val();
+            self.credit.d.next = self.k_zero6.val();
             self.err.d.next = false;
             self.base_r.d.next = self.k_zero12.val();
             self.ra.d.next = self.k_zero12.val();
