@@ -25,6 +25,11 @@
 //!   `push`;
 //! - `level = wr − rd + dv`, `in_ready = ¬rst ∧ level ≠ 2^A`.
 //!
+//! `level ≠ 2^A` is read from a register, `full`, kept equal to `level = 2^A` after every
+//! edge: `full := level = 2^A − 1` on a push without a pop, `0` on a pop without a push,
+//! unchanged otherwise (`level' = level + push − pop`). So no pointer arithmetic sits
+//! between the pointers and the write enable.
+//!
 //! A beat written at edge `E` is presented (`out_valid`) from edge `E + 1` on if the FIFO
 //! was empty; in steady state one beat moves on each side on every edge. The head entry
 //! stays in the RAM until popped, so the RAM never reads a slot being written.
@@ -59,6 +64,7 @@ pub struct StreamFifo<D: Synth, const A: usize, const A1: usize> {
     ra: DFF<Bits<A>>,
     rw: DFF<Bit>,
     dv: DFF<Bit>,
+    full: DFF<Bit>,
     l_pop: Signal<Local, Bit>,
     l_fetch: Signal<Local, Bit>,
     l_push: Signal<Local, Bit>,
@@ -69,6 +75,7 @@ pub struct StreamFifo<D: Synth, const A: usize, const A1: usize> {
     k_one: Constant<Bits<A1>>,
     k_zero: Constant<Bits<A1>>,
     k_full: Constant<Bits<A1>>,
+    k_almost: Constant<Bits<A1>>,
     k_one_a: Constant<Bits<A>>,
     k_zero_a: Constant<Bits<A>>,
     k_last_a: Constant<Bits<A>>,
@@ -96,6 +103,7 @@ impl<D: Synth, const A: usize, const A1: usize> Default for StreamFifo<D, A, A1>
             ra: Default::default(),
             rw: Default::default(),
             dv: Default::default(),
+            full: Default::default(),
             l_pop: Default::default(),
             l_fetch: Default::default(),
             l_push: Default::default(),
@@ -106,6 +114,7 @@ impl<D: Synth, const A: usize, const A1: usize> Default for StreamFifo<D, A, A1>
             k_one: Constant::new(1u64.to_bits()),
             k_zero: Constant::new(0u64.to_bits()),
             k_full: Constant::new((1u64 << A).to_bits()),
+            k_almost: Constant::new(((1u64 << A) - 1).to_bits()),
             k_one_a: Constant::new(1u64.to_bits()),
             k_zero_a: Constant::new(0u64.to_bits()),
             k_last_a: Constant::new(((1u64 << A) - 1).to_bits()),
@@ -132,7 +141,7 @@ impl<D: Synth, const A: usize, const A1: usize> StreamFifo<D, A, A1> {
 impl<D: Synth, const A: usize, const A1: usize> Logic for StreamFifo<D, A, A1> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, wa, ww, ra, rw, dv);
+        dff_setup!(self, clock, wa, ww, ra, rw, dv, full);
         self.ram.read_clock.next = self.clock.val();
         self.ram.write_clock.next = self.clock.val();
         // The two pointers as `A + 1`-bit numbers.
@@ -150,11 +159,17 @@ impl<D: Synth, const A: usize, const A1: usize> Logic for StreamFifo<D, A, A1> {
         }
         self.l_level.next = (self.l_wr.val() - self.l_rd.val()) + self.l_dv.val();
         self.level.next = self.l_level.val();
-        self.in_ready.next = (self.l_level.val() != self.k_full.val()) & !self.rst.val();
+        self.in_ready.next = !self.full.q.val() & !self.rst.val();
         self.l_pop.next = self.dv.q.val() & self.out_ready.val();
         self.l_fetch.next =
             (self.l_wr.val() != self.l_rd.val()) & (!self.dv.q.val() | self.l_pop.val());
         self.l_push.next = self.in_valid.val() & self.in_ready.val();
+        if self.l_push.val() & !self.l_pop.val() {
+            self.full.d.next = self.l_level.val() == self.k_almost.val();
+        }
+        if !self.l_push.val() & self.l_pop.val() {
+            self.full.d.next = false;
+        }
         // Read side.
         self.ram.read_address.next = self.ra.q.val() - self.k_one_a.val();
         if self.l_fetch.val() {
@@ -183,6 +198,7 @@ impl<D: Synth, const A: usize, const A1: usize> Logic for StreamFifo<D, A, A1> {
             self.ra.d.next = self.k_zero_a.val();
             self.rw.d.next = false;
             self.dv.d.next = false;
+            self.full.d.next = false;
         }
     }
 }
