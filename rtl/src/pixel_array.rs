@@ -63,6 +63,9 @@ use pixelproc_formats::regs::{COUNT_BITS, MASK_BITS, RGB_BITS};
 use pixelproc_formats::{MAX_SCREEN, SPAN_DZ, SPAN_NCLASS, SPAN_XL, SPAN_ZL, Z_BITS};
 use rust_hdl::prelude::*;
 
+/// Processors whose readout registers are gathered into one group register.
+pub const READOUT_GROUP: usize = 8;
+
 /// Width of a column number (`XL`, `XR`, `tile_base`, `rd_addr`).
 const X_W: usize = SPAN_XL.width;
 /// Width of `ZL`.
@@ -149,7 +152,8 @@ pub struct PixelProcessorArray {
     e4_za: DFF<Bits<ZACC_W>>,
     e4_zb: DFF<Bits<ZACC_W>>,
     // Readout output registers.
-    rd_r: DFF<Bits<READOUT_W>>,
+    rd_g: Vec<DFF<Bits<READOUT_W>>>,
+    l_grp: Vec<Signal<Local, Bits<READOUT_W>>>,
     k_reset: Constant<Bits<OP_BITS>>,
     k_zero74: Constant<Bits<READOUT_W>>,
     l_rd: Signal<Local, Bits<READOUT_W>>,
@@ -230,7 +234,12 @@ impl PixelProcessorArray {
             e4_dz: Default::default(),
             e4_za: Default::default(),
             e4_zb: Default::default(),
-            rd_r: Default::default(),
+            rd_g: (0..width.div_ceil(READOUT_GROUP))
+                .map(|_| Default::default())
+                .collect(),
+            l_grp: (0..width.div_ceil(READOUT_GROUP))
+                .map(|_| Default::default())
+                .collect(),
             k_reset: Constant::new(OP_RESET.to_bits()),
             k_zero74: Constant::new(0u64.to_bits()),
             l_rd: Default::default(),
@@ -278,8 +287,7 @@ impl Logic for PixelProcessorArray {
     fn update(&mut self) {
         dff_setup!(
             self, clock, e1_op, e1_bg, e1_word, e1_base, e1_rd, e2_head, e2_m, e2_zl, e2_dz,
-            e3_head, e3_m, e3_zl, e3_dz, e3_pz0, e3_pz1, e3_pz2, e4_head, e4_dz, e4_za, e4_zb,
-            rd_r
+            e3_head, e3_m, e3_zl, e3_dz, e3_pz0, e3_pz1, e3_pz2, e4_head, e4_dz, e4_za, e4_zb
         );
         // ---- E1: register every input.
         self.e1_op.d.next = self.k_nop.val();
@@ -395,22 +403,34 @@ impl Logic for PixelProcessorArray {
             self.procs[i].t_di.next = self.procs[i - 1].o_di.val();
         }
         // ---- Readout: registered address (E1), per-processor select registered in the
-        // processor, OR of the (one) selected processor's packed readout registers,
-        // registered outputs.
-        self.l_rd.next = self.k_zero74.val();
+        // processor, then the OR of the (one) selected processor's packed readout
+        // registers in groups of READOUT_GROUP processors, one register per group, and
+        // the OR of the group registers on the outputs: no path gathers from more than
+        // eight processors, whatever N.
+        for g in 0..self.rd_g.len() {
+            self.rd_g[g].clock.next = self.clock.val();
+            self.l_grp[g].next = self.k_zero74.val();
+        }
         for i in 0..self.procs.len() {
             self.procs[i].rd_sel.next = self.e1_rd.q.val().index() == i;
-            self.l_rd.next = self.l_rd.val() | self.procs[i].rdo.val();
+            self.l_grp[i / 8].next = self.l_grp[i / 8].val() | self.procs[i].rdo.val();
+            // 8: READOUT_GROUP
         }
-        self.rd_r.d.next = self.l_rd.val();
-        self.rd_zb.next = self.rd_r.q.val().get_value_zb();
-        self.rd_rgb.next = self.rd_r.q.val().get_value_rgb();
-        self.rd_dsf.next = self.rd_r.q.val().get_value_dsf();
-        self.rd_fsf.next = self.rd_r.q.val().get_value_fsf();
-        self.rd_count.next = self.rd_r.q.val().get_value_count();
-        self.rd_mask.next = self.rd_r.q.val().get_value_mask();
-        self.rd_nclass.next = self.rd_r.q.val().get_value_nclass();
-        self.rd_sh.next = self.rd_r.q.val().get_value_sh();
-        self.rd_won.next = self.rd_r.q.val().get_value_won();
+        for g in 0..self.rd_g.len() {
+            self.rd_g[g].d.next = self.l_grp[g].val();
+        }
+        self.l_rd.next = self.k_zero74.val();
+        for g in 0..self.rd_g.len() {
+            self.l_rd.next = self.l_rd.val() | self.rd_g[g].q.val();
+        }
+        self.rd_zb.next = self.l_rd.val().get_value_zb();
+        self.rd_rgb.next = self.l_rd.val().get_value_rgb();
+        self.rd_dsf.next = self.l_rd.val().get_value_dsf();
+        self.rd_fsf.next = self.l_rd.val().get_value_fsf();
+        self.rd_count.next = self.l_rd.val().get_value_count();
+        self.rd_mask.next = self.l_rd.val().get_value_mask();
+        self.rd_nclass.next = self.l_rd.val().get_value_nclass();
+        self.rd_sh.next = self.l_rd.val().get_value_sh();
+        self.rd_won.next = self.l_rd.val().get_value_won();
     }
 }
