@@ -35,6 +35,10 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     localparam  k_zero5 = 5'b0;
     localparam  k_one5 = 5'b1;
     localparam  k_room = 6'b10000;
+    localparam  k_zero6 = 6'b0;
+    localparam  k_one6 = 6'b1;
+    localparam  k_minus1_6 = 6'b111111;
+    localparam  k_minus2_6 = 6'b111110;
     localparam  k_debug = 1'b0;
     localparam  k_two3 = 3'b10;
     localparam  k_four3 = 3'b100;
@@ -129,6 +133,9 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     reg  [4:0] inflight$d;
     wire  [4:0] inflight$q;
     reg  inflight$clock;
+    reg  [5:0] credit$d;
+    wire  [5:0] credit$q;
+    reg  credit$clock;
     reg  err$d;
     wire  err$q;
     reg  err$clock;
@@ -143,7 +150,9 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     reg  l_arr;
     reg  l_issue;
     reg  l_go;
-    reg  [5:0] l_credit;
+    reg  [5:0] l_delta;
+    reg  l_pop;
+    reg  l_lost;
     reg  [2:0] l_t1;
     reg  [98:0] l_rdw;
     reg  [50:0] l_user;
@@ -271,6 +280,11 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         .q(inflight$q),
         .clock(inflight$clock)
     );
+    pixelproc_top$credit credit(
+        .d(credit$d),
+        .q(credit$q),
+        .clock(credit$clock)
+    );
     pixelproc_top$array$procs$b_covered err(
         .d(err$d),
         .q(err$q),
@@ -292,6 +306,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         t2$clock = clock;
         t3$clock = clock;
         inflight$clock = clock;
+        credit$clock = clock;
         err$clock = clock;
         base_r$d = base_r$q;
         pend_v$d = pend_v$q;
@@ -306,6 +321,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         t2$d = t2$q;
         t3$d = t3$q;
         inflight$d = inflight$q;
+        credit$d = credit$q;
         err$d = err$q;
         in_fifo$clock = clock;
         array$clock = clock;
@@ -368,8 +384,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         if (job_v$q & (job_wait$q != k_zero3)) begin
             job_wait$d = job_wait$q - k_one3;
         end
-        l_credit = {{1{1'b0}}, out_fifo$level} + {{1{1'b0}}, inflight$q};
-        l_go = job_v$q & (job_wait$q == k_zero3) & (l_credit < k_room);
+        l_go = job_v$q & (job_wait$q == k_zero3) & (credit$q < k_room);
         array$rd_addr = ra$q;
         l_t1 = k_zero3;
         if (l_go) begin
@@ -426,6 +441,19 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         if (~l_go & shade$out_valid) begin
             inflight$d = inflight$q - k_one5;
         end
+        l_pop = out_fifo$out_valid & m_axis_tready;
+        l_lost = shade$out_valid & ~out_fifo$in_ready;
+        l_delta = k_zero6;
+        if (l_go & ~l_pop & ~l_lost) begin
+            l_delta = k_one6;
+        end
+        if ((l_go & l_pop & l_lost) | (~l_go & (l_pop ^ l_lost))) begin
+            l_delta = k_minus1_6;
+        end
+        if (~l_go & l_pop & l_lost) begin
+            l_delta = k_minus2_6;
+        end
+        credit$d = credit$q + l_delta;
         out_fifo$out_ready = m_axis_tready;
         m_axis_tvalid = out_fifo$out_valid;
         m_axis_tdata = out_fifo$out_data[(32'h0)+:(24)];
@@ -440,6 +468,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
             t2$d = k_zero3;
             t3$d = k_zero3;
             inflight$d = k_zero5;
+            credit$d = k_zero6;
             err$d = 1'b0;
             base_r$d = k_zero12;
             ra$d = k_zero12;
@@ -647,9 +676,9 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [43:0] e4_zb$d;
     wire  [43:0] e4_zb$q;
     reg  e4_zb$clock;
-    reg  [98:0] rd_r$d;
-    wire  [98:0] rd_r$q;
-    reg  rd_r$clock;
+    reg  [98:0] rd_g$0$d;
+    wire  [98:0] rd_g$0$q;
+    reg  rd_g$0$clock;
     reg  chans$0$clock;
     reg  [19:0] chans$0$il;
     reg  [20:0] chans$0$di;
@@ -676,6 +705,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     wire  [20:0] chans$2$o_di;
     
     // Local signals
+    reg  [98:0] l_grp$0;
     reg  [98:0] l_rd;
     reg  [13:0] l_xl;
     reg  [13:0] l_xr;
@@ -915,10 +945,10 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .q(e4_zb$q),
         .clock(e4_zb$clock)
     );
-    pixelproc_top$array$procs$cap_r rd_r(
-        .d(rd_r$d),
-        .q(rd_r$q),
-        .clock(rd_r$clock)
+    pixelproc_top$array$procs$cap_r rd_g$0(
+        .d(rd_g$0$d),
+        .q(rd_g$0$q),
+        .clock(rd_g$0$clock)
     );
     pixelproc_top$array$chans chans$0(
         .clock(chans$0$clock),
@@ -973,7 +1003,6 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         e4_dz$clock = clock;
         e4_za$clock = clock;
         e4_zb$clock = clock;
-        rd_r$clock = clock;
         e1_op$d = e1_op$q;
         e1_bg$d = e1_bg$q;
         e1_word$d = e1_word$q;
@@ -994,7 +1023,6 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         e4_dz$d = e4_dz$q;
         e4_za$d = e4_za$q;
         e4_zb$d = e4_zb$q;
-        rd_r$d = rd_r$q;
         e1_op$d = k_nop;
         if (cmd_valid) begin
             e1_op$d = cmd_op;
@@ -1131,33 +1159,36 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         procs$7$t_dz = procs$6$o_dz;
         procs$7$t_i = procs$6$o_i;
         procs$7$t_di = procs$6$o_di;
-        l_rd = k_zero74;
+        rd_g$0$clock = clock;
+        l_grp$0 = k_zero74;
         procs$0$rd_sel = e1_rd$q == 0;
-        l_rd = l_rd | procs$0$rdo;
+        l_grp$0 = l_grp$0 | procs$0$rdo;
         procs$1$rd_sel = e1_rd$q == 1;
-        l_rd = l_rd | procs$1$rdo;
+        l_grp$0 = l_grp$0 | procs$1$rdo;
         procs$2$rd_sel = e1_rd$q == 2;
-        l_rd = l_rd | procs$2$rdo;
+        l_grp$0 = l_grp$0 | procs$2$rdo;
         procs$3$rd_sel = e1_rd$q == 3;
-        l_rd = l_rd | procs$3$rdo;
+        l_grp$0 = l_grp$0 | procs$3$rdo;
         procs$4$rd_sel = e1_rd$q == 4;
-        l_rd = l_rd | procs$4$rdo;
+        l_grp$0 = l_grp$0 | procs$4$rdo;
         procs$5$rd_sel = e1_rd$q == 5;
-        l_rd = l_rd | procs$5$rdo;
+        l_grp$0 = l_grp$0 | procs$5$rdo;
         procs$6$rd_sel = e1_rd$q == 6;
-        l_rd = l_rd | procs$6$rdo;
+        l_grp$0 = l_grp$0 | procs$6$rdo;
         procs$7$rd_sel = e1_rd$q == 7;
-        l_rd = l_rd | procs$7$rdo;
-        rd_r$d = l_rd;
-        rd_zb = rd_r$q[(32'h22)+:(24)];
-        rd_rgb = rd_r$q[(32'ha)+:(24)];
-        rd_dsf = rd_r$q[(32'h9)+:(1)];
-        rd_fsf = rd_r$q[(32'h8)+:(1)];
-        rd_count = rd_r$q[(32'h0)+:(8)];
-        rd_mask = rd_r$q[(32'h3a)+:(8)];
-        rd_nclass = rd_r$q[(32'h42)+:(8)];
-        rd_sh = rd_r$q[(32'h4a)+:(24)];
-        rd_won = rd_r$q[(32'h62)+:(1)];
+        l_grp$0 = l_grp$0 | procs$7$rdo;
+        rd_g$0$d = l_grp$0;
+        l_rd = k_zero74;
+        l_rd = l_rd | rd_g$0$q;
+        rd_zb = l_rd[(32'h22)+:(24)];
+        rd_rgb = l_rd[(32'ha)+:(24)];
+        rd_dsf = l_rd[(32'h9)+:(1)];
+        rd_fsf = l_rd[(32'h8)+:(1)];
+        rd_count = l_rd[(32'h0)+:(8)];
+        rd_mask = l_rd[(32'h3a)+:(8)];
+        rd_nclass = l_rd[(32'h42)+:(8)];
+        rd_sh = l_rd[(32'h4a)+:(24)];
+        rd_won = l_rd[(32'h62)+:(1)];
     end
     
 endmodule // pixelproc_top$array
@@ -2312,6 +2343,25 @@ module pixelproc_top$array$procs$tok_i(d,q,clock);
 endmodule // pixelproc_top$array$procs$tok_i
 
 
+module pixelproc_top$credit(d,q,clock);
+    
+    // Module arguments
+    input wire  [5:0] d;
+    output reg  [5:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 6'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // pixelproc_top$credit
+
+
 module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_data,out_ready,level);
     
     // Module arguments
@@ -2329,6 +2379,7 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
     localparam  k_one = 6'b1;
     localparam  k_zero = 6'b0;
     localparam  k_full = 6'b100000;
+    localparam  k_almost = 6'b11111;
     localparam  k_one_a = 5'b1;
     localparam  k_zero_a = 5'b0;
     localparam  k_last_a = 5'b11111;
@@ -2356,6 +2407,9 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
     reg  dv$d;
     wire  dv$q;
     reg  dv$clock;
+    reg  full$d;
+    wire  full$q;
+    reg  full$clock;
     
     // Local signals
     reg  l_pop;
@@ -2401,6 +2455,11 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         .q(dv$q),
         .clock(dv$clock)
     );
+    pixelproc_top$array$procs$b_covered full(
+        .d(full$d),
+        .q(full$q),
+        .clock(full$clock)
+    );
     
     // Update code
     always @(*) begin
@@ -2409,11 +2468,13 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         ra$clock = clock;
         rw$clock = clock;
         dv$clock = clock;
+        full$clock = clock;
         wa$d = wa$q;
         ww$d = ww$q;
         ra$d = ra$q;
         rw$d = rw$q;
         dv$d = dv$q;
+        full$d = full$q;
         ram$read_clock = clock;
         ram$write_clock = clock;
         l_wr = {{1{1'b0}}, wa$q};
@@ -2430,10 +2491,16 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         end
         l_level = (l_wr - l_rd) + l_dv;
         level = l_level;
-        in_ready = (l_level != k_full) & ~rst;
+        in_ready = ~full$q & ~rst;
         l_pop = dv$q & out_ready;
         l_fetch = (l_wr != l_rd) & (~dv$q | l_pop);
         l_push = in_valid & in_ready;
+        if (l_push & ~l_pop) begin
+            full$d = l_level == k_almost;
+        end
+        if (~l_push & l_pop) begin
+            full$d = 1'b0;
+        end
         ram$read_address = ra$q - k_one_a;
         if (l_fetch) begin
             ram$read_address = ra$q;
@@ -2460,6 +2527,7 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
             ra$d = k_zero_a;
             rw$d = 1'b0;
             dv$d = 1'b0;
+            full$d = 1'b0;
         end
     end
     
@@ -2531,6 +2599,7 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
     localparam  k_one = 5'b1;
     localparam  k_zero = 5'b0;
     localparam  k_full = 5'b10000;
+    localparam  k_almost = 5'b1111;
     localparam  k_one_a = 4'h1;
     localparam  k_zero_a = 4'h0;
     localparam  k_last_a = 4'hf;
@@ -2558,6 +2627,9 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
     reg  dv$d;
     wire  dv$q;
     reg  dv$clock;
+    reg  full$d;
+    wire  full$q;
+    reg  full$clock;
     
     // Local signals
     reg  l_pop;
@@ -2603,6 +2675,11 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         .q(dv$q),
         .clock(dv$clock)
     );
+    pixelproc_top$array$procs$b_covered full(
+        .d(full$d),
+        .q(full$q),
+        .clock(full$clock)
+    );
     
     // Update code
     always @(*) begin
@@ -2611,11 +2688,13 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         ra$clock = clock;
         rw$clock = clock;
         dv$clock = clock;
+        full$clock = clock;
         wa$d = wa$q;
         ww$d = ww$q;
         ra$d = ra$q;
         rw$d = rw$q;
         dv$d = dv$q;
+        full$d = full$q;
         ram$read_clock = clock;
         ram$write_clock = clock;
         l_wr = {{1{1'b0}}, wa$q};
@@ -2632,10 +2711,16 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         end
         l_level = (l_wr - l_rd) + l_dv;
         level = l_level;
-        in_ready = (l_level != k_full) & ~rst;
+        in_ready = ~full$q & ~rst;
         l_pop = dv$q & out_ready;
         l_fetch = (l_wr != l_rd) & (~dv$q | l_pop);
         l_push = in_valid & in_ready;
+        if (l_push & ~l_pop) begin
+            full$d = l_level == k_almost;
+        end
+        if (~l_push & l_pop) begin
+            full$d = 1'b0;
+        end
         ram$read_address = ra$q - k_one_a;
         if (l_fetch) begin
             ram$read_address = ra$q;
@@ -2662,6 +2747,7 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
             ra$d = k_zero_a;
             rw$d = 1'b0;
             dv$d = 1'b0;
+            full$d = 1'b0;
         end
     end
     
@@ -2733,6 +2819,7 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     
     // Constant declarations
     localparam  k_on = 1'b1;
+    localparam  k_zero_e = 18'b0;
     localparam  k_far = 24'hffffff;
     localparam  k_one = 16'h100;
     localparam  k_half = 32'h80;
@@ -2745,13 +2832,230 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     localparam  k_zero54 = 54'h0;
     
     // Stub signals
-    reg  [14:0] ftab$read_address;
-    reg  ftab$read_clock;
-    wire  [17:0] ftab$read_data;
-    reg  [14:0] ftab$write_address;
-    reg  ftab$write_clock;
-    reg  [17:0] ftab$write_data;
-    reg  ftab$write_enable;
+    reg  [9:0] banks$0$read_address;
+    reg  banks$0$read_clock;
+    wire  [17:0] banks$0$read_data;
+    reg  [9:0] banks$0$write_address;
+    reg  banks$0$write_clock;
+    reg  [17:0] banks$0$write_data;
+    reg  banks$0$write_enable;
+    reg  [9:0] banks$1$read_address;
+    reg  banks$1$read_clock;
+    wire  [17:0] banks$1$read_data;
+    reg  [9:0] banks$1$write_address;
+    reg  banks$1$write_clock;
+    reg  [17:0] banks$1$write_data;
+    reg  banks$1$write_enable;
+    reg  [9:0] banks$2$read_address;
+    reg  banks$2$read_clock;
+    wire  [17:0] banks$2$read_data;
+    reg  [9:0] banks$2$write_address;
+    reg  banks$2$write_clock;
+    reg  [17:0] banks$2$write_data;
+    reg  banks$2$write_enable;
+    reg  [9:0] banks$3$read_address;
+    reg  banks$3$read_clock;
+    wire  [17:0] banks$3$read_data;
+    reg  [9:0] banks$3$write_address;
+    reg  banks$3$write_clock;
+    reg  [17:0] banks$3$write_data;
+    reg  banks$3$write_enable;
+    reg  [9:0] banks$4$read_address;
+    reg  banks$4$read_clock;
+    wire  [17:0] banks$4$read_data;
+    reg  [9:0] banks$4$write_address;
+    reg  banks$4$write_clock;
+    reg  [17:0] banks$4$write_data;
+    reg  banks$4$write_enable;
+    reg  [9:0] banks$5$read_address;
+    reg  banks$5$read_clock;
+    wire  [17:0] banks$5$read_data;
+    reg  [9:0] banks$5$write_address;
+    reg  banks$5$write_clock;
+    reg  [17:0] banks$5$write_data;
+    reg  banks$5$write_enable;
+    reg  [9:0] banks$6$read_address;
+    reg  banks$6$read_clock;
+    wire  [17:0] banks$6$read_data;
+    reg  [9:0] banks$6$write_address;
+    reg  banks$6$write_clock;
+    reg  [17:0] banks$6$write_data;
+    reg  banks$6$write_enable;
+    reg  [9:0] banks$7$read_address;
+    reg  banks$7$read_clock;
+    wire  [17:0] banks$7$read_data;
+    reg  [9:0] banks$7$write_address;
+    reg  banks$7$write_clock;
+    reg  [17:0] banks$7$write_data;
+    reg  banks$7$write_enable;
+    reg  [9:0] banks$8$read_address;
+    reg  banks$8$read_clock;
+    wire  [17:0] banks$8$read_data;
+    reg  [9:0] banks$8$write_address;
+    reg  banks$8$write_clock;
+    reg  [17:0] banks$8$write_data;
+    reg  banks$8$write_enable;
+    reg  [9:0] banks$9$read_address;
+    reg  banks$9$read_clock;
+    wire  [17:0] banks$9$read_data;
+    reg  [9:0] banks$9$write_address;
+    reg  banks$9$write_clock;
+    reg  [17:0] banks$9$write_data;
+    reg  banks$9$write_enable;
+    reg  [9:0] banks$10$read_address;
+    reg  banks$10$read_clock;
+    wire  [17:0] banks$10$read_data;
+    reg  [9:0] banks$10$write_address;
+    reg  banks$10$write_clock;
+    reg  [17:0] banks$10$write_data;
+    reg  banks$10$write_enable;
+    reg  [9:0] banks$11$read_address;
+    reg  banks$11$read_clock;
+    wire  [17:0] banks$11$read_data;
+    reg  [9:0] banks$11$write_address;
+    reg  banks$11$write_clock;
+    reg  [17:0] banks$11$write_data;
+    reg  banks$11$write_enable;
+    reg  [9:0] banks$12$read_address;
+    reg  banks$12$read_clock;
+    wire  [17:0] banks$12$read_data;
+    reg  [9:0] banks$12$write_address;
+    reg  banks$12$write_clock;
+    reg  [17:0] banks$12$write_data;
+    reg  banks$12$write_enable;
+    reg  [9:0] banks$13$read_address;
+    reg  banks$13$read_clock;
+    wire  [17:0] banks$13$read_data;
+    reg  [9:0] banks$13$write_address;
+    reg  banks$13$write_clock;
+    reg  [17:0] banks$13$write_data;
+    reg  banks$13$write_enable;
+    reg  [9:0] banks$14$read_address;
+    reg  banks$14$read_clock;
+    wire  [17:0] banks$14$read_data;
+    reg  [9:0] banks$14$write_address;
+    reg  banks$14$write_clock;
+    reg  [17:0] banks$14$write_data;
+    reg  banks$14$write_enable;
+    reg  [9:0] banks$15$read_address;
+    reg  banks$15$read_clock;
+    wire  [17:0] banks$15$read_data;
+    reg  [9:0] banks$15$write_address;
+    reg  banks$15$write_clock;
+    reg  [17:0] banks$15$write_data;
+    reg  banks$15$write_enable;
+    reg  [9:0] banks$16$read_address;
+    reg  banks$16$read_clock;
+    wire  [17:0] banks$16$read_data;
+    reg  [9:0] banks$16$write_address;
+    reg  banks$16$write_clock;
+    reg  [17:0] banks$16$write_data;
+    reg  banks$16$write_enable;
+    reg  [9:0] banks$17$read_address;
+    reg  banks$17$read_clock;
+    wire  [17:0] banks$17$read_data;
+    reg  [9:0] banks$17$write_address;
+    reg  banks$17$write_clock;
+    reg  [17:0] banks$17$write_data;
+    reg  banks$17$write_enable;
+    reg  [9:0] banks$18$read_address;
+    reg  banks$18$read_clock;
+    wire  [17:0] banks$18$read_data;
+    reg  [9:0] banks$18$write_address;
+    reg  banks$18$write_clock;
+    reg  [17:0] banks$18$write_data;
+    reg  banks$18$write_enable;
+    reg  [9:0] banks$19$read_address;
+    reg  banks$19$read_clock;
+    wire  [17:0] banks$19$read_data;
+    reg  [9:0] banks$19$write_address;
+    reg  banks$19$write_clock;
+    reg  [17:0] banks$19$write_data;
+    reg  banks$19$write_enable;
+    reg  [9:0] banks$20$read_address;
+    reg  banks$20$read_clock;
+    wire  [17:0] banks$20$read_data;
+    reg  [9:0] banks$20$write_address;
+    reg  banks$20$write_clock;
+    reg  [17:0] banks$20$write_data;
+    reg  banks$20$write_enable;
+    reg  [9:0] banks$21$read_address;
+    reg  banks$21$read_clock;
+    wire  [17:0] banks$21$read_data;
+    reg  [9:0] banks$21$write_address;
+    reg  banks$21$write_clock;
+    reg  [17:0] banks$21$write_data;
+    reg  banks$21$write_enable;
+    reg  [9:0] banks$22$read_address;
+    reg  banks$22$read_clock;
+    wire  [17:0] banks$22$read_data;
+    reg  [9:0] banks$22$write_address;
+    reg  banks$22$write_clock;
+    reg  [17:0] banks$22$write_data;
+    reg  banks$22$write_enable;
+    reg  [9:0] banks$23$read_address;
+    reg  banks$23$read_clock;
+    wire  [17:0] banks$23$read_data;
+    reg  [9:0] banks$23$write_address;
+    reg  banks$23$write_clock;
+    reg  [17:0] banks$23$write_data;
+    reg  banks$23$write_enable;
+    reg  [9:0] banks$24$read_address;
+    reg  banks$24$read_clock;
+    wire  [17:0] banks$24$read_data;
+    reg  [9:0] banks$24$write_address;
+    reg  banks$24$write_clock;
+    reg  [17:0] banks$24$write_data;
+    reg  banks$24$write_enable;
+    reg  [9:0] banks$25$read_address;
+    reg  banks$25$read_clock;
+    wire  [17:0] banks$25$read_data;
+    reg  [9:0] banks$25$write_address;
+    reg  banks$25$write_clock;
+    reg  [17:0] banks$25$write_data;
+    reg  banks$25$write_enable;
+    reg  [9:0] banks$26$read_address;
+    reg  banks$26$read_clock;
+    wire  [17:0] banks$26$read_data;
+    reg  [9:0] banks$26$write_address;
+    reg  banks$26$write_clock;
+    reg  [17:0] banks$26$write_data;
+    reg  banks$26$write_enable;
+    reg  [9:0] banks$27$read_address;
+    reg  banks$27$read_clock;
+    wire  [17:0] banks$27$read_data;
+    reg  [9:0] banks$27$write_address;
+    reg  banks$27$write_clock;
+    reg  [17:0] banks$27$write_data;
+    reg  banks$27$write_enable;
+    reg  [9:0] banks$28$read_address;
+    reg  banks$28$read_clock;
+    wire  [17:0] banks$28$read_data;
+    reg  [9:0] banks$28$write_address;
+    reg  banks$28$write_clock;
+    reg  [17:0] banks$28$write_data;
+    reg  banks$28$write_enable;
+    reg  [9:0] banks$29$read_address;
+    reg  banks$29$read_clock;
+    wire  [17:0] banks$29$read_data;
+    reg  [9:0] banks$29$write_address;
+    reg  banks$29$write_clock;
+    reg  [17:0] banks$29$write_data;
+    reg  banks$29$write_enable;
+    reg  [9:0] banks$30$read_address;
+    reg  banks$30$read_clock;
+    wire  [17:0] banks$30$read_data;
+    reg  [9:0] banks$30$write_address;
+    reg  banks$30$write_clock;
+    reg  [17:0] banks$30$write_data;
+    reg  banks$30$write_enable;
+    reg  [9:0] banks$31$read_address;
+    reg  banks$31$read_clock;
+    wire  [17:0] banks$31$read_data;
+    reg  [9:0] banks$31$write_address;
+    reg  banks$31$write_clock;
+    reg  [17:0] banks$31$write_data;
+    reg  banks$31$write_enable;
     reg  s1_v$d;
     wire  s1_v$q;
     reg  s1_v$clock;
@@ -2761,6 +3065,9 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  [1:0] s1_meta$d;
     wire  [1:0] s1_meta$q;
     reg  s1_meta$clock;
+    reg  [4:0] s1_hi$d;
+    wire  [4:0] s1_hi$q;
+    reg  s1_hi$clock;
     reg  s2_v$d;
     wire  s2_v$q;
     reg  s2_v$clock;
@@ -2770,12 +3077,105 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  [1:0] s2_meta$d;
     wire  [1:0] s2_meta$q;
     reg  s2_meta$clock;
-    reg  [15:0] s2_f$d;
-    wire  [15:0] s2_f$q;
-    reg  s2_f$clock;
-    reg  [15:0] s2_g$d;
-    wire  [15:0] s2_g$q;
-    reg  s2_g$clock;
+    reg  [4:0] s2_hi$d;
+    wire  [4:0] s2_hi$q;
+    reg  s2_hi$clock;
+    reg  [17:0] s2_e$0$d;
+    wire  [17:0] s2_e$0$q;
+    reg  s2_e$0$clock;
+    reg  [17:0] s2_e$1$d;
+    wire  [17:0] s2_e$1$q;
+    reg  s2_e$1$clock;
+    reg  [17:0] s2_e$2$d;
+    wire  [17:0] s2_e$2$q;
+    reg  s2_e$2$clock;
+    reg  [17:0] s2_e$3$d;
+    wire  [17:0] s2_e$3$q;
+    reg  s2_e$3$clock;
+    reg  [17:0] s2_e$4$d;
+    wire  [17:0] s2_e$4$q;
+    reg  s2_e$4$clock;
+    reg  [17:0] s2_e$5$d;
+    wire  [17:0] s2_e$5$q;
+    reg  s2_e$5$clock;
+    reg  [17:0] s2_e$6$d;
+    wire  [17:0] s2_e$6$q;
+    reg  s2_e$6$clock;
+    reg  [17:0] s2_e$7$d;
+    wire  [17:0] s2_e$7$q;
+    reg  s2_e$7$clock;
+    reg  [17:0] s2_e$8$d;
+    wire  [17:0] s2_e$8$q;
+    reg  s2_e$8$clock;
+    reg  [17:0] s2_e$9$d;
+    wire  [17:0] s2_e$9$q;
+    reg  s2_e$9$clock;
+    reg  [17:0] s2_e$10$d;
+    wire  [17:0] s2_e$10$q;
+    reg  s2_e$10$clock;
+    reg  [17:0] s2_e$11$d;
+    wire  [17:0] s2_e$11$q;
+    reg  s2_e$11$clock;
+    reg  [17:0] s2_e$12$d;
+    wire  [17:0] s2_e$12$q;
+    reg  s2_e$12$clock;
+    reg  [17:0] s2_e$13$d;
+    wire  [17:0] s2_e$13$q;
+    reg  s2_e$13$clock;
+    reg  [17:0] s2_e$14$d;
+    wire  [17:0] s2_e$14$q;
+    reg  s2_e$14$clock;
+    reg  [17:0] s2_e$15$d;
+    wire  [17:0] s2_e$15$q;
+    reg  s2_e$15$clock;
+    reg  [17:0] s2_e$16$d;
+    wire  [17:0] s2_e$16$q;
+    reg  s2_e$16$clock;
+    reg  [17:0] s2_e$17$d;
+    wire  [17:0] s2_e$17$q;
+    reg  s2_e$17$clock;
+    reg  [17:0] s2_e$18$d;
+    wire  [17:0] s2_e$18$q;
+    reg  s2_e$18$clock;
+    reg  [17:0] s2_e$19$d;
+    wire  [17:0] s2_e$19$q;
+    reg  s2_e$19$clock;
+    reg  [17:0] s2_e$20$d;
+    wire  [17:0] s2_e$20$q;
+    reg  s2_e$20$clock;
+    reg  [17:0] s2_e$21$d;
+    wire  [17:0] s2_e$21$q;
+    reg  s2_e$21$clock;
+    reg  [17:0] s2_e$22$d;
+    wire  [17:0] s2_e$22$q;
+    reg  s2_e$22$clock;
+    reg  [17:0] s2_e$23$d;
+    wire  [17:0] s2_e$23$q;
+    reg  s2_e$23$clock;
+    reg  [17:0] s2_e$24$d;
+    wire  [17:0] s2_e$24$q;
+    reg  s2_e$24$clock;
+    reg  [17:0] s2_e$25$d;
+    wire  [17:0] s2_e$25$q;
+    reg  s2_e$25$clock;
+    reg  [17:0] s2_e$26$d;
+    wire  [17:0] s2_e$26$q;
+    reg  s2_e$26$clock;
+    reg  [17:0] s2_e$27$d;
+    wire  [17:0] s2_e$27$q;
+    reg  s2_e$27$clock;
+    reg  [17:0] s2_e$28$d;
+    wire  [17:0] s2_e$28$q;
+    reg  s2_e$28$clock;
+    reg  [17:0] s2_e$29$d;
+    wire  [17:0] s2_e$29$q;
+    reg  s2_e$29$clock;
+    reg  [17:0] s2_e$30$d;
+    wire  [17:0] s2_e$30$q;
+    reg  s2_e$30$clock;
+    reg  [17:0] s2_e$31$d;
+    wire  [17:0] s2_e$31$q;
+    reg  s2_e$31$clock;
     reg  [23:0] s2_d$d;
     wire  [23:0] s2_d$q;
     reg  s2_d$clock;
@@ -2788,12 +3188,15 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  [1:0] s3_meta$d;
     wire  [1:0] s3_meta$q;
     reg  s3_meta$clock;
-    reg  [53:0] s3_pf$d;
-    wire  [53:0] s3_pf$q;
-    reg  s3_pf$clock;
-    reg  [53:0] s3_pd$d;
-    wire  [53:0] s3_pd$q;
-    reg  s3_pd$clock;
+    reg  [15:0] s3_f$d;
+    wire  [15:0] s3_f$q;
+    reg  s3_f$clock;
+    reg  [15:0] s3_g$d;
+    wire  [15:0] s3_g$q;
+    reg  s3_g$clock;
+    reg  [23:0] s3_d$d;
+    wire  [23:0] s3_d$q;
+    reg  s3_d$clock;
     reg  s4_v$d;
     wire  s4_v$q;
     reg  s4_v$clock;
@@ -2803,6 +3206,21 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  [1:0] s4_meta$d;
     wire  [1:0] s4_meta$q;
     reg  s4_meta$clock;
+    reg  [53:0] s4_pf$d;
+    wire  [53:0] s4_pf$q;
+    reg  s4_pf$clock;
+    reg  [53:0] s4_pd$d;
+    wire  [53:0] s4_pd$q;
+    reg  s4_pd$clock;
+    reg  s5_v$d;
+    wire  s5_v$q;
+    reg  s5_v$clock;
+    reg  [98:0] s5_word$d;
+    wire  [98:0] s5_word$q;
+    reg  s5_word$clock;
+    reg  [1:0] s5_meta$d;
+    wire  [1:0] s5_meta$q;
+    reg  s5_meta$clock;
     
     // Local signals
     reg  [53:0] l_pf;
@@ -2812,6 +3230,7 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  [23:0] l_rgb3;
     reg  [17:0] l_q;
     reg  [14:0] l_addr;
+    reg  [17:0] l_e;
     reg  [15:0] l_f;
     reg  [15:0] l_g;
     reg  [23:0] l_rgb;
@@ -2825,14 +3244,293 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  [98:0] l_word;
     
     // Sub module instances
-    pixelproc_top$shade$ftab ftab(
-        .read_address(ftab$read_address),
-        .read_clock(ftab$read_clock),
-        .read_data(ftab$read_data),
-        .write_address(ftab$write_address),
-        .write_clock(ftab$write_clock),
-        .write_data(ftab$write_data),
-        .write_enable(ftab$write_enable)
+    pixelproc_top$shade$banks banks$0(
+        .read_address(banks$0$read_address),
+        .read_clock(banks$0$read_clock),
+        .read_data(banks$0$read_data),
+        .write_address(banks$0$write_address),
+        .write_clock(banks$0$write_clock),
+        .write_data(banks$0$write_data),
+        .write_enable(banks$0$write_enable)
+    );
+    pixelproc_top$shade$banks banks$1(
+        .read_address(banks$1$read_address),
+        .read_clock(banks$1$read_clock),
+        .read_data(banks$1$read_data),
+        .write_address(banks$1$write_address),
+        .write_clock(banks$1$write_clock),
+        .write_data(banks$1$write_data),
+        .write_enable(banks$1$write_enable)
+    );
+    pixelproc_top$shade$banks banks$2(
+        .read_address(banks$2$read_address),
+        .read_clock(banks$2$read_clock),
+        .read_data(banks$2$read_data),
+        .write_address(banks$2$write_address),
+        .write_clock(banks$2$write_clock),
+        .write_data(banks$2$write_data),
+        .write_enable(banks$2$write_enable)
+    );
+    pixelproc_top$shade$banks banks$3(
+        .read_address(banks$3$read_address),
+        .read_clock(banks$3$read_clock),
+        .read_data(banks$3$read_data),
+        .write_address(banks$3$write_address),
+        .write_clock(banks$3$write_clock),
+        .write_data(banks$3$write_data),
+        .write_enable(banks$3$write_enable)
+    );
+    pixelproc_top$shade$banks banks$4(
+        .read_address(banks$4$read_address),
+        .read_clock(banks$4$read_clock),
+        .read_data(banks$4$read_data),
+        .write_address(banks$4$write_address),
+        .write_clock(banks$4$write_clock),
+        .write_data(banks$4$write_data),
+        .write_enable(banks$4$write_enable)
+    );
+    pixelproc_top$shade$banks banks$5(
+        .read_address(banks$5$read_address),
+        .read_clock(banks$5$read_clock),
+        .read_data(banks$5$read_data),
+        .write_address(banks$5$write_address),
+        .write_clock(banks$5$write_clock),
+        .write_data(banks$5$write_data),
+        .write_enable(banks$5$write_enable)
+    );
+    pixelproc_top$shade$banks banks$6(
+        .read_address(banks$6$read_address),
+        .read_clock(banks$6$read_clock),
+        .read_data(banks$6$read_data),
+        .write_address(banks$6$write_address),
+        .write_clock(banks$6$write_clock),
+        .write_data(banks$6$write_data),
+        .write_enable(banks$6$write_enable)
+    );
+    pixelproc_top$shade$banks banks$7(
+        .read_address(banks$7$read_address),
+        .read_clock(banks$7$read_clock),
+        .read_data(banks$7$read_data),
+        .write_address(banks$7$write_address),
+        .write_clock(banks$7$write_clock),
+        .write_data(banks$7$write_data),
+        .write_enable(banks$7$write_enable)
+    );
+    pixelproc_top$shade$banks banks$8(
+        .read_address(banks$8$read_address),
+        .read_clock(banks$8$read_clock),
+        .read_data(banks$8$read_data),
+        .write_address(banks$8$write_address),
+        .write_clock(banks$8$write_clock),
+        .write_data(banks$8$write_data),
+        .write_enable(banks$8$write_enable)
+    );
+    pixelproc_top$shade$banks banks$9(
+        .read_address(banks$9$read_address),
+        .read_clock(banks$9$read_clock),
+        .read_data(banks$9$read_data),
+        .write_address(banks$9$write_address),
+        .write_clock(banks$9$write_clock),
+        .write_data(banks$9$write_data),
+        .write_enable(banks$9$write_enable)
+    );
+    pixelproc_top$shade$banks banks$10(
+        .read_address(banks$10$read_address),
+        .read_clock(banks$10$read_clock),
+        .read_data(banks$10$read_data),
+        .write_address(banks$10$write_address),
+        .write_clock(banks$10$write_clock),
+        .write_data(banks$10$write_data),
+        .write_enable(banks$10$write_enable)
+    );
+    pixelproc_top$shade$banks banks$11(
+        .read_address(banks$11$read_address),
+        .read_clock(banks$11$read_clock),
+        .read_data(banks$11$read_data),
+        .write_address(banks$11$write_address),
+        .write_clock(banks$11$write_clock),
+        .write_data(banks$11$write_data),
+        .write_enable(banks$11$write_enable)
+    );
+    pixelproc_top$shade$banks banks$12(
+        .read_address(banks$12$read_address),
+        .read_clock(banks$12$read_clock),
+        .read_data(banks$12$read_data),
+        .write_address(banks$12$write_address),
+        .write_clock(banks$12$write_clock),
+        .write_data(banks$12$write_data),
+        .write_enable(banks$12$write_enable)
+    );
+    pixelproc_top$shade$banks banks$13(
+        .read_address(banks$13$read_address),
+        .read_clock(banks$13$read_clock),
+        .read_data(banks$13$read_data),
+        .write_address(banks$13$write_address),
+        .write_clock(banks$13$write_clock),
+        .write_data(banks$13$write_data),
+        .write_enable(banks$13$write_enable)
+    );
+    pixelproc_top$shade$banks banks$14(
+        .read_address(banks$14$read_address),
+        .read_clock(banks$14$read_clock),
+        .read_data(banks$14$read_data),
+        .write_address(banks$14$write_address),
+        .write_clock(banks$14$write_clock),
+        .write_data(banks$14$write_data),
+        .write_enable(banks$14$write_enable)
+    );
+    pixelproc_top$shade$banks banks$15(
+        .read_address(banks$15$read_address),
+        .read_clock(banks$15$read_clock),
+        .read_data(banks$15$read_data),
+        .write_address(banks$15$write_address),
+        .write_clock(banks$15$write_clock),
+        .write_data(banks$15$write_data),
+        .write_enable(banks$15$write_enable)
+    );
+    pixelproc_top$shade$banks banks$16(
+        .read_address(banks$16$read_address),
+        .read_clock(banks$16$read_clock),
+        .read_data(banks$16$read_data),
+        .write_address(banks$16$write_address),
+        .write_clock(banks$16$write_clock),
+        .write_data(banks$16$write_data),
+        .write_enable(banks$16$write_enable)
+    );
+    pixelproc_top$shade$banks banks$17(
+        .read_address(banks$17$read_address),
+        .read_clock(banks$17$read_clock),
+        .read_data(banks$17$read_data),
+        .write_address(banks$17$write_address),
+        .write_clock(banks$17$write_clock),
+        .write_data(banks$17$write_data),
+        .write_enable(banks$17$write_enable)
+    );
+    pixelproc_top$shade$banks banks$18(
+        .read_address(banks$18$read_address),
+        .read_clock(banks$18$read_clock),
+        .read_data(banks$18$read_data),
+        .write_address(banks$18$write_address),
+        .write_clock(banks$18$write_clock),
+        .write_data(banks$18$write_data),
+        .write_enable(banks$18$write_enable)
+    );
+    pixelproc_top$shade$banks banks$19(
+        .read_address(banks$19$read_address),
+        .read_clock(banks$19$read_clock),
+        .read_data(banks$19$read_data),
+        .write_address(banks$19$write_address),
+        .write_clock(banks$19$write_clock),
+        .write_data(banks$19$write_data),
+        .write_enable(banks$19$write_enable)
+    );
+    pixelproc_top$shade$banks banks$20(
+        .read_address(banks$20$read_address),
+        .read_clock(banks$20$read_clock),
+        .read_data(banks$20$read_data),
+        .write_address(banks$20$write_address),
+        .write_clock(banks$20$write_clock),
+        .write_data(banks$20$write_data),
+        .write_enable(banks$20$write_enable)
+    );
+    pixelproc_top$shade$banks banks$21(
+        .read_address(banks$21$read_address),
+        .read_clock(banks$21$read_clock),
+        .read_data(banks$21$read_data),
+        .write_address(banks$21$write_address),
+        .write_clock(banks$21$write_clock),
+        .write_data(banks$21$write_data),
+        .write_enable(banks$21$write_enable)
+    );
+    pixelproc_top$shade$banks banks$22(
+        .read_address(banks$22$read_address),
+        .read_clock(banks$22$read_clock),
+        .read_data(banks$22$read_data),
+        .write_address(banks$22$write_address),
+        .write_clock(banks$22$write_clock),
+        .write_data(banks$22$write_data),
+        .write_enable(banks$22$write_enable)
+    );
+    pixelproc_top$shade$banks banks$23(
+        .read_address(banks$23$read_address),
+        .read_clock(banks$23$read_clock),
+        .read_data(banks$23$read_data),
+        .write_address(banks$23$write_address),
+        .write_clock(banks$23$write_clock),
+        .write_data(banks$23$write_data),
+        .write_enable(banks$23$write_enable)
+    );
+    pixelproc_top$shade$banks banks$24(
+        .read_address(banks$24$read_address),
+        .read_clock(banks$24$read_clock),
+        .read_data(banks$24$read_data),
+        .write_address(banks$24$write_address),
+        .write_clock(banks$24$write_clock),
+        .write_data(banks$24$write_data),
+        .write_enable(banks$24$write_enable)
+    );
+    pixelproc_top$shade$banks banks$25(
+        .read_address(banks$25$read_address),
+        .read_clock(banks$25$read_clock),
+        .read_data(banks$25$read_data),
+        .write_address(banks$25$write_address),
+        .write_clock(banks$25$write_clock),
+        .write_data(banks$25$write_data),
+        .write_enable(banks$25$write_enable)
+    );
+    pixelproc_top$shade$banks banks$26(
+        .read_address(banks$26$read_address),
+        .read_clock(banks$26$read_clock),
+        .read_data(banks$26$read_data),
+        .write_address(banks$26$write_address),
+        .write_clock(banks$26$write_clock),
+        .write_data(banks$26$write_data),
+        .write_enable(banks$26$write_enable)
+    );
+    pixelproc_top$shade$banks banks$27(
+        .read_address(banks$27$read_address),
+        .read_clock(banks$27$read_clock),
+        .read_data(banks$27$read_data),
+        .write_address(banks$27$write_address),
+        .write_clock(banks$27$write_clock),
+        .write_data(banks$27$write_data),
+        .write_enable(banks$27$write_enable)
+    );
+    pixelproc_top$shade$banks banks$28(
+        .read_address(banks$28$read_address),
+        .read_clock(banks$28$read_clock),
+        .read_data(banks$28$read_data),
+        .write_address(banks$28$write_address),
+        .write_clock(banks$28$write_clock),
+        .write_data(banks$28$write_data),
+        .write_enable(banks$28$write_enable)
+    );
+    pixelproc_top$shade$banks banks$29(
+        .read_address(banks$29$read_address),
+        .read_clock(banks$29$read_clock),
+        .read_data(banks$29$read_data),
+        .write_address(banks$29$write_address),
+        .write_clock(banks$29$write_clock),
+        .write_data(banks$29$write_data),
+        .write_enable(banks$29$write_enable)
+    );
+    pixelproc_top$shade$banks banks$30(
+        .read_address(banks$30$read_address),
+        .read_clock(banks$30$read_clock),
+        .read_data(banks$30$read_data),
+        .write_address(banks$30$write_address),
+        .write_clock(banks$30$write_clock),
+        .write_data(banks$30$write_data),
+        .write_enable(banks$30$write_enable)
+    );
+    pixelproc_top$shade$banks banks$31(
+        .read_address(banks$31$read_address),
+        .read_clock(banks$31$read_clock),
+        .read_data(banks$31$read_data),
+        .write_address(banks$31$write_address),
+        .write_clock(banks$31$write_clock),
+        .write_data(banks$31$write_data),
+        .write_enable(banks$31$write_enable)
     );
     pixelproc_top$array$procs$b_covered s1_v(
         .d(s1_v$d),
@@ -2849,6 +3547,11 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(s1_meta$q),
         .clock(s1_meta$clock)
     );
+    pixelproc_top$in_fifo$ra s1_hi(
+        .d(s1_hi$d),
+        .q(s1_hi$q),
+        .clock(s1_hi$clock)
+    );
     pixelproc_top$array$procs$b_covered s2_v(
         .d(s2_v$d),
         .q(s2_v$q),
@@ -2864,15 +3567,170 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(s2_meta$q),
         .clock(s2_meta$clock)
     );
-    pixelproc_top$array$e2_m s2_f(
-        .d(s2_f$d),
-        .q(s2_f$q),
-        .clock(s2_f$clock)
+    pixelproc_top$in_fifo$ra s2_hi(
+        .d(s2_hi$d),
+        .q(s2_hi$q),
+        .clock(s2_hi$clock)
     );
-    pixelproc_top$array$e2_m s2_g(
-        .d(s2_g$d),
-        .q(s2_g$q),
-        .clock(s2_g$clock)
+    pixelproc_top$shade$s2_e s2_e$0(
+        .d(s2_e$0$d),
+        .q(s2_e$0$q),
+        .clock(s2_e$0$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$1(
+        .d(s2_e$1$d),
+        .q(s2_e$1$q),
+        .clock(s2_e$1$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$2(
+        .d(s2_e$2$d),
+        .q(s2_e$2$q),
+        .clock(s2_e$2$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$3(
+        .d(s2_e$3$d),
+        .q(s2_e$3$q),
+        .clock(s2_e$3$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$4(
+        .d(s2_e$4$d),
+        .q(s2_e$4$q),
+        .clock(s2_e$4$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$5(
+        .d(s2_e$5$d),
+        .q(s2_e$5$q),
+        .clock(s2_e$5$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$6(
+        .d(s2_e$6$d),
+        .q(s2_e$6$q),
+        .clock(s2_e$6$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$7(
+        .d(s2_e$7$d),
+        .q(s2_e$7$q),
+        .clock(s2_e$7$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$8(
+        .d(s2_e$8$d),
+        .q(s2_e$8$q),
+        .clock(s2_e$8$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$9(
+        .d(s2_e$9$d),
+        .q(s2_e$9$q),
+        .clock(s2_e$9$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$10(
+        .d(s2_e$10$d),
+        .q(s2_e$10$q),
+        .clock(s2_e$10$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$11(
+        .d(s2_e$11$d),
+        .q(s2_e$11$q),
+        .clock(s2_e$11$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$12(
+        .d(s2_e$12$d),
+        .q(s2_e$12$q),
+        .clock(s2_e$12$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$13(
+        .d(s2_e$13$d),
+        .q(s2_e$13$q),
+        .clock(s2_e$13$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$14(
+        .d(s2_e$14$d),
+        .q(s2_e$14$q),
+        .clock(s2_e$14$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$15(
+        .d(s2_e$15$d),
+        .q(s2_e$15$q),
+        .clock(s2_e$15$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$16(
+        .d(s2_e$16$d),
+        .q(s2_e$16$q),
+        .clock(s2_e$16$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$17(
+        .d(s2_e$17$d),
+        .q(s2_e$17$q),
+        .clock(s2_e$17$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$18(
+        .d(s2_e$18$d),
+        .q(s2_e$18$q),
+        .clock(s2_e$18$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$19(
+        .d(s2_e$19$d),
+        .q(s2_e$19$q),
+        .clock(s2_e$19$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$20(
+        .d(s2_e$20$d),
+        .q(s2_e$20$q),
+        .clock(s2_e$20$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$21(
+        .d(s2_e$21$d),
+        .q(s2_e$21$q),
+        .clock(s2_e$21$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$22(
+        .d(s2_e$22$d),
+        .q(s2_e$22$q),
+        .clock(s2_e$22$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$23(
+        .d(s2_e$23$d),
+        .q(s2_e$23$q),
+        .clock(s2_e$23$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$24(
+        .d(s2_e$24$d),
+        .q(s2_e$24$q),
+        .clock(s2_e$24$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$25(
+        .d(s2_e$25$d),
+        .q(s2_e$25$q),
+        .clock(s2_e$25$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$26(
+        .d(s2_e$26$d),
+        .q(s2_e$26$q),
+        .clock(s2_e$26$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$27(
+        .d(s2_e$27$d),
+        .q(s2_e$27$q),
+        .clock(s2_e$27$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$28(
+        .d(s2_e$28$d),
+        .q(s2_e$28$q),
+        .clock(s2_e$28$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$29(
+        .d(s2_e$29$d),
+        .q(s2_e$29$q),
+        .clock(s2_e$29$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$30(
+        .d(s2_e$30$d),
+        .q(s2_e$30$q),
+        .clock(s2_e$30$clock)
+    );
+    pixelproc_top$shade$s2_e s2_e$31(
+        .d(s2_e$31$d),
+        .q(s2_e$31$q),
+        .clock(s2_e$31$clock)
     );
     pixelproc_top$array$e1_bg s2_d(
         .d(s2_d$d),
@@ -2894,15 +3752,20 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(s3_meta$q),
         .clock(s3_meta$clock)
     );
-    pixelproc_top$shade$s3_pd s3_pf(
-        .d(s3_pf$d),
-        .q(s3_pf$q),
-        .clock(s3_pf$clock)
+    pixelproc_top$array$e2_m s3_f(
+        .d(s3_f$d),
+        .q(s3_f$q),
+        .clock(s3_f$clock)
     );
-    pixelproc_top$shade$s3_pd s3_pd(
-        .d(s3_pd$d),
-        .q(s3_pd$q),
-        .clock(s3_pd$clock)
+    pixelproc_top$array$e2_m s3_g(
+        .d(s3_g$d),
+        .q(s3_g$q),
+        .clock(s3_g$clock)
+    );
+    pixelproc_top$array$e1_bg s3_d(
+        .d(s3_d$d),
+        .q(s3_d$q),
+        .clock(s3_d$clock)
     );
     pixelproc_top$array$procs$b_covered s4_v(
         .d(s4_v$d),
@@ -2919,62 +3782,344 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(s4_meta$q),
         .clock(s4_meta$clock)
     );
+    pixelproc_top$shade$s4_pd s4_pf(
+        .d(s4_pf$d),
+        .q(s4_pf$q),
+        .clock(s4_pf$clock)
+    );
+    pixelproc_top$shade$s4_pd s4_pd(
+        .d(s4_pd$d),
+        .q(s4_pd$q),
+        .clock(s4_pd$clock)
+    );
+    pixelproc_top$array$procs$b_covered s5_v(
+        .d(s5_v$d),
+        .q(s5_v$q),
+        .clock(s5_v$clock)
+    );
+    pixelproc_top$array$procs$cap_r s5_word(
+        .d(s5_word$d),
+        .q(s5_word$q),
+        .clock(s5_word$clock)
+    );
+    pixelproc_top$array$procs$b_attr s5_meta(
+        .d(s5_meta$d),
+        .q(s5_meta$q),
+        .clock(s5_meta$clock)
+    );
     
     // Update code
     always @(*) begin
         s1_v$clock = clock;
         s1_word$clock = clock;
         s1_meta$clock = clock;
+        s1_hi$clock = clock;
         s2_v$clock = clock;
         s2_word$clock = clock;
         s2_meta$clock = clock;
-        s2_f$clock = clock;
-        s2_g$clock = clock;
+        s2_hi$clock = clock;
         s2_d$clock = clock;
         s3_v$clock = clock;
         s3_word$clock = clock;
         s3_meta$clock = clock;
-        s3_pf$clock = clock;
-        s3_pd$clock = clock;
+        s3_f$clock = clock;
+        s3_g$clock = clock;
+        s3_d$clock = clock;
         s4_v$clock = clock;
         s4_word$clock = clock;
         s4_meta$clock = clock;
+        s4_pf$clock = clock;
+        s4_pd$clock = clock;
+        s5_v$clock = clock;
+        s5_word$clock = clock;
+        s5_meta$clock = clock;
         s1_v$d = s1_v$q;
         s1_word$d = s1_word$q;
         s1_meta$d = s1_meta$q;
+        s1_hi$d = s1_hi$q;
         s2_v$d = s2_v$q;
         s2_word$d = s2_word$q;
         s2_meta$d = s2_meta$q;
-        s2_f$d = s2_f$q;
-        s2_g$d = s2_g$q;
+        s2_hi$d = s2_hi$q;
         s2_d$d = s2_d$q;
         s3_v$d = s3_v$q;
         s3_word$d = s3_word$q;
         s3_meta$d = s3_meta$q;
-        s3_pf$d = s3_pf$q;
-        s3_pd$d = s3_pd$q;
+        s3_f$d = s3_f$q;
+        s3_g$d = s3_g$q;
+        s3_d$d = s3_d$q;
         s4_v$d = s4_v$q;
         s4_word$d = s4_word$q;
         s4_meta$d = s4_meta$q;
-        ftab$read_clock = clock;
-        ftab$write_clock = clock;
-        ftab$write_enable = tw_en & k_on;
-        ftab$write_address = tw_addr;
-        ftab$write_data = tw_data;
+        s4_pf$d = s4_pf$q;
+        s4_pd$d = s4_pd$q;
+        s5_v$d = s5_v$q;
+        s5_word$d = s5_word$q;
+        s5_meta$d = s5_meta$q;
         l_addr = k_zero_addr;
         l_addr[(32'h0)+:(4)] = in_word[(32'h0)+:(4)];
         l_addr[(32'h4)+:(3)] = in_word[(32'h3a)+:(3)];
         l_addr[(32'h7)+:(8)] = in_word[(32'h42)+:(8)];
-        ftab$read_address = l_addr;
+        banks$0$read_clock = clock;
+        banks$0$write_clock = clock;
+        banks$0$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 0);
+        banks$0$write_address = tw_addr[(32'h0)+:(10)];
+        banks$0$write_data = tw_data;
+        banks$0$read_address = l_addr[(32'h0)+:(10)];
+        banks$1$read_clock = clock;
+        banks$1$write_clock = clock;
+        banks$1$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 1);
+        banks$1$write_address = tw_addr[(32'h0)+:(10)];
+        banks$1$write_data = tw_data;
+        banks$1$read_address = l_addr[(32'h0)+:(10)];
+        banks$2$read_clock = clock;
+        banks$2$write_clock = clock;
+        banks$2$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 2);
+        banks$2$write_address = tw_addr[(32'h0)+:(10)];
+        banks$2$write_data = tw_data;
+        banks$2$read_address = l_addr[(32'h0)+:(10)];
+        banks$3$read_clock = clock;
+        banks$3$write_clock = clock;
+        banks$3$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 3);
+        banks$3$write_address = tw_addr[(32'h0)+:(10)];
+        banks$3$write_data = tw_data;
+        banks$3$read_address = l_addr[(32'h0)+:(10)];
+        banks$4$read_clock = clock;
+        banks$4$write_clock = clock;
+        banks$4$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 4);
+        banks$4$write_address = tw_addr[(32'h0)+:(10)];
+        banks$4$write_data = tw_data;
+        banks$4$read_address = l_addr[(32'h0)+:(10)];
+        banks$5$read_clock = clock;
+        banks$5$write_clock = clock;
+        banks$5$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 5);
+        banks$5$write_address = tw_addr[(32'h0)+:(10)];
+        banks$5$write_data = tw_data;
+        banks$5$read_address = l_addr[(32'h0)+:(10)];
+        banks$6$read_clock = clock;
+        banks$6$write_clock = clock;
+        banks$6$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 6);
+        banks$6$write_address = tw_addr[(32'h0)+:(10)];
+        banks$6$write_data = tw_data;
+        banks$6$read_address = l_addr[(32'h0)+:(10)];
+        banks$7$read_clock = clock;
+        banks$7$write_clock = clock;
+        banks$7$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 7);
+        banks$7$write_address = tw_addr[(32'h0)+:(10)];
+        banks$7$write_data = tw_data;
+        banks$7$read_address = l_addr[(32'h0)+:(10)];
+        banks$8$read_clock = clock;
+        banks$8$write_clock = clock;
+        banks$8$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 8);
+        banks$8$write_address = tw_addr[(32'h0)+:(10)];
+        banks$8$write_data = tw_data;
+        banks$8$read_address = l_addr[(32'h0)+:(10)];
+        banks$9$read_clock = clock;
+        banks$9$write_clock = clock;
+        banks$9$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 9);
+        banks$9$write_address = tw_addr[(32'h0)+:(10)];
+        banks$9$write_data = tw_data;
+        banks$9$read_address = l_addr[(32'h0)+:(10)];
+        banks$10$read_clock = clock;
+        banks$10$write_clock = clock;
+        banks$10$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 10);
+        banks$10$write_address = tw_addr[(32'h0)+:(10)];
+        banks$10$write_data = tw_data;
+        banks$10$read_address = l_addr[(32'h0)+:(10)];
+        banks$11$read_clock = clock;
+        banks$11$write_clock = clock;
+        banks$11$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 11);
+        banks$11$write_address = tw_addr[(32'h0)+:(10)];
+        banks$11$write_data = tw_data;
+        banks$11$read_address = l_addr[(32'h0)+:(10)];
+        banks$12$read_clock = clock;
+        banks$12$write_clock = clock;
+        banks$12$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 12);
+        banks$12$write_address = tw_addr[(32'h0)+:(10)];
+        banks$12$write_data = tw_data;
+        banks$12$read_address = l_addr[(32'h0)+:(10)];
+        banks$13$read_clock = clock;
+        banks$13$write_clock = clock;
+        banks$13$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 13);
+        banks$13$write_address = tw_addr[(32'h0)+:(10)];
+        banks$13$write_data = tw_data;
+        banks$13$read_address = l_addr[(32'h0)+:(10)];
+        banks$14$read_clock = clock;
+        banks$14$write_clock = clock;
+        banks$14$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 14);
+        banks$14$write_address = tw_addr[(32'h0)+:(10)];
+        banks$14$write_data = tw_data;
+        banks$14$read_address = l_addr[(32'h0)+:(10)];
+        banks$15$read_clock = clock;
+        banks$15$write_clock = clock;
+        banks$15$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 15);
+        banks$15$write_address = tw_addr[(32'h0)+:(10)];
+        banks$15$write_data = tw_data;
+        banks$15$read_address = l_addr[(32'h0)+:(10)];
+        banks$16$read_clock = clock;
+        banks$16$write_clock = clock;
+        banks$16$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 16);
+        banks$16$write_address = tw_addr[(32'h0)+:(10)];
+        banks$16$write_data = tw_data;
+        banks$16$read_address = l_addr[(32'h0)+:(10)];
+        banks$17$read_clock = clock;
+        banks$17$write_clock = clock;
+        banks$17$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 17);
+        banks$17$write_address = tw_addr[(32'h0)+:(10)];
+        banks$17$write_data = tw_data;
+        banks$17$read_address = l_addr[(32'h0)+:(10)];
+        banks$18$read_clock = clock;
+        banks$18$write_clock = clock;
+        banks$18$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 18);
+        banks$18$write_address = tw_addr[(32'h0)+:(10)];
+        banks$18$write_data = tw_data;
+        banks$18$read_address = l_addr[(32'h0)+:(10)];
+        banks$19$read_clock = clock;
+        banks$19$write_clock = clock;
+        banks$19$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 19);
+        banks$19$write_address = tw_addr[(32'h0)+:(10)];
+        banks$19$write_data = tw_data;
+        banks$19$read_address = l_addr[(32'h0)+:(10)];
+        banks$20$read_clock = clock;
+        banks$20$write_clock = clock;
+        banks$20$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 20);
+        banks$20$write_address = tw_addr[(32'h0)+:(10)];
+        banks$20$write_data = tw_data;
+        banks$20$read_address = l_addr[(32'h0)+:(10)];
+        banks$21$read_clock = clock;
+        banks$21$write_clock = clock;
+        banks$21$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 21);
+        banks$21$write_address = tw_addr[(32'h0)+:(10)];
+        banks$21$write_data = tw_data;
+        banks$21$read_address = l_addr[(32'h0)+:(10)];
+        banks$22$read_clock = clock;
+        banks$22$write_clock = clock;
+        banks$22$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 22);
+        banks$22$write_address = tw_addr[(32'h0)+:(10)];
+        banks$22$write_data = tw_data;
+        banks$22$read_address = l_addr[(32'h0)+:(10)];
+        banks$23$read_clock = clock;
+        banks$23$write_clock = clock;
+        banks$23$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 23);
+        banks$23$write_address = tw_addr[(32'h0)+:(10)];
+        banks$23$write_data = tw_data;
+        banks$23$read_address = l_addr[(32'h0)+:(10)];
+        banks$24$read_clock = clock;
+        banks$24$write_clock = clock;
+        banks$24$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 24);
+        banks$24$write_address = tw_addr[(32'h0)+:(10)];
+        banks$24$write_data = tw_data;
+        banks$24$read_address = l_addr[(32'h0)+:(10)];
+        banks$25$read_clock = clock;
+        banks$25$write_clock = clock;
+        banks$25$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 25);
+        banks$25$write_address = tw_addr[(32'h0)+:(10)];
+        banks$25$write_data = tw_data;
+        banks$25$read_address = l_addr[(32'h0)+:(10)];
+        banks$26$read_clock = clock;
+        banks$26$write_clock = clock;
+        banks$26$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 26);
+        banks$26$write_address = tw_addr[(32'h0)+:(10)];
+        banks$26$write_data = tw_data;
+        banks$26$read_address = l_addr[(32'h0)+:(10)];
+        banks$27$read_clock = clock;
+        banks$27$write_clock = clock;
+        banks$27$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 27);
+        banks$27$write_address = tw_addr[(32'h0)+:(10)];
+        banks$27$write_data = tw_data;
+        banks$27$read_address = l_addr[(32'h0)+:(10)];
+        banks$28$read_clock = clock;
+        banks$28$write_clock = clock;
+        banks$28$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 28);
+        banks$28$write_address = tw_addr[(32'h0)+:(10)];
+        banks$28$write_data = tw_data;
+        banks$28$read_address = l_addr[(32'h0)+:(10)];
+        banks$29$read_clock = clock;
+        banks$29$write_clock = clock;
+        banks$29$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 29);
+        banks$29$write_address = tw_addr[(32'h0)+:(10)];
+        banks$29$write_data = tw_data;
+        banks$29$read_address = l_addr[(32'h0)+:(10)];
+        banks$30$read_clock = clock;
+        banks$30$write_clock = clock;
+        banks$30$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 30);
+        banks$30$write_address = tw_addr[(32'h0)+:(10)];
+        banks$30$write_data = tw_data;
+        banks$30$read_address = l_addr[(32'h0)+:(10)];
+        banks$31$read_clock = clock;
+        banks$31$write_clock = clock;
+        banks$31$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 31);
+        banks$31$write_address = tw_addr[(32'h0)+:(10)];
+        banks$31$write_data = tw_data;
+        banks$31$read_address = l_addr[(32'h0)+:(10)];
         s1_v$d = in_valid;
         s1_word$d = in_word;
         s1_meta$d = in_meta;
-        l_f = {{7{1'b0}}, ftab$read_data[(32'h0)+:(9)]};
-        l_g = {{7{1'b0}}, ftab$read_data[(32'h9)+:(9)]};
-        if (~k_on | (s1_word$q[(32'h22)+:(24)] == k_far)) begin
-            l_f = k_one;
-            l_g = k_zero16;
-        end
+        s1_hi$d = l_addr[(32'ha)+:(5)];
+        s2_e$0$clock = clock;
+        s2_e$0$d = banks$0$read_data;
+        s2_e$1$clock = clock;
+        s2_e$1$d = banks$1$read_data;
+        s2_e$2$clock = clock;
+        s2_e$2$d = banks$2$read_data;
+        s2_e$3$clock = clock;
+        s2_e$3$d = banks$3$read_data;
+        s2_e$4$clock = clock;
+        s2_e$4$d = banks$4$read_data;
+        s2_e$5$clock = clock;
+        s2_e$5$d = banks$5$read_data;
+        s2_e$6$clock = clock;
+        s2_e$6$d = banks$6$read_data;
+        s2_e$7$clock = clock;
+        s2_e$7$d = banks$7$read_data;
+        s2_e$8$clock = clock;
+        s2_e$8$d = banks$8$read_data;
+        s2_e$9$clock = clock;
+        s2_e$9$d = banks$9$read_data;
+        s2_e$10$clock = clock;
+        s2_e$10$d = banks$10$read_data;
+        s2_e$11$clock = clock;
+        s2_e$11$d = banks$11$read_data;
+        s2_e$12$clock = clock;
+        s2_e$12$d = banks$12$read_data;
+        s2_e$13$clock = clock;
+        s2_e$13$d = banks$13$read_data;
+        s2_e$14$clock = clock;
+        s2_e$14$d = banks$14$read_data;
+        s2_e$15$clock = clock;
+        s2_e$15$d = banks$15$read_data;
+        s2_e$16$clock = clock;
+        s2_e$16$d = banks$16$read_data;
+        s2_e$17$clock = clock;
+        s2_e$17$d = banks$17$read_data;
+        s2_e$18$clock = clock;
+        s2_e$18$d = banks$18$read_data;
+        s2_e$19$clock = clock;
+        s2_e$19$d = banks$19$read_data;
+        s2_e$20$clock = clock;
+        s2_e$20$d = banks$20$read_data;
+        s2_e$21$clock = clock;
+        s2_e$21$d = banks$21$read_data;
+        s2_e$22$clock = clock;
+        s2_e$22$d = banks$22$read_data;
+        s2_e$23$clock = clock;
+        s2_e$23$d = banks$23$read_data;
+        s2_e$24$clock = clock;
+        s2_e$24$d = banks$24$read_data;
+        s2_e$25$clock = clock;
+        s2_e$25$d = banks$25$read_data;
+        s2_e$26$clock = clock;
+        s2_e$26$d = banks$26$read_data;
+        s2_e$27$clock = clock;
+        s2_e$27$d = banks$27$read_data;
+        s2_e$28$clock = clock;
+        s2_e$28$d = banks$28$read_data;
+        s2_e$29$clock = clock;
+        s2_e$29$d = banks$29$read_data;
+        s2_e$30$clock = clock;
+        s2_e$30$d = banks$30$read_data;
+        s2_e$31$clock = clock;
+        s2_e$31$d = banks$31$read_data;
         l_rgb = s1_word$q[(32'ha)+:(24)];
         l_sh = s1_word$q[(32'h4a)+:(24)];
         l_dd = k_zero24;
@@ -3002,110 +4147,219 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         s2_v$d = s1_v$q;
         s2_word$d = s1_word$q;
         s2_meta$d = s1_meta$q;
-        s2_f$d = l_f;
-        s2_g$d = l_g;
+        s2_hi$d = s1_hi$q;
         s2_d$d = l_dd;
-        l_rgb3 = s2_word$q[(32'ha)+:(24)];
-        l_pf = k_zero54;
-        l_pd = k_zero54;
-        l_ch = l_rgb3[(32'h8 * 0)+:(8)];
-        l_p = ({{8{1'b0}}, l_ch} * s2_f$q) + k_half;
-        l_pf = (l_pf >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
-        l_sc = s2_d$q[(32'h8 * 0)+:(8)];
-        l_p = ({{8{1'b0}}, l_sc} * s2_g$q) + k_half;
-        l_pd = (l_pd >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
-        l_ch = l_rgb3[(32'h8 * 1)+:(8)];
-        l_p = ({{8{1'b0}}, l_ch} * s2_f$q) + k_half;
-        l_pf = (l_pf >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
-        l_sc = s2_d$q[(32'h8 * 1)+:(8)];
-        l_p = ({{8{1'b0}}, l_sc} * s2_g$q) + k_half;
-        l_pd = (l_pd >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
-        l_ch = l_rgb3[(32'h8 * 2)+:(8)];
-        l_p = ({{8{1'b0}}, l_ch} * s2_f$q) + k_half;
-        l_pf = (l_pf >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
-        l_sc = s2_d$q[(32'h8 * 2)+:(8)];
-        l_p = ({{8{1'b0}}, l_sc} * s2_g$q) + k_half;
-        l_pd = (l_pd >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
+        l_e = k_zero_e;
+        if (s2_hi$q == 0) begin
+            l_e = s2_e$0$q;
+        end
+        if (s2_hi$q == 1) begin
+            l_e = s2_e$1$q;
+        end
+        if (s2_hi$q == 2) begin
+            l_e = s2_e$2$q;
+        end
+        if (s2_hi$q == 3) begin
+            l_e = s2_e$3$q;
+        end
+        if (s2_hi$q == 4) begin
+            l_e = s2_e$4$q;
+        end
+        if (s2_hi$q == 5) begin
+            l_e = s2_e$5$q;
+        end
+        if (s2_hi$q == 6) begin
+            l_e = s2_e$6$q;
+        end
+        if (s2_hi$q == 7) begin
+            l_e = s2_e$7$q;
+        end
+        if (s2_hi$q == 8) begin
+            l_e = s2_e$8$q;
+        end
+        if (s2_hi$q == 9) begin
+            l_e = s2_e$9$q;
+        end
+        if (s2_hi$q == 10) begin
+            l_e = s2_e$10$q;
+        end
+        if (s2_hi$q == 11) begin
+            l_e = s2_e$11$q;
+        end
+        if (s2_hi$q == 12) begin
+            l_e = s2_e$12$q;
+        end
+        if (s2_hi$q == 13) begin
+            l_e = s2_e$13$q;
+        end
+        if (s2_hi$q == 14) begin
+            l_e = s2_e$14$q;
+        end
+        if (s2_hi$q == 15) begin
+            l_e = s2_e$15$q;
+        end
+        if (s2_hi$q == 16) begin
+            l_e = s2_e$16$q;
+        end
+        if (s2_hi$q == 17) begin
+            l_e = s2_e$17$q;
+        end
+        if (s2_hi$q == 18) begin
+            l_e = s2_e$18$q;
+        end
+        if (s2_hi$q == 19) begin
+            l_e = s2_e$19$q;
+        end
+        if (s2_hi$q == 20) begin
+            l_e = s2_e$20$q;
+        end
+        if (s2_hi$q == 21) begin
+            l_e = s2_e$21$q;
+        end
+        if (s2_hi$q == 22) begin
+            l_e = s2_e$22$q;
+        end
+        if (s2_hi$q == 23) begin
+            l_e = s2_e$23$q;
+        end
+        if (s2_hi$q == 24) begin
+            l_e = s2_e$24$q;
+        end
+        if (s2_hi$q == 25) begin
+            l_e = s2_e$25$q;
+        end
+        if (s2_hi$q == 26) begin
+            l_e = s2_e$26$q;
+        end
+        if (s2_hi$q == 27) begin
+            l_e = s2_e$27$q;
+        end
+        if (s2_hi$q == 28) begin
+            l_e = s2_e$28$q;
+        end
+        if (s2_hi$q == 29) begin
+            l_e = s2_e$29$q;
+        end
+        if (s2_hi$q == 30) begin
+            l_e = s2_e$30$q;
+        end
+        if (s2_hi$q == 31) begin
+            l_e = s2_e$31$q;
+        end
+        l_f = {{7{1'b0}}, l_e[(32'h0)+:(9)]};
+        l_g = {{7{1'b0}}, l_e[(32'h9)+:(9)]};
+        if (~k_on | (s2_word$q[(32'h22)+:(24)] == k_far)) begin
+            l_f = k_one;
+            l_g = k_zero16;
+        end
         s3_v$d = s2_v$q;
         s3_word$d = s2_word$q;
         s3_meta$d = s2_meta$q;
-        s3_pf$d = l_pf;
-        s3_pd$d = l_pd;
-        l_out = k_zero24;
-        l_q = s3_pf$q[(32'h12 * 0)+:(18)];
-        l_c = {{14{1'b0}}, l_q} >> 32'h8;
-        if (l_c > k_max) begin
-            l_c = k_max;
-        end
-        l_q = s3_pd$q[(32'h12 * 0)+:(18)];
-        l_drop = {{14{1'b0}}, l_q} >> 32'h8;
-        if (l_drop > l_c) begin
-            l_c = k_zero32;
-        end
-        else begin
-            l_c = l_c - l_drop;
-        end
-        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_c[(32'h0)+:(8)]} << 32'h10);
-        l_q = s3_pf$q[(32'h12 * 1)+:(18)];
-        l_c = {{14{1'b0}}, l_q} >> 32'h8;
-        if (l_c > k_max) begin
-            l_c = k_max;
-        end
-        l_q = s3_pd$q[(32'h12 * 1)+:(18)];
-        l_drop = {{14{1'b0}}, l_q} >> 32'h8;
-        if (l_drop > l_c) begin
-            l_c = k_zero32;
-        end
-        else begin
-            l_c = l_c - l_drop;
-        end
-        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_c[(32'h0)+:(8)]} << 32'h10);
-        l_q = s3_pf$q[(32'h12 * 2)+:(18)];
-        l_c = {{14{1'b0}}, l_q} >> 32'h8;
-        if (l_c > k_max) begin
-            l_c = k_max;
-        end
-        l_q = s3_pd$q[(32'h12 * 2)+:(18)];
-        l_drop = {{14{1'b0}}, l_q} >> 32'h8;
-        if (l_drop > l_c) begin
-            l_c = k_zero32;
-        end
-        else begin
-            l_c = l_c - l_drop;
-        end
-        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_c[(32'h0)+:(8)]} << 32'h10);
-        l_word = s3_word$q;
-        l_word[(32'ha)+:(24)] = l_out;
+        s3_f$d = l_f;
+        s3_g$d = l_g;
+        s3_d$d = s2_d$q;
+        l_rgb3 = s3_word$q[(32'ha)+:(24)];
+        l_pf = k_zero54;
+        l_pd = k_zero54;
+        l_ch = l_rgb3[(32'h8 * 0)+:(8)];
+        l_p = ({{8{1'b0}}, l_ch} * s3_f$q) + k_half;
+        l_pf = (l_pf >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
+        l_sc = s3_d$q[(32'h8 * 0)+:(8)];
+        l_p = ({{8{1'b0}}, l_sc} * s3_g$q) + k_half;
+        l_pd = (l_pd >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
+        l_ch = l_rgb3[(32'h8 * 1)+:(8)];
+        l_p = ({{8{1'b0}}, l_ch} * s3_f$q) + k_half;
+        l_pf = (l_pf >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
+        l_sc = s3_d$q[(32'h8 * 1)+:(8)];
+        l_p = ({{8{1'b0}}, l_sc} * s3_g$q) + k_half;
+        l_pd = (l_pd >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
+        l_ch = l_rgb3[(32'h8 * 2)+:(8)];
+        l_p = ({{8{1'b0}}, l_ch} * s3_f$q) + k_half;
+        l_pf = (l_pf >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
+        l_sc = s3_d$q[(32'h8 * 2)+:(8)];
+        l_p = ({{8{1'b0}}, l_sc} * s3_g$q) + k_half;
+        l_pd = (l_pd >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
         s4_v$d = s3_v$q;
-        s4_word$d = l_word;
+        s4_word$d = s3_word$q;
         s4_meta$d = s3_meta$q;
-        out_valid = s4_v$q;
-        out_word = s4_word$q;
-        out_meta = s4_meta$q;
+        s4_pf$d = l_pf;
+        s4_pd$d = l_pd;
+        l_out = k_zero24;
+        l_q = s4_pf$q[(32'h12 * 0)+:(18)];
+        l_c = {{14{1'b0}}, l_q} >> 32'h8;
+        if (l_c > k_max) begin
+            l_c = k_max;
+        end
+        l_q = s4_pd$q[(32'h12 * 0)+:(18)];
+        l_drop = {{14{1'b0}}, l_q} >> 32'h8;
+        if (l_drop > l_c) begin
+            l_c = k_zero32;
+        end
+        else begin
+            l_c = l_c - l_drop;
+        end
+        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_c[(32'h0)+:(8)]} << 32'h10);
+        l_q = s4_pf$q[(32'h12 * 1)+:(18)];
+        l_c = {{14{1'b0}}, l_q} >> 32'h8;
+        if (l_c > k_max) begin
+            l_c = k_max;
+        end
+        l_q = s4_pd$q[(32'h12 * 1)+:(18)];
+        l_drop = {{14{1'b0}}, l_q} >> 32'h8;
+        if (l_drop > l_c) begin
+            l_c = k_zero32;
+        end
+        else begin
+            l_c = l_c - l_drop;
+        end
+        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_c[(32'h0)+:(8)]} << 32'h10);
+        l_q = s4_pf$q[(32'h12 * 2)+:(18)];
+        l_c = {{14{1'b0}}, l_q} >> 32'h8;
+        if (l_c > k_max) begin
+            l_c = k_max;
+        end
+        l_q = s4_pd$q[(32'h12 * 2)+:(18)];
+        l_drop = {{14{1'b0}}, l_q} >> 32'h8;
+        if (l_drop > l_c) begin
+            l_c = k_zero32;
+        end
+        else begin
+            l_c = l_c - l_drop;
+        end
+        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_c[(32'h0)+:(8)]} << 32'h10);
+        l_word = s4_word$q;
+        l_word[(32'ha)+:(24)] = l_out;
+        s5_v$d = s4_v$q;
+        s5_word$d = l_word;
+        s5_meta$d = s4_meta$q;
+        out_valid = s5_v$q;
+        out_word = s5_word$q;
+        out_meta = s5_meta$q;
         if (rst) begin
             s1_v$d = 1'b0;
             s2_v$d = 1'b0;
             s3_v$d = 1'b0;
             s4_v$d = 1'b0;
+            s5_v$d = 1'b0;
         end
     end
     
 endmodule // pixelproc_top$shade
 
 
-module pixelproc_top$shade$ftab(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
+module pixelproc_top$shade$banks(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
     
     // Module arguments
-    input wire  [14:0] read_address;
+    input wire  [9:0] read_address;
     input wire  read_clock;
     output reg  [17:0] read_data;
-    input wire  [14:0] write_address;
+    input wire  [9:0] write_address;
     input wire  write_clock;
     input wire  [17:0] write_data;
     input wire  write_enable;
     
     // Update code (custom)
-    reg[17:0] mem[32767:0];
+    reg[17:0] mem[1023:0];
     
     
     
@@ -3119,10 +4373,29 @@ module pixelproc_top$shade$ftab(read_address,read_clock,read_data,write_address,
        end
     end
                 
-endmodule // pixelproc_top$shade$ftab
+endmodule // pixelproc_top$shade$banks
 
 
-module pixelproc_top$shade$s3_pd(d,q,clock);
+module pixelproc_top$shade$s2_e(d,q,clock);
+    
+    // Module arguments
+    input wire  [17:0] d;
+    output reg  [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // pixelproc_top$shade$s2_e
+
+
+module pixelproc_top$shade$s4_pd(d,q,clock);
     
     // Module arguments
     input wire  [53:0] d;
@@ -3138,6 +4411,6 @@ module pixelproc_top$shade$s3_pd(d,q,clock);
        q <= d;
     end
           
-endmodule // pixelproc_top$shade$s3_pd
+endmodule // pixelproc_top$shade$s4_pd
 
 
