@@ -96,8 +96,8 @@ pub(crate) struct TestbenchArgs {
     #[arg(long, value_name = "PCT", default_value_t = 20, requires = "frame",
           value_parser = clap::value_parser!(u32).range(0..=90))]
     pub(crate) stalls: u32,
-    /// With --frame: clock for the frame time, in MHz (default: the routed figure in
-    /// docs/rtl.md).
+    /// With --frame: clock for the frame time, in MHz (default: the routed Fmax of the
+    /// core in docs/fpga_results/ecp5_n8.md).
     #[arg(long, value_name = "MHZ", default_value_t = pixelproc_testbench::frame::DEFAULT_CLOCK_MHZ,
           value_parser = parse_mhz)]
     pub(crate) clock_mhz: f64,
