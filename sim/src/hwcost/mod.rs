@@ -11,7 +11,8 @@
 //!
 //! Every model counts integer cycles per frame; [`HwConfig`] turns them into milliseconds
 //! and frames per second at a clock. Resources (ECP5 LUT4 and FF) are quoted only for
-//! blocks with RTL, from the measured tables ([`Resources`]).
+//! blocks with RTL, from the measured tables ([`Resources`]). [`target`] turns a model
+//! around: the clock or the array width a frame rate needs.
 //!
 //! **Default configuration** ([`HwConfig::DEFAULT`]): `N = 64` processors at 87.18 MHz.
 //! 87.18 MHz is the streaming core at `N = 8` without shadows, placed and routed on an
@@ -28,6 +29,7 @@ pub mod array;
 pub mod multiscan;
 pub mod postfx;
 pub mod sampling;
+pub mod target;
 
 use thiserror::Error;
 
