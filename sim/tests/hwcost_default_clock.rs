@@ -68,8 +68,8 @@ fn parser_reads_the_flow_scripts_table() {
 #[test]
 fn default_clock_is_the_routed_noshadow_fmax() {
     let p = report_path();
-    let text = std::fs::read_to_string(&p)
-        .unwrap_or_else(|e| panic!("reading {}: {e}", p.display()));
+    let text =
+        std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("reading {}: {e}", p.display()));
     let fmax = parse_fmax(&text).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
     let got = HwConfig::DEFAULT.clock_mhz;
     assert!(
