@@ -153,7 +153,7 @@ pub fn markdown(sw: &Sweep, command: &str) -> String {
         md_hd(&mut s, hd);
         md_fps(&mut s, hd);
         if !hd.sweep.variants.is_empty() {
-            let _ = write!(s, "\n### A-buffer depth variants on the 1080p scene\n");
+            let _ = write!(s, "\n### A-buffer depth variants on the 1080p scene\n\n");
             let mut t = String::new();
             md_variants(&mut t, &hd.sweep);
             // Drop the set's section heading: this is a subsection.
