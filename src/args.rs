@@ -148,12 +148,12 @@ pub(crate) struct TradeoffArgs {
         allow_hyphen_values = true
     )]
     pub(crate) array_width: String,
-    /// Hardware figures: clock in MHz, above 0 and at most 2000 (default 81.04: the core
-    /// at N = 8 without shadows, placed and routed on an ECP5, docs/fpga.md).
+    /// Hardware figures: clock in MHz, above 0 and at most 2000 (default: the routed Fmax
+    /// of the core at N = 8 without shadows on an ECP5, docs/fpga_results/ecp5_n8_noshadow.md).
     #[arg(
         long,
         value_name = "MHZ",
-        default_value = "81.04",
+        default_value_t = pixelproc_bench::HwConfig::DEFAULT.clock_mhz.to_string(),
         allow_hyphen_values = true
     )]
     pub(crate) clock_mhz: String,

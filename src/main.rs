@@ -694,6 +694,7 @@ fn cmd_tradeoff(a: &TradeoffArgs) -> Result<()> {
         .into_iter()
         .chain(w.hw_chart.as_ref())
         .chain(w.heatmap.as_ref())
+        .chain(w.hd_csv.as_ref())
     {
         say!("wrote {}", p.display());
     }

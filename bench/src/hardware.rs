@@ -92,18 +92,53 @@ pub fn hardware_sweep(
     settings: &[Setting],
     config: &HwConfig,
 ) -> Result<HwSweep, TradeoffError> {
-    let scaled: Vec<Vec<_>> = scenes
+    let scaled: Vec<(Vec<_>, u32, u32)> = scenes
         .iter()
-        .map(|s| rescale(&s.tris, s.width, s.height, HW_WIDTH, HW_HEIGHT))
+        .map(|s| {
+            (
+                rescale(&s.tris, s.width, s.height, HW_WIDTH, HW_HEIGHT),
+                HW_WIDTH,
+                HW_HEIGHT,
+            )
+        })
         .collect();
+    sweep_frames(scenes, &scaled, settings, config)
+}
+
+/// Costs every setting on every scene at the scene's own size (no scaling: the 1080p
+/// scene is costed as drawn), under `config`.
+pub fn hardware_sweep_native(
+    scenes: &[TestScene],
+    settings: &[Setting],
+    config: &HwConfig,
+) -> Result<HwSweep, TradeoffError> {
+    let frames: Vec<(Vec<_>, u32, u32)> = scenes
+        .iter()
+        .map(|s| (s.tris.clone(), s.width, s.height))
+        .collect();
+    sweep_frames(scenes, &frames, settings, config)
+}
+
+/// The method of setting `st` as costed on scene `sc` (see [`hardware_sweep`]).
+pub(crate) fn costed_method(st: &Setting, sc: &TestScene) -> AaMethod {
+    with_scene(&st.aa, sc)
+}
+
+/// Costs every setting on each scene's frame (triangles, width, height).
+fn sweep_frames(
+    scenes: &[TestScene],
+    frames: &[(Vec<pixelproc_sim::setup::SnappedTri>, u32, u32)],
+    settings: &[Setting],
+    config: &HwConfig,
+) -> Result<HwSweep, TradeoffError> {
     let mut rows = Vec::with_capacity(settings.len());
     for st in settings {
         let mut costs = Vec::with_capacity(scenes.len());
-        for (sc, tris) in scenes.iter().zip(&scaled) {
+        for (sc, (tris, w, h)) in scenes.iter().zip(frames) {
             let frame = Frame {
                 tris,
-                width: HW_WIDTH,
-                height: HW_HEIGHT,
+                width: *w,
+                height: *h,
             };
             let c = method_cost(&with_scene(&st.aa, sc), &frame, config).map_err(|e| {
                 TradeoffError::Option(format!(

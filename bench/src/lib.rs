@@ -11,8 +11,11 @@
 //! methods count themselves, and the shade levels a long near-horizontal / near-vertical
 //! edge gets ([`pixelproc_sim::aa::edge_shade_levels`]).
 //!
+//! The built-in set adds a 1080p scene drawn at its true size, swept apart, with what 60
+//! frames per second costs in array width and clock ([`hd`]).
+//!
 //! Outputs ([`write_outputs`]): a CSV per setting, a CSV per setting and scene, a
-//! Markdown report ([`report`]), PNG charts of error against time with the Pareto frontier
+//! Markdown report ([`report`]), the 1080p scene's CSV, PNG charts of error against time with the Pareto frontier
 //! marked (the model's CPU time, and the modelled hardware's time at 1920×1080,
 //! [`hardware`]), and a montage of difference heat maps for one scene ([`mod@chart`]).
 //!
@@ -23,6 +26,7 @@
 
 pub mod chart;
 pub mod hardware;
+pub mod hd;
 pub mod judge;
 pub mod methods;
 pub mod report;
@@ -41,7 +45,9 @@ pub use chart::{chart, chart_hw, heat_montage};
 pub use hardware::{hardware_sweep, HwRow, HwSweep};
 pub use judge::{judge, pareto_frontier, reference_filter, Judgement};
 pub use pixelproc_sim::hwcost::HwConfig;
-pub use report::{csv, markdown, scenes_csv, write_outputs, Written, CSV_HEADER};
+pub use report::{
+    csv, hd_csv, markdown, scenes_csv, write_outputs, Written, CSV_HEADER, HD_CSV_HEADER,
+};
 pub use scenes::{builtin_scenes, load_scene_dir, TestScene};
 pub use settings::{sweep_settings, Setting};
 pub use sweep::{
@@ -140,6 +146,10 @@ pub fn run_tradeoff_with(
         None,
     )?;
     sw.hardware = Some(hardware_sweep(&scenes, &settings, hw)?);
+    if o.scenes_dir.is_none() {
+        // The built-in set also sweeps the 1080p scene at its own size (`hd`).
+        sw.hd = Some(Box::new(hd::run_hd(o.quick, &settings, o.progress, hw)?));
+    }
     let w = write_outputs(&sw, &o.out_dir, &o.command)?;
     if o.scenes_dir.is_none() {
         // The built-in set also measures shadow boundaries on 3-D scenes with real shadow

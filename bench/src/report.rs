@@ -7,7 +7,10 @@ use std::path::{Path, PathBuf};
 
 use pixelproc_sim::mask_search::DepthSelect;
 
+use pixelproc_sim::hwcost::target::WidthFor;
+
 use crate::chart::{chart, chart_hw, heat_montage, png_rgb};
+use crate::hd::{FpsRow, HdResult, TARGET_FPS};
 use crate::judge::pareto_frontier;
 use crate::sweep::{Row, Sweep};
 use crate::TradeoffError;
@@ -27,6 +30,8 @@ pub struct Written {
     pub hw_chart: Option<PathBuf>,
     /// Heat-map montage (if a heat-map scene was kept).
     pub heatmap: Option<PathBuf>,
+    /// The 1080p scene's CSV, with the 60 frames/s costs (if the sweep has it).
+    pub hd_csv: Option<PathBuf>,
 }
 
 /// The CSV header of the per-setting file.
@@ -143,6 +148,146 @@ pub fn markdown(sw: &Sweep, command: &str) -> String {
     md_per_scene(&mut s, sw);
     if !sw.variants.is_empty() {
         md_variants(&mut s, sw);
+    }
+    if let Some(hd) = &sw.hd {
+        md_hd(&mut s, hd);
+        md_fps(&mut s, hd);
+        if !hd.sweep.variants.is_empty() {
+            let _ = write!(s, "\n### A-buffer depth variants on the 1080p scene\n\n");
+            let mut t = String::new();
+            md_variants(&mut t, &hd.sweep);
+            // Drop the set's section heading: this is a subsection.
+            s.push_str(t.split_once("\n\n").map_or(&t[..], |(_, rest)| rest));
+        }
+    }
+    s
+}
+
+/// The cell of the smallest width reaching the frame rate.
+fn width_cell(r: &FpsRow) -> String {
+    match r.width {
+        WidthFor::Width { n, cycles } => format!("{n} ({cycles} cycles)"),
+        WidthFor::NotReachable { floor_cycles } => format!(
+            "not reachable: ≥ {floor_cycles} cycles at any N ({} samples at one per clock)",
+            r.samples
+        ),
+    }
+}
+
+/// The 1080p scene's table: error, CPU time and hardware time per setting.
+fn md_hd(s: &mut String, hd: &HdResult) {
+    let sw = &hd.sweep;
+    let Some(hw) = &sw.hardware else { return };
+    let Some(sc) = sw.scenes.first() else { return };
+    let c = &hw.config;
+    let _ = writeln!(
+        s,
+        "\n## The 1080p scene\n\n`{}`, {}×{}, {} triangles: {}. Drawn at its own size, \
+         not scaled. Every setting is judged against the exact reference of its filter, \
+         as for the set; `ms/frame` is the thread CPU time of {} timed run(s); the \
+         hardware columns are the cycle model on this scene as drawn, N = {}, {} MHz. \
+         `frontier` / `hw front`: on the Pareto frontier of RMSE against CPU / hardware \
+         time on this scene.\n",
+        sc.name, sc.width, sc.height, sc.triangles, sc.about, sw.runs, c.array_width, c.clock_mhz
+    );
+    let front = pareto_frontier(&points(sw));
+    let hw_front = pareto_frontier(&hw_points(sw));
+    let _ = writeln!(
+        s,
+        "| method | setting | ms/frame | RMSE | max err | wrong vis. | clear | hw cycles/frame | hw ms | hw fps | frontier | hw front |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---|"
+    );
+    for (k, r) in sw.rows.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.1} | {:.3} | {:.1} | {} | {} | {} | {:.2} | {:.1} | {} | {} |",
+            r.setting.method,
+            r.setting.setting,
+            r.ms_per_frame(),
+            r.rmse(),
+            r.max_err(),
+            r.wrong_visible(),
+            r.wrong_visible_clear(),
+            hw.rows[k].cycles(),
+            hw.ms(k),
+            hw.fps(k),
+            if front.contains(&k) { "●" } else { "" },
+            if hw_front.contains(&k) { "●" } else { "" },
+        );
+    }
+}
+
+/// What 60 frames per second on the 1080p scene costs each setting.
+fn md_fps(s: &mut String, hd: &HdResult) {
+    let sw = &hd.sweep;
+    let Some(hw) = &sw.hardware else { return };
+    let Some(sc) = sw.scenes.first() else { return };
+    let c = &hw.config;
+    let _ = writeln!(
+        s,
+        "\n## {}×{} at {} frames/s: array width and clock\n\nFrom the cycle model on \
+         `{}` (`sim::hwcost::target`): the clock {} frames/s needs at N = {}; the clock it \
+         needs at N = {} (the widest array that changes anything: one tile per row, no \
+         width does better); and the smallest N that reaches it at {} MHz, found by \
+         bisection on N, or why none does (the fewest cycles any width gives, and the \
+         samples the busiest stage handles at one per clock).\n",
+        sc.width, sc.height, TARGET_FPS, sc.name, TARGET_FPS, c.array_width, hd.widest, c.clock_mhz
+    );
+    let _ = writeln!(
+        s,
+        "| method | setting | cycles/frame (N = {n}) | MHz for {f} fps at N = {n} | MHz for {f} fps at N = {w} | smallest N at {mhz} MHz |\n|---|---|---:|---:|---:|---|",
+        n = c.array_width,
+        f = TARGET_FPS,
+        w = hd.widest,
+        mhz = c.clock_mhz
+    );
+    for (r, f) in sw.rows.iter().zip(&hd.fps) {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {:.1} | {:.1} | {} |",
+            r.setting.method,
+            r.setting.setting,
+            f.cycles,
+            f.clock_mhz,
+            f.floor_clock_mhz,
+            width_cell(f)
+        );
+    }
+}
+
+/// The header of the 1080p scene's CSV.
+pub const HD_CSV_HEADER: &str = "method,setting,ms_per_frame,rmse,max_err,wrong_visible,wrong_visible_clear,hw_cycles_per_frame,hw_ms_per_frame,hw_fps,hw_pareto,pareto,fps60_mhz_at_n,fps60_mhz_widest,fps60_min_width";
+
+/// The 1080p scene's CSV text: one row per setting; `fps60_min_width` is 0 where no width
+/// reaches 60 frames/s at the configured clock.
+pub fn hd_csv(hd: &HdResult) -> String {
+    let sw = &hd.sweep;
+    let front = pareto_frontier(&points(sw));
+    let hw_front = pareto_frontier(&hw_points(sw));
+    let mut s = format!("{HD_CSV_HEADER}\n");
+    for (k, (r, f)) in sw.rows.iter().zip(&hd.fps).enumerate() {
+        let n = match f.width {
+            WidthFor::Width { n, .. } => n,
+            WidthFor::NotReachable { .. } => 0,
+        };
+        let _ = writeln!(
+            s,
+            "{},{},{:.4},{:.4},{:.2},{},{},{},{}",
+            r.setting.method,
+            r.setting.setting,
+            r.ms_per_frame(),
+            r.rmse(),
+            r.max_err(),
+            r.wrong_visible(),
+            r.wrong_visible_clear(),
+            hw_csv(sw, k, &hw_front),
+            format_args!(
+                "{},{:.3},{:.3},{}",
+                front.contains(&k) as u8,
+                f.clock_mhz,
+                f.floor_clock_mhz,
+                n
+            )
+        );
     }
     s
 }
@@ -341,7 +486,8 @@ fn md_variants(s: &mut String, sw: &Sweep) {
     }
 }
 
-/// Writes `tradeoff.csv`, `tradeoff_scenes.csv`, `tradeoff.md`, `tradeoff.png`,
+/// Writes `tradeoff.csv`, `tradeoff_scenes.csv`, `tradeoff.md`, `tradeoff_1080p.csv`
+/// (with the 1080p scene), `tradeoff.png`,
 /// `tradeoff_hw.png` (with hardware figures) and `heatmap.png` into `dir` (created if needed), all or nothing: every file goes to a
 /// temporary first and they are renamed together.
 pub fn write_outputs(sw: &Sweep, dir: &Path, command: &str) -> Result<Written, TradeoffError> {
@@ -352,6 +498,7 @@ pub fn write_outputs(sw: &Sweep, dir: &Path, command: &str) -> Result<Written, T
         chart: dir.join("tradeoff.png"),
         hw_chart: sw.hardware.as_ref().map(|_| dir.join("tradeoff_hw.png")),
         heatmap: sw.heat.as_ref().map(|_| dir.join("heatmap.png")),
+        hd_csv: sw.hd.as_ref().map(|_| dir.join("tradeoff_1080p.csv")),
     };
     let out_err = |e: anyhow::Error| TradeoffError::Output(format!("{e:#}"));
     let mut files = pixelproc_output::OutputSet::new();
@@ -362,6 +509,9 @@ pub fn write_outputs(sw: &Sweep, dir: &Path, command: &str) -> Result<Written, T
     files
         .add(&w.markdown, markdown(sw, command).as_bytes())
         .map_err(out_err)?;
+    if let (Some(p), Some(hd)) = (&w.hd_csv, &sw.hd) {
+        files.add(p, hd_csv(hd).as_bytes()).map_err(out_err)?;
+    }
     let (cw, chh) = (1100, 760);
     files
         .add(&w.chart, &png_rgb(&chart(sw, cw, chh)?, cw, chh)?)

@@ -178,6 +178,9 @@ pub struct Sweep {
     /// Every setting's cycles on the modelled hardware at 1920×1080
     /// ([`crate::hardware`]); filled by [`crate::run_tradeoff_with`].
     pub hardware: Option<crate::hardware::HwSweep>,
+    /// The 1080p scene, swept apart from the set, and what 60 frames per second costs on
+    /// it ([`crate::hd`]); filled by [`crate::run_tradeoff_with`] for the built-in set.
+    pub hd: Option<Box<crate::hd::HdResult>>,
 }
 
 /// Images of one scene for the heat maps.
@@ -343,6 +346,18 @@ pub fn run_sweep(
     opts: &SweepOptions,
     heat_scene: Option<&str>,
 ) -> Result<Sweep, TradeoffError> {
+    run_sweep_heat(scenes, settings, opts, heat_scene, true)
+}
+
+/// [`run_sweep`], keeping the heat-map images only if `heat` (a 1080p scene's images are
+/// large and have no heat map).
+pub(crate) fn run_sweep_heat(
+    scenes: &[TestScene],
+    settings: &[Setting],
+    opts: &SweepOptions,
+    heat_scene: Option<&str>,
+    keep_heat: bool,
+) -> Result<Sweep, TradeoffError> {
     if opts.runs == 0 {
         return Err(TradeoffError::Option("--runs must be at least 1".into()));
     }
@@ -374,7 +389,7 @@ pub fn run_sweep(
             v.add_scene(sc)?;
         }
         bar.inc(1);
-        let keep = sc.name == heat_name;
+        let keep = keep_heat && sc.name == heat_name;
         let mut images = Vec::new();
         let mut reference_of = Vec::new();
         for row in rows.iter_mut() {
@@ -414,5 +429,6 @@ pub fn run_sweep(
         cores: std::thread::available_parallelism().map_or(1, |n| n.get()),
         heat,
         hardware: None,
+        hd: None,
     })
 }

@@ -7,6 +7,7 @@ use std::path::PathBuf;
 
 use pixelproc_bench::{
     load_scene_dir, pareto_frontier, run_tradeoff, TradeoffError, TradeoffOptions, CSV_HEADER,
+    HD_CSV_HEADER,
 };
 use pixelproc_sim::aa::{render_aa, AaMethod};
 use pixelproc_sim::abuffer::AbufferParams;
@@ -129,7 +130,39 @@ fn quick_sweep_writes_consistent_outputs() {
     let md = std::fs::read_to_string(&w.markdown).unwrap();
     assert!(md.contains("| method | setting | ms/frame"));
     assert!(md.contains("## Pareto frontier"));
-    assert_eq!(md.matches("| multiscan | n=4 box |").count(), 3);
+    // Set table, two per-scene tables, the city table and the 60 frames/s table.
+    assert_eq!(md.matches("| multiscan | n=4 box |").count(), 5);
+    assert!(md.contains("## The 1080p scene"));
+    assert!(md.contains("at 60 frames/s: array width and clock"));
+
+    // The city scene's CSV: one row per setting; its 60 fps clock is cycles · 60 / 10⁶.
+    let hd = sw.hd.as_ref().expect("built-in set sweeps the city scene");
+    assert_eq!(hd.sweep.scenes[0].name, "city-quick");
+    let text = std::fs::read_to_string(w.hd_csv.as_ref().unwrap()).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some(HD_CSV_HEADER));
+    let cols: Vec<&str> = HD_CSV_HEADER.split(',').collect();
+    let col = |name: &str| cols.iter().position(|c| *c == name).unwrap();
+    let mut n = 0;
+    for l in lines {
+        let f: Vec<&str> = l.split(',').collect();
+        assert_eq!(f.len(), cols.len(), "{l}");
+        let cycles: f64 = f[col("hw_cycles_per_frame")].parse().unwrap();
+        let mhz: f64 = f[col("fps60_mhz_at_n")].parse().unwrap();
+        assert!((mhz - cycles * 60.0 / 1e6).abs() < 1e-3, "{l}");
+        // 192×108 at one pixel per clock is 20,736 reads: 60 fps needs ≥ 1.24 MHz at any
+        // width, and the default clock is far above that, so every setting is reachable
+        // at some width.
+        let widest: f64 = f[col("fps60_mhz_widest")].parse().unwrap();
+        assert!(
+            widest >= 192.0 * 108.0 * 60.0 / 1e6 && widest <= mhz + 1e-9,
+            "{l}"
+        );
+        let nmin: u32 = f[col("fps60_min_width")].parse().unwrap();
+        assert!((1..=192).contains(&nmin), "{l}");
+        n += 1;
+    }
+    assert_eq!(n, sw.rows.len());
     let _ = std::fs::remove_dir_all(&dir);
 }
 

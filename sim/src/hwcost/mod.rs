@@ -11,21 +11,25 @@
 //!
 //! Every model counts integer cycles per frame; [`HwConfig`] turns them into milliseconds
 //! and frames per second at a clock. Resources (ECP5 LUT4 and FF) are quoted only for
-//! blocks with RTL, from the measured tables ([`Resources`]).
+//! blocks with RTL, from the measured tables ([`Resources`]). [`target`] turns a model
+//! around: the clock or the array width a frame rate needs.
 //!
-//! **Default configuration** ([`HwConfig::DEFAULT`]): `N = 64` processors at 81.04 MHz.
-//! 81.04 MHz is the streaming core at `N = 8` without shadows, placed and routed on an
-//! ECP5 (`docs/fpga.md`); the anti-aliasing methods run without shadows. `N = 64` has
-//! not been placed and routed (`docs/rtl.md`, `docs/fpga.md`): taking the `N = 8` clock
-//! for it is an extrapolation, resting on `docs/fpga.md`'s finding that the array is not
-//! on the critical path (the controller's credit check is). With shadows the routed
-//! figure is 82.58 MHz (the four-stage shading step; 42.55 MHz before it).
+//! **Default configuration** ([`HwConfig::DEFAULT`]): `N = 64` processors at 87.18 MHz.
+//! 87.18 MHz is the streaming core at `N = 8` without shadows, placed and routed on an
+//! ECP5 (`docs/fpga_results/ecp5_n8_noshadow.md`, `docs/fpga.md`); the anti-aliasing
+//! methods run without shadows. The test `hwcost_default_clock` reads that report and
+//! fails when this constant no longer matches its Fmax. `N = 64` has not been placed and
+//! routed (`docs/rtl.md`, `docs/fpga.md`): taking the `N = 8` clock for it is an
+//! extrapolation, resting on `docs/fpga.md`'s finding that the array is not on the
+//! critical path (the controller's credit check is). With shadows the routed figure is
+//! 82.58 MHz (`docs/fpga_results/ecp5_n8.md`).
 
 pub mod abuffer;
 pub mod array;
 pub mod multiscan;
 pub mod postfx;
 pub mod sampling;
+pub mod target;
 
 use thiserror::Error;
 
@@ -59,11 +63,12 @@ pub struct HwConfig {
 pub const MAX_CLOCK_MHZ: f64 = 2000.0;
 
 impl HwConfig {
-    /// `N = 64` at 81.04 MHz: see the module header (an extrapolation from the routed
-    /// `N = 8` core without shadows).
+    /// `N = 64` at 87.18 MHz, the routed Fmax of the `N = 8` core without shadows
+    /// (`docs/fpga_results/ecp5_n8_noshadow.md`): see the module header (an extrapolation
+    /// to `N = 64`).
     pub const DEFAULT: HwConfig = HwConfig {
         array_width: 64,
-        clock_mhz: 81.04,
+        clock_mhz: 87.18,
     };
 
     /// A checked configuration: `1 ≤ N ≤ 4096`, `0 < clock ≤ 2000` MHz and finite.
