@@ -8,6 +8,7 @@
 //!
 //! ```sh
 //! cargo run --release -p pixelproc-bench --example output_digest > after.txt
+//! cargo run --release -p pixelproc-bench --example output_digest -- postfx  # only settings whose name contains "postfx"
 //! ```
 
 use std::collections::hash_map::DefaultHasher;
@@ -16,6 +17,7 @@ use std::hash::Hasher;
 
 use pixelproc_bench::methods::bench_scenes;
 use pixelproc_sim::mask_search::DepthSelect;
+use pixelproc_sim::pipeline::AaReport;
 use pixelproc_sim::plan::{
     AaSpec, AbufferSpec, Aov, CornerSpec, Effects, MultiscanSpec, Overrides, PostFxSpec, SsaaSpec,
 };
@@ -115,13 +117,21 @@ fn settings() -> Vec<(String, Overrides)> {
 }
 
 fn main() -> anyhow::Result<()> {
+    let filter = std::env::args().nth(1).unwrap_or_default();
     let mut scenes = bench_scenes()?;
     scenes.push(scene::load_builtin("default")?);
     for ls in &scenes {
         for (name, ov) in settings() {
+            if !name.contains(&filter) {
+                continue;
+            }
             let fx = Effects::resolve(ls, &ov)?;
             let mut o = pixelproc_sim::pipeline::render(ls, &fx)?;
             o.timings.clear();
+            // Wall times are not outputs.
+            if let Some(AaReport::Other(s)) = &mut o.aa {
+                s.seconds = 0.0;
+            }
             let mut h = HashWriter(DefaultHasher::new());
             write!(h, "{o:?}")?;
             println!("{:<10} {:<44} {:016x}", ls.name, name, h.0.finish());

@@ -378,8 +378,12 @@ impl RowFrags {
         for i in 0..w {
             self.start[i + 1] += self.start[i];
         }
-        self.frags.clear();
-        self.frags.extend(self.raw.iter().map(|e| e.1));
+        // Every slot is overwritten by the scatter below: only the length matters (a
+        // resize writes only slots beyond the previous length).
+        if let Some(&(_, f)) = self.raw.first() {
+            self.frags.resize(self.raw.len(), f);
+        }
+        self.frags.truncate(self.raw.len());
         // Scatter with a running cursor per pixel (the first w entries of `start` are
         // advanced and then shifted back).
         for (i, f) in &self.raw {

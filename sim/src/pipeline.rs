@@ -389,7 +389,7 @@ fn postfx_shadowed(
         rgb: &rgb,
         level: &level,
     };
-    let (f, fraction) = aa::postfx::render_with(&projected.tris, w, h, bg, p, Some(base))?;
+    let (f, fraction) = aa::postfx::render_with(&projected.tris, w, h, bg, p, Some(base), false)?;
     Ok((
         AaOut {
             rgb: f.rgb,
@@ -423,7 +423,7 @@ fn run_aa(
             report: AaReport::Abuffer(a.stats),
         }
     } else {
-        let f = aa::render_aa(tris, w, h, bg, method)?;
+        let f = aa::render_aa_with(tris, w, h, bg, method, false)?;
         AaOut {
             rgb: f.rgb,
             coverage: None,

@@ -111,6 +111,18 @@ impl SpanSource {
         self.rows.iter().map(Vec::len).sum()
     }
 
+    /// Pixels of all span words (`Σ xr − xl + 1`): the depth tests the array makes.
+    pub fn span_pixels(&self) -> u64 {
+        self.rows
+            .par_iter()
+            .map(|r| {
+                r.iter()
+                    .map(|w| (w.xr as i64 - w.xl as i64 + 1) as u64)
+                    .sum::<u64>()
+            })
+            .sum()
+    }
+
     /// Number of non-degenerate triangles set up.
     pub fn visible_triangles(&self) -> usize {
         self.triangles

@@ -130,8 +130,8 @@ pub struct AaFrame {
     pub rgb: Vec<u8>,
     /// Row-major visible triangle per pixel (input index; −1 background): the surface with
     /// the largest weight in the pixel. Post-processing reports the baseline's (it only
-    /// blends colours). Always `Some` today; `Option` leaves room for methods that cannot
-    /// tell.
+    /// blends colours). `None` when the caller asked for no visible-triangle AOV
+    /// ([`render_aa_with`]).
     pub visible: Option<Vec<i32>>,
     /// Cost counters.
     pub stats: AaStats,
@@ -161,6 +161,21 @@ pub fn render_aa(
     bg: [u8; 3],
     method: &AaMethod,
 ) -> Result<AaFrame, AaError> {
+    render_aa_with(tris, width, height, bg, method, true)
+}
+
+/// [`render_aa`], with `visible` false when the caller does not need the visible-triangle
+/// AOV: a method may then skip work that only that AOV needs (the post-process skips a
+/// second scan of every span word) and leave [`AaFrame::visible`] `None`. The image and
+/// the counters are the same either way.
+pub fn render_aa_with(
+    tris: &[SnappedTri],
+    width: u32,
+    height: u32,
+    bg: [u8; 3],
+    method: &AaMethod,
+    visible: bool,
+) -> Result<AaFrame, AaError> {
     check_screen(width, height)?;
     check_tris(tris)?;
     let t0 = Instant::now();
@@ -168,7 +183,9 @@ pub fn render_aa(
         AaMethod::None => render_none(tris, width, height, bg)?,
         AaMethod::Multiscan(p) => multiscan::render(tris, width, height, bg, p)?,
         AaMethod::Corner(p) => corner::render(tris, width, height, bg, p)?,
-        AaMethod::PostFx(p) => postfx::render(tris, width, height, bg, p)?,
+        AaMethod::PostFx(p) => {
+            postfx::render_with(tris, width, height, bg, p, None, visible).map(|(f, _)| f)?
+        }
         AaMethod::Ssaa { k } => ssaa::render(tris, width, height, bg, *k)?,
         AaMethod::Abuffer(p) => {
             let a = crate::abuffer::render_abuffer(tris, width, height, bg, p)?;

@@ -55,6 +55,7 @@
 use super::{AaError, AaFrame, AaStats};
 use crate::render::{render_frame, SpanSource};
 use crate::setup::SnappedTri;
+use rayon::prelude::*;
 
 mod draw;
 pub use draw::{draw_buffers, DrawBuffers, StoredNormal};
@@ -154,14 +155,18 @@ pub fn second_differences(z: &[u32], w: usize, h: usize) -> (Vec<i32>, Vec<i32>)
     };
     let mut dx = vec![0; w * h];
     let mut dy = vec![0; w * h];
-    for y in 0..h as i64 {
-        for x in 0..w as i64 {
-            let k = y as usize * w + x as usize;
-            let c = at(x, y);
-            dx[k] = at(x + 1, y) + at(x - 1, y) - 2 * c;
-            dy[k] = at(x, y + 1) + at(x, y - 1) - 2 * c;
-        }
-    }
+    // Rows are independent: each writes only its own entries.
+    dx.par_chunks_mut(w)
+        .zip(dy.par_chunks_mut(w))
+        .enumerate()
+        .for_each(|(y, (dxr, dyr))| {
+            let y = y as i64;
+            for x in 0..w as i64 {
+                let c = at(x, y);
+                dxr[x as usize] = at(x + 1, y) + at(x - 1, y) - 2 * c;
+                dyr[x as usize] = at(x, y + 1) + at(x, y - 1) - 2 * c;
+            }
+        });
     (dx, dy)
 }
 
@@ -206,29 +211,37 @@ pub fn detect_edges_from(
     let mut ex = vec![0u8; w * h];
     let mut ey = vec![0u8; w * h];
     let class = |a: i64, b: i64| if (a - b).abs() > p.zjump as i64 { 2 } else { 1 };
-    for y in 0..h as i64 {
-        for x in 0..w as i64 {
-            let c = at(x, y);
-            let k0 = y as usize * w + x as usize;
-            for (dx, dy, d2) in [(1i64, 0i64, d2x[k0]), (0, 1, d2y[k0])] {
-                let (zm, zp) = (at(x - dx, y - dy), at(x + dx, y + dy));
-                if (d2 as i64).abs() > p.zth as i64 {
-                    // Side with the larger first difference.
-                    let (nx, ny) = if (zp - c).abs() >= (c - zm).abs() {
-                        (x, y)
-                    } else {
-                        (x - dx, y - dy)
-                    };
-                    if nx >= 0 && ny >= 0 && nx + dx < w as i64 && ny + dy < h as i64 {
-                        let k = ny as usize * w + nx as usize;
-                        let cl = class(at(nx, ny), at(nx + dx, ny + dy));
-                        let e = if dx == 1 { &mut ex[k] } else { &mut ey[k] };
-                        *e = (*e).max(cl);
-                    }
+    // A pixel whose |d2| exceeds Zth marks the boundary on the side with the larger first
+    // difference: the one toward (x + dx, y + dy) when `forward`, else the one behind it.
+    let over = |d2: i32| (d2 as i64).abs() > p.zth as i64;
+    let forward = |x: i64, y: i64, dx: i64, dy: i64| {
+        let c = at(x, y);
+        (at(x + dx, y + dy) - c).abs() >= (c - at(x - dx, y - dy)).abs()
+    };
+    // Gathered per boundary, so rows are independent: the boundary between P and its
+    // neighbour Q = P + (dx, dy) is an edge when P marks it forward or Q backward, of
+    // the class of the pair (P, Q).
+    ex.par_chunks_mut(w)
+        .zip(ey.par_chunks_mut(w))
+        .enumerate()
+        .for_each(|(y, (exr, eyr))| {
+            for x in 0..w {
+                let k = y * w + x;
+                let (xi, yi) = (x as i64, y as i64);
+                if x + 1 < w
+                    && ((over(d2x[k]) && forward(xi, yi, 1, 0))
+                        || (over(d2x[k + 1]) && !forward(xi + 1, yi, 1, 0)))
+                {
+                    exr[x] = class(at(xi, yi), at(xi + 1, yi));
+                }
+                if y + 1 < h
+                    && ((over(d2y[k]) && forward(xi, yi, 0, 1))
+                        || (over(d2y[k + w]) && !forward(xi, yi + 1, 0, 1)))
+                {
+                    eyr[x] = class(at(xi, yi), at(xi, yi + 1));
                 }
             }
-        }
-    }
+        });
     if p.normals {
         match (p.normal_source, stored) {
             (NormalSource::Stored, Some(nb)) => {
@@ -503,23 +516,34 @@ impl PassBufs<'_> {
 fn run_pass(bufs: &mut PassBufs, e: &Edges, transpose: bool, window: bool) {
     let view = PassView::new(e, transpose);
     let (nu, nv) = (view.nu, view.nv);
-    for v in 0..nv.saturating_sub(1) {
-        for (u0, count) in view.runs(v, window) {
-            let u = u0 + count;
+    // The runs and their end heights depend on the edge bits only: found for every line
+    // in parallel, then blended line after line in the sequential order (a blend reads
+    // what an earlier line's blend wrote).
+    let lines: Vec<Vec<(usize, usize, i64, i64)>> = (0..nv.saturating_sub(1))
+        .into_par_iter()
+        .map(|v| {
+            view.runs(v, window)
+                .into_iter()
+                .filter_map(|(u0, count)| {
+                    let u = u0 + count;
+                    let hl = if u0 > 0 {
+                        view.end_height(v, u0 - 1, u0 - 1, window)
+                    } else {
+                        0
+                    };
+                    let hr = if u < nu {
+                        view.end_height(v, u - 1, u, window)
+                    } else {
+                        0
+                    };
+                    (hl != 0 || hr != 0).then_some((u0, count, hl, hr))
+                })
+                .collect()
+        })
+        .collect();
+    for (v, runs) in lines.iter().enumerate() {
+        for &(u0, count, hl, hr) in runs {
             let len = count as i64;
-            let hl = if u0 > 0 {
-                view.end_height(v, u0 - 1, u0 - 1, window)
-            } else {
-                0
-            };
-            let hr = if u < nu {
-                view.end_height(v, u - 1, u, window)
-            } else {
-                0
-            };
-            if hl == 0 && hr == 0 {
-                continue;
-            }
             for k in 0..len {
                 let (pos, neg) = run_area(hl, hr, len, k);
                 let uu = u0 + k as usize;
@@ -554,37 +578,52 @@ fn crease_pass(
     let at = |x: i64, y: i64| {
         z[(y.clamp(0, h as i64 - 1) as usize) * w + x.clamp(0, w as i64 - 1) as usize] as i64
     };
-    for y in 0..h as i64 {
-        for x in 0..w as i64 {
-            let k = y as usize * w + x as usize;
-            for (dx, dy, bit, d2) in [(1i64, 0i64, e.ex[k], d2x[k]), (0, 1, e.ey[k], d2y[k])] {
-                if bit != 1 {
-                    continue;
-                }
-                let sz1 = at(x - dx, y - dy);
-                let sz2 = at(x, y);
-                let sz3 = at(x + dx, y + dy);
-                let sz4 = at(x + 2 * dx, y + 2 * dy);
-                let num = d2 as i128; // = sz3 + sz1 − 2·sz2
-                let den = (sz4 - sz3 - sz2 + sz1) as i128;
-                if den == 0 {
-                    continue;
-                }
-                let s = ((num << 16) / den) as i64;
-                if !(0..=1 << 16).contains(&s) {
-                    continue;
-                }
-                let k2 = (y + dy) as usize * w + (x + dx) as usize;
-                *reads += 2;
-                let half = 1i64 << 15;
-                if s > half {
-                    dst[k] = blend(src[k], src[k2], s - half);
-                    done[k] = true;
-                } else if s < half {
-                    dst[k2] = blend(src[k2], src[k], half - s);
-                    done[k2] = true;
+    // Every blend reads `src` only, so the blends of each row are found in parallel and
+    // then written in the sequential order (a later write to the same pixel wins).
+    let rows: Vec<Vec<(usize, [u8; 3])>> = (0..h as i64)
+        .into_par_iter()
+        .map(|y| {
+            let mut writes = Vec::new();
+            for x in 0..w as i64 {
+                let k = y as usize * w + x as usize;
+                for (dx, dy, bit, d2) in [(1i64, 0i64, e.ex[k], d2x[k]), (0, 1, e.ey[k], d2y[k])] {
+                    if bit != 1 {
+                        continue;
+                    }
+                    let sz1 = at(x - dx, y - dy);
+                    let sz2 = at(x, y);
+                    let sz3 = at(x + dx, y + dy);
+                    let sz4 = at(x + 2 * dx, y + 2 * dy);
+                    let num = d2 as i128; // = sz3 + sz1 − 2·sz2
+                    let den = (sz4 - sz3 - sz2 + sz1) as i128;
+                    if den == 0 {
+                        continue;
+                    }
+                    let s = ((num << 16) / den) as i64;
+                    if !(0..=1 << 16).contains(&s) {
+                        continue;
+                    }
+                    let k2 = (y + dy) as usize * w + (x + dx) as usize;
+                    let half = 1i64 << 15;
+                    // Two reads per blend, counted below (one per entry of `writes`); a
+                    // crease exactly at the centre (s = ½) reads too but writes nothing.
+                    if s > half {
+                        writes.push((k, blend(src[k], src[k2], s - half)));
+                    } else if s < half {
+                        writes.push((k2, blend(src[k2], src[k], half - s)));
+                    } else {
+                        writes.push((usize::MAX, [0; 3]));
+                    }
                 }
             }
+            writes
+        })
+        .collect();
+    for (k, c) in rows.into_iter().flatten() {
+        *reads += 2;
+        if k != usize::MAX {
+            dst[k] = c;
+            done[k] = true;
         }
     }
     done
@@ -607,7 +646,7 @@ pub fn render(
     bg: [u8; 3],
     p: &PostFxParams,
 ) -> Result<AaFrame, AaError> {
-    render_with(tris, width, height, bg, p, None).map(|(f, _)| f)
+    render_with(tris, width, height, bg, p, None, true).map(|(f, _)| f)
 }
 
 /// Marks a class-2 edge between neighbours whose shadow levels differ, where no edge is
@@ -632,6 +671,10 @@ fn add_shadow_edges(e: &mut Edges, level: &[u8]) {
 /// treats a change of shadow level between neighbours as an edge, and blends the shadow
 /// levels with the same coefficients as the colours (returned second: the shadowed
 /// fraction in the method's own weights). Without `shadow`, exactly [`render`].
+///
+/// With `visible` false the frame's visible-triangle AOV is not computed
+/// ([`AaFrame::visible`] is `None`; it needs a second scan of every span word); the image
+/// and every counter are the same.
 pub fn render_with(
     tris: &[SnappedTri],
     width: u32,
@@ -639,16 +682,20 @@ pub fn render_with(
     bg: [u8; 3],
     p: &PostFxParams,
     shadow: Option<ShadowedBaseline>,
+    visible: bool,
 ) -> Result<(AaFrame, Option<Vec<u8>>), AaError> {
     let src = SpanSource::new(tris, width, height)?;
     let frame = render_frame(&src, bg, width as usize, |_, _| {});
-    let z = frame.depth();
     let (w, h) = (width as usize, height as usize);
-    let base = match &shadow {
-        Some(s) => s.rgb.to_vec(),
-        None => frame.rgb8(),
+    let z: Vec<u32> = frame.px.par_iter().map(|s| s.zb).collect();
+    let img: Vec<[u8; 3]> = match &shadow {
+        Some(s) => s.rgb.chunks(3).map(|c| [c[0], c[1], c[2]]).collect(),
+        None => frame
+            .px
+            .par_iter()
+            .map(|s| pixelproc_formats::unpack_rgb(s.rgb))
+            .collect(),
     };
-    let img: Vec<[u8; 3]> = base.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
     // Second differences and normals: from the finished buffers, or the buffers kept
     // during drawing (which also give the visible triangle).
     let need_draw = p.d2_source == SecondDiffSource::DuringDraw
@@ -663,13 +710,20 @@ pub fn render_with(
             d2x,
             d2y,
             Some(b.normals),
-            b.visible,
+            Some(b.visible),
             b.depth_tests,
             b.d2_updates,
         )
     } else {
         let (d2x, d2y) = second_differences(&z, w, h);
-        let (visible, evals) = super::baseline_visible(tris, width, height)?;
+        let (visible, evals) = if visible {
+            let (v, e) = super::baseline_visible(tris, width, height)?;
+            (Some(v), e)
+        } else {
+            // The same count as the visibility probe's: one depth test per pixel of
+            // every span word.
+            (None, src.span_pixels())
+        };
         (d2x, d2y, None, visible, evals, 0)
     };
     let mut e = detect_edges_from(&z, &d2x, &d2y, stored.as_deref(), w, h, p);
@@ -706,8 +760,8 @@ pub fn render_with(
     let frame = AaFrame {
         width,
         height,
-        rgb: out.iter().flat_map(|c| *c).collect(),
-        visible: Some(visible),
+        rgb: out.as_flattened().to_vec(),
+        visible,
         stats: AaStats {
             depth_evals: evals,
             samples_written: (w * h) as u64,
