@@ -40,7 +40,7 @@ use crate::mask::MaskEdges;
 use crate::mask_search::{DepthSelect, DepthSelector};
 use crate::raster::edge::check_depths;
 use crate::raster::rows::Bands;
-use crate::raster::{round_div, RoundDivSteps};
+use crate::raster::{round_div, RoundDivStep, RoundDivSteps};
 use crate::setup::{ExactPlane, SetupError, SnappedTri};
 use pixelproc_formats::abuffer::{saturate_plane, FragPlane, MaskSize, PLANE_FRAC};
 use pixelproc_formats::{I_FRAC, MAX_SCREEN, SUBPIXEL_ONE};
@@ -128,6 +128,9 @@ pub struct FragSetup {
     sx: i64,
     sy: i64,
     c: [ExactPlane; 3],
+    /// Steps per pixel along a row of the depth plane (Q.12) and the colour planes: the
+    /// same on every row, prepared once.
+    steps: [RoundDivStep; 4],
     tag: u16,
     decal: bool,
     prim: u32,
@@ -161,11 +164,19 @@ impl FragSetup {
             (z.ny * one) << PLANE_FRAC,
             z.area2 * 2 * size.m() as i128,
         ));
+        let step = |p: &ExactPlane, frac: u32| RoundDivStep::new((p.nx * one) << frac, p.area2);
+        let steps = [
+            step(&z, PLANE_FRAC),
+            step(&c0, 0),
+            step(&c1, 0),
+            step(&c2, 0),
+        ];
         Ok(Some(FragSetup {
             edges,
             z,
             sx,
             sy,
+            steps,
             c: [c0, c1, c2],
             tag: t.tag,
             decal: t.host.is_some(),
@@ -187,15 +198,15 @@ impl FragSetup {
     fn row_steps(&self, i0: i64, j: i64) -> [RoundDivSteps; 4] {
         let one = SUBPIXEL_ONE as i128;
         let (x, y) = (i0 as i128 * one + one / 2, j as i128 * one + one / 2);
-        let at = |p: &ExactPlane, frac: u32| {
+        let at = |p: &ExactPlane, frac: u32, s: &RoundDivStep| {
             let num = (p.v0 * p.area2 + p.nx * (x - p.x0) + p.ny * (y - p.y0)) << frac;
-            RoundDivSteps::new(num, (p.nx * one) << frac, p.area2)
+            RoundDivSteps::start(num, s)
         };
         [
-            at(&self.z, PLANE_FRAC),
-            at(&self.c[0], 0),
-            at(&self.c[1], 0),
-            at(&self.c[2], 0),
+            at(&self.z, PLANE_FRAC, &self.steps[0]),
+            at(&self.c[0], 0, &self.steps[1]),
+            at(&self.c[1], 0, &self.steps[2]),
+            at(&self.c[2], 0, &self.steps[3]),
         ]
     }
 
@@ -352,14 +363,15 @@ impl RowFrags {
         self.raw.clear();
         let full = size.full();
         for t in tris {
-            let Some(rc) = t.edges.row_coverage(j, width) else {
+            let Some(rm) = t.edges.row_masks(j, width) else {
                 continue;
             };
+            let rc = rm.cov;
             let mut st = t.row_steps(rc.touched.0, j);
             for i in rc.touched.0..=rc.touched.1 {
                 let mask = match rc.full {
                     Some((a, b)) if a <= i && i <= b => full,
-                    _ => t.edges.fraction_mask(i, j),
+                    _ => rm.mask(i),
                 };
                 if mask != 0 {
                     self.raw.push((i as u32, t.fragment_from(&st, mask)));

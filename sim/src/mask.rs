@@ -68,6 +68,40 @@ pub struct RowCoverage {
     pub full: Option<(i64, i64)>,
 }
 
+/// One pixel row of a triangle: its [`RowCoverage`] and, per subpixel row, the inclusive
+/// range of global subpixel columns `g = n·i + c` whose centres are covered. A triangle is
+/// convex, so on one subpixel row the centres inside all three edges form one interval:
+/// the one [`MaskEdges::row_coverage`] computes from the edges with the same fill rule as
+/// [`MaskEdges::edge_mask`]. A pixel's fraction mask is therefore that interval cut to the
+/// pixel's columns, row by row ([`RowMasks::mask`]).
+#[derive(Clone, Copy, Debug)]
+pub struct RowMasks {
+    size: MaskSize,
+    /// Covered columns per subpixel row (`lo > hi`: none).
+    rows: [(i64, i64); 8],
+    /// The pixels touched and fully covered.
+    pub cov: RowCoverage,
+}
+
+impl RowMasks {
+    /// The fraction mask of pixel `i` of the row: equal to [`MaskEdges::fraction_mask`].
+    #[inline]
+    pub fn mask(&self, i: i64) -> u64 {
+        let (n, m) = (self.size.n() as i64, self.size.m() as i64);
+        let (c0, c1) = (n * i, n * i + n - 1);
+        let mut mask = 0u64;
+        for (r, &(lo, hi)) in self.rows.iter().enumerate().take(m as usize) {
+            let (a, b) = (lo.max(c0) - c0, hi.min(c1) - c0);
+            if a <= b {
+                // Columns a..=b are bits n·r + (n − 1 − c): a contiguous run.
+                let run = (1u64 << (b - a + 1)) - 1;
+                mask |= run << (n * r as i64 + n - 1 - b);
+            }
+        }
+        mask
+    }
+}
+
 impl MaskEdges {
     /// Edge functions of a snapped triangle for masks of `size`. `Ok(None)` for a zero-area
     /// triangle, which covers nothing.
@@ -151,32 +185,55 @@ impl MaskEdges {
         (lo <= hi).then_some((lo, hi))
     }
 
+    /// [`MaskEdges::row_coverage`] with the covered subpixel columns of each subpixel row,
+    /// from which [`RowMasks::mask`] gives every pixel's fraction mask without evaluating
+    /// the edges per pixel.
+    pub fn row_masks(&self, j: i64, width: u32) -> Option<RowMasks> {
+        if j < self.row_min || j > self.row_max {
+            return None;
+        }
+        let m = self.size.m() as i64;
+        let mut rows = [(1, 0); 8];
+        for (r, row) in rows.iter_mut().enumerate().take(m as usize) {
+            if let Some(iv) = self.subrow_interval(m * j + r as i64) {
+                *row = iv;
+            }
+        }
+        let cov = self.coverage_of(&rows, width)?;
+        Some(RowMasks {
+            size: self.size,
+            rows,
+            cov,
+        })
+    }
+
     /// Which pixels of row `j` within `0..width` the triangle touches and fully covers, or
     /// `None` if it covers no subpixel centre of the row.
     pub fn row_coverage(&self, j: i64, width: u32) -> Option<RowCoverage> {
         if j < self.row_min || j > self.row_max {
             return None;
         }
-        let (n, m) = (self.size.n() as i64, self.size.m() as i64);
+        self.row_masks(j, width).map(|r| r.cov)
+    }
+
+    /// The coverage of a pixel row from its subpixel rows' covered columns (`lo > hi`:
+    /// none).
+    fn coverage_of(&self, rows: &[(i64, i64); 8], width: u32) -> Option<RowCoverage> {
+        let (n, m) = (self.size.n() as i64, self.size.m() as usize);
         let gmax = n * width as i64 - 1;
         let (mut tlo, mut thi) = (i64::MAX, i64::MIN);
         let (mut flo, mut fhi) = (i64::MIN, i64::MAX);
         let mut all_rows = true;
-        for r in 0..m {
-            match self.subrow_interval(m * j + r) {
-                Some((lo, hi)) => {
-                    let (lo, hi) = (lo.max(0), hi.min(gmax));
-                    if lo > hi {
-                        all_rows = false;
-                        continue;
-                    }
-                    tlo = tlo.min(lo.div_euclid(n));
-                    thi = thi.max(hi.div_euclid(n));
-                    flo = flo.max(ceil_div(lo, n));
-                    fhi = fhi.min((hi + 1).div_euclid(n) - 1);
-                }
-                None => all_rows = false,
+        for &(lo, hi) in rows.iter().take(m) {
+            let (lo, hi) = (lo.max(0), hi.min(gmax));
+            if lo > hi {
+                all_rows = false;
+                continue;
             }
+            tlo = tlo.min(lo.div_euclid(n));
+            thi = thi.max(hi.div_euclid(n));
+            flo = flo.max(ceil_div(lo, n));
+            fhi = fhi.min((hi + 1).div_euclid(n) - 1);
         }
         if tlo > thi {
             return None;
@@ -222,5 +279,57 @@ mod tests {
         let u = tri([[2720, 0], [5120, 0], [2720, 25600]]);
         let f = MaskEdges::new(&u, MaskSize::S4X4).unwrap().unwrap();
         assert_eq!(f.fraction_mask(10, 1), 0x3333);
+    }
+
+    #[test]
+    fn row_masks_equal_the_and_of_the_edge_masks() {
+        // Every pixel of every row of random triangles (small and large, edges through
+        // subpixel centres on a coarse grid, every winding) for several sizes: the mask cut
+        // from the subpixel-row intervals is the per-pixel AND of the three edge masks.
+        let mut rng = crate::rng::Lcg64(0x5eed_0f_3a5c);
+        let (w, h) = (12u32, 10u32);
+        let sizes = [(4, 4), (8, 8), (2, 2), (3, 5), (8, 1), (1, 8), (5, 7)];
+        let mut compared = 0u64;
+        for k in 0..600 {
+            let (n, m) = sizes[k % sizes.len()];
+            let size = MaskSize::new(n, m).unwrap();
+            // Coordinates on a 1/16 px grid (many on subpixel centres and boundaries) or
+            // any Q.8 value, reaching past the screen.
+            let grid = if k % 2 == 0 { 16 } else { 1 };
+            let mut coord = |lim: u32| {
+                let span = (lim as u64 + 4) * 256 / grid as u64;
+                (((rng.step() >> 33) % span) as i64 * grid - 512) as i32
+            };
+            let t = tri([
+                [coord(w), coord(h)],
+                [coord(w), coord(h)],
+                [coord(w), coord(h)],
+            ]);
+            let Some(e) = MaskEdges::new(&t, size).unwrap() else {
+                continue;
+            };
+            for j in 0..h as i64 {
+                let rm = e.row_masks(j, w);
+                for i in 0..w as i64 {
+                    let want = e.fraction_mask(i, j);
+                    let got = rm.map_or(0, |r| r.mask(i));
+                    assert_eq!(got, want, "triangle {k} {:?} {n}x{m} pixel ({i}, {j})", t.v);
+                    if let Some(r) = rm {
+                        let (a, b) = r.cov.touched;
+                        assert!(
+                            want == 0 || (a <= i && i <= b),
+                            "touched range misses a mask"
+                        );
+                        if let Some((fa, fb)) = r.cov.full {
+                            if fa <= i && i <= fb {
+                                assert_eq!(want, size.full());
+                            }
+                        }
+                    }
+                    compared += (want != 0) as u64;
+                }
+            }
+        }
+        assert!(compared > 5_000, "only {compared} non-empty masks compared");
     }
 }

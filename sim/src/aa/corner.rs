@@ -272,19 +272,29 @@ type Sample = ([u32; 3], i32);
 /// The box-weighted colour of one pixel from its samples `(sample, weight)` (weights sum
 /// to `total`; colours truncate) and its visible triangle: the one with the largest summed
 /// weight, the lowest index on a tie. `wsum` is scratch space.
-fn resolve_pixel(vals: &[(Sample, u32)], total: u64, wsum: &mut Vec<(i32, u64)>) -> ([u8; 3], i32) {
+/// The visible triangle is found only when `wsum` is given (else −1 is returned).
+fn resolve_pixel(
+    vals: &[(Sample, u32)],
+    total: u64,
+    wsum: Option<&mut Vec<(i32, u64)>>,
+) -> ([u8; 3], i32) {
     let mut acc = [0u64; 3];
-    wsum.clear();
-    for &((c, t), wt) in vals {
+    for &((c, _), wt) in vals {
         for ch in 0..3 {
             acc[ch] += wt as u64 * c[ch] as u64;
         }
+    }
+    let rgb = acc.map(|a| super::div_q12(a, total).min(255) as u8);
+    let Some(wsum) = wsum else {
+        return (rgb, -1);
+    };
+    wsum.clear();
+    for &((_, t), wt) in vals {
         match wsum.iter_mut().find(|e| e.0 == t) {
             Some(e) => e.1 += wt as u64,
             None => wsum.push((t, wt as u64)),
         }
     }
-    let rgb = acc.map(|a| (a / (total * 4096)).min(255) as u8);
     wsum.sort_by_key(|e| (std::cmp::Reverse(e.1), e.0));
     (rgb, wsum[0].0)
 }
@@ -297,6 +307,20 @@ pub fn render(
     bg: [u8; 3],
     p: &CornerParams,
 ) -> Result<AaFrame, AaError> {
+    render_with(tris, width, height, bg, p, true)
+}
+
+/// [`render`]; with `visible` false the visible-triangle AOV is not computed
+/// ([`AaFrame::visible`] is `None`), the image and counters are the same.
+pub fn render_with(
+    tris: &[SnappedTri],
+    width: u32,
+    height: u32,
+    bg: [u8; 3],
+    p: &CornerParams,
+    visible: bool,
+) -> Result<AaFrame, AaError> {
+    let want_visible = visible;
     let total = check(p)?;
     let lats = lattices(p, width, height);
     let bufs = rasterize(tris, &lats, bg);
@@ -329,7 +353,8 @@ pub fn render(
                         let s = bufs[l].idx(a, b);
                         vals[n] = ((bufs[l].rgb[s], bufs[l].tri[s]), wt);
                     }
-                    let (c, t) = resolve_pixel(&vals[..smp.n], total, wsum);
+                    let (c, t) =
+                        resolve_pixel(&vals[..smp.n], total, want_visible.then_some(&mut *wsum));
                     rgb_row[3 * i as usize..3 * i as usize + 3].copy_from_slice(&c);
                     vis_row[i as usize] = t;
                 }
@@ -342,7 +367,7 @@ pub fn render(
         width,
         height,
         rgb,
-        visible: Some(visible),
+        visible: want_visible.then_some(visible),
         stats: AaStats {
             depth_evals: bufs.iter().map(|b| b.depth_evals).sum(),
             samples_written: bufs.iter().map(|b| b.z.len() as u64).sum(),

@@ -77,15 +77,20 @@ impl SampleBuf {
 }
 
 impl Plane {
-    /// `(V(0, b) in Q.32, step per a in Q.32)` on lattice row `b`.
-    fn lattice_row(&self, l: &Lattice, b: i64) -> (i128, i128) {
+    /// `V(0, b)` in Q.32 on lattice row `b`.
+    fn lattice_value(&self, l: &Lattice, b: i64) -> i128 {
         let den = l.den as i128;
         let d = self.area2 * den;
         let yn = 256 * (b as i128 * l.sy as i128 + l.oy as i128) - self.y0 * den;
         let xn = 256 * l.ox as i128 - self.x0 * den;
         let num = self.v0 * d + self.nx * xn + self.ny * yn;
+        round_div(num << 32, d)
+    }
+
+    /// The step per sample `a` in Q.32 (the same on every lattice row).
+    fn lattice_step(&self, l: &Lattice) -> i128 {
         let step = self.nx * 256 * l.sx as i128;
-        (round_div(num << 32, d), round_div(step << 32, d))
+        round_div(step << 32, self.area2 * l.den as i128)
     }
 }
 
@@ -177,6 +182,19 @@ fn rasterize_one(st: &[SampTri], l: &Lattice, bgq: [u32; 3]) -> SampleBuf {
             (lo, hi)
         }),
     );
+    // Per triangle, the steps per sample of its depth and colour planes on this lattice:
+    // the same on every row, so computed once.
+    let steps: Vec<[i128; 4]> = st
+        .par_iter()
+        .map(|t| {
+            [
+                t.z.lattice_step(l),
+                t.c[0].lattice_step(l),
+                t.c[1].lattice_step(l),
+                t.c[2].lattice_step(l),
+            ]
+        })
+        .collect();
     let evals: u64 = z
         .par_chunks_mut(nx)
         .zip(rgb.par_chunks_mut(nx))
@@ -213,7 +231,8 @@ fn rasterize_one(st: &[SampTri], l: &Lattice, bgq: [u32; 3]) -> SampleBuf {
                     continue;
                 }
                 evals += (hi - lo + 1) as u64;
-                let (z0, dz) = t.z.lattice_row(l, b);
+                let sp = &steps[ti as usize];
+                let (z0, dz) = (t.z.lattice_value(l, b), sp[0]);
                 let mut zacc = z0 + lo as i128 * dz;
                 let mut cols: Option<[(i128, i128); 3]> = None;
                 for a in lo..=hi {
@@ -223,7 +242,9 @@ fn rasterize_one(st: &[SampTri], l: &Lattice, bgq: [u32; 3]) -> SampleBuf {
                     if depth::passes(zv, zr[s], t.decal) {
                         zr[s] = zv;
                         tr[s] = t.idx;
-                        let cc = *cols.get_or_insert_with(|| t.c.map(|p| p.lattice_row(l, b)));
+                        let cc = *cols.get_or_insert_with(|| {
+                            [0, 1, 2].map(|ch| (t.c[ch].lattice_value(l, b), sp[1 + ch]))
+                        });
                         for ch in 0..3 {
                             let v = (cc[ch].0 + a as i128 * cc[ch].1) >> 32;
                             cr[s][ch] = v.clamp(0, (255 << 12) + 4095) as u32;

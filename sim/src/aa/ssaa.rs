@@ -35,10 +35,23 @@ pub fn render(
     bg: [u8; 3],
     k: u32,
 ) -> Result<AaFrame, AaError> {
+    render_with(tris, width, height, bg, k, true)
+}
+
+/// [`render`]; with `visible` false the visible-triangle AOV is not computed
+/// ([`AaFrame::visible`] is `None`), the image and counters are the same.
+pub fn render_with(
+    tris: &[SnappedTri],
+    width: u32,
+    height: u32,
+    bg: [u8; 3],
+    k: u32,
+    visible: bool,
+) -> Result<AaFrame, AaError> {
     if !(1..=64).contains(&k) {
         return Err(AaError::Param(format!("ssaa k = {k} must be in 1..=64")));
     }
-    render_in_bands(tris, width, height, bg, k, band_rows(width, k))
+    render_in_bands(tris, width, height, bg, k, band_rows(width, k), visible)
 }
 
 /// [`render`] with an explicit band height in pixel rows.
@@ -49,6 +62,7 @@ fn render_in_bands(
     bg: [u8; 3],
     k: u32,
     rows: u32,
+    want_visible: bool,
 ) -> Result<AaFrame, AaError> {
     let (w, h) = (width as usize, height as usize);
     let mut rgb = vec![0u8; w * h * 3];
@@ -73,7 +87,7 @@ fn render_in_bands(
             width,
             k,
             &mut rgb[px.start * 3..px.end * 3],
-            &mut visible[px],
+            want_visible.then(|| &mut visible[px]),
         );
         stats.depth_evals += buf.depth_evals;
         stats.samples_written += buf.z.len() as u64;
@@ -83,7 +97,7 @@ fn render_in_bands(
         width,
         height,
         rgb,
-        visible: Some(visible),
+        visible: want_visible.then_some(visible),
         stats,
     })
 }
@@ -95,10 +109,35 @@ fn resolve(
     width: u32,
     k: u32,
     rgb: &mut [u8],
-    visible: &mut [i32],
+    visible: Option<&mut [i32]>,
 ) {
     let (w, k) = (width as usize, k as usize);
     let n = (k * k) as u64;
+    // The colour of pixel i of row j: the box sum of its k×k samples, truncated once.
+    let colour = |i: usize, j: usize, out: &mut [u8]| {
+        let mut acc = [0u64; 3];
+        for b in 0..k {
+            let s0 = buf.idx((i * k) as u32, (j * k + b) as u32);
+            for c in &buf.rgb[s0..s0 + k] {
+                for (a, &v) in acc.iter_mut().zip(c) {
+                    *a += v as u64;
+                }
+            }
+        }
+        for (o, a) in out.iter_mut().zip(acc) {
+            *o = super::div_q12(a, n).min(255) as u8;
+        }
+    };
+    let Some(visible) = visible else {
+        rgb.par_chunks_mut(3 * w)
+            .enumerate()
+            .for_each(|(j, rgb_row)| {
+                for i in 0..w {
+                    colour(i, j, &mut rgb_row[3 * i..3 * i + 3]);
+                }
+            });
+        return;
+    };
     rgb.par_chunks_mut(3 * w)
         .zip(visible.par_chunks_mut(w))
         .enumerate()
@@ -106,23 +145,16 @@ fn resolve(
             Vec::new,
             |counts: &mut Vec<(i32, u32)>, (j, (rgb_row, vis_row))| {
                 for i in 0..w {
-                    let mut acc = [0u64; 3];
+                    colour(i, j, &mut rgb_row[3 * i..3 * i + 3]);
                     counts.clear();
                     for b in 0..k {
-                        for a in 0..k {
-                            let s = buf.idx((i * k + a) as u32, (j * k + b) as u32);
-                            for (a, v) in acc.iter_mut().zip(buf.rgb[s]) {
-                                *a += v as u64;
-                            }
-                            let t = buf.tri[s];
+                        let s0 = buf.idx((i * k) as u32, (j * k + b) as u32);
+                        for &t in &buf.tri[s0..s0 + k] {
                             match counts.iter_mut().find(|c| c.0 == t) {
                                 Some(c) => c.1 += 1,
                                 None => counts.push((t, 1)),
                             }
                         }
-                    }
-                    for (out, a) in rgb_row[3 * i..3 * i + 3].iter_mut().zip(acc) {
-                        *out = (a / (n * 4096)).min(255) as u8;
                     }
                     counts.sort_by_key(|c| (std::cmp::Reverse(c.1), c.0));
                     vis_row[i] = counts[0].0;
@@ -144,9 +176,9 @@ mod tests {
         let ls = crate::scene::load_builtin("default").unwrap();
         let p = crate::frontend::project(&ls).unwrap();
         let (w, h) = (ls.scene.width, ls.scene.height);
-        let whole = render_in_bands(&p.tris, w, h, [10, 20, 30], 3, h).unwrap();
+        let whole = render_in_bands(&p.tris, w, h, [10, 20, 30], 3, h, true).unwrap();
         for rows in [1, 7, 64] {
-            let banded = render_in_bands(&p.tris, w, h, [10, 20, 30], 3, rows).unwrap();
+            let banded = render_in_bands(&p.tris, w, h, [10, 20, 30], 3, rows, true).unwrap();
             assert_eq!(banded.rgb, whole.rgb, "rows per band {rows}");
             assert_eq!(banded.visible, whole.visible);
             assert_eq!(banded.stats.depth_evals, whole.stats.depth_evals);

@@ -380,13 +380,21 @@ impl PixelScratch {
                 .map(|(f, p)| merge_range(f, p, size, interpenetrating)),
         );
         let ranges = &self.ranges;
-        self.by_range.clear();
-        self.by_range
-            .extend((0..n).map(|k| (frags[k].tag, ranges[k].0, k)));
-        self.by_range.sort_unstable();
         self.comp.clear();
-        self.comp.resize(n, 0);
-        let mut k = 0;
+        // Only fragments with the same tag can merge: with every tag distinct each
+        // fragment is its own component and the sweep is skipped.
+        let shared_tag = (1..n).any(|b| (0..b).any(|a| frags[a].tag == frags[b].tag));
+        if !shared_tag {
+            self.comp.extend(0..n);
+        }
+        self.by_range.clear();
+        if shared_tag {
+            self.by_range
+                .extend((0..n).map(|k| (frags[k].tag, ranges[k].0, k)));
+            self.by_range.sort_unstable();
+            self.comp.resize(n, 0);
+        }
+        let mut k = if shared_tag { 0 } else { n };
         while k < n {
             // A component: a run of the sweep whose ranges chain.
             let head = self.by_range[k].2;
@@ -471,7 +479,18 @@ impl PixelScratch {
                 k,
             ));
         }
-        self.order.sort_unstable();
+        if groups.len() == n {
+            // No merges: one fragment per group, so the group ranks (distinct) are the
+            // order; place each entry at its rank instead of sorting.
+            for q in 0..n {
+                while self.order[q].0 != q {
+                    let r = self.order[q].0;
+                    self.order.swap(q, r);
+                }
+            }
+        } else {
+            self.order.sort_unstable();
+        }
         // Packing.
         let mut free = size.full();
         self.visible.clear();

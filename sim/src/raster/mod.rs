@@ -91,6 +91,22 @@ impl RoundDivSteps {
         }
     }
 
+    /// Starts at `k = 0` with a step prepared by [`RoundDivStep::new`]: the same stepper as
+    /// `RoundDivSteps::new(n0, dn, d)`, one division fewer.
+    #[inline]
+    pub(crate) fn start(n0: i128, s: &RoundDivStep) -> RoundDivSteps {
+        let n0 = if s.neg { -n0 } else { n0 };
+        let num = 2 * n0 + s.den / 2;
+        let q = floor_div_wide(num, s.den);
+        RoundDivSteps {
+            q,
+            r: num - q * s.den,
+            dq: s.dq,
+            dr: s.dr,
+            den: s.den,
+        }
+    }
+
     /// The current value, `round_div(n0 + k·dn, d)`.
     #[inline]
     pub(crate) fn value(&self) -> i128 {
@@ -105,6 +121,32 @@ impl RoundDivSteps {
         if self.r >= self.den {
             self.r -= self.den;
             self.q += 1;
+        }
+    }
+}
+
+/// The step of a [`RoundDivSteps`] (`dn` over `d ≠ 0`), prepared once for steppers that
+/// share it (one plane started on many rows).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RoundDivStep {
+    dq: i128,
+    dr: i128,
+    den: i128,
+    neg: bool,
+}
+
+impl RoundDivStep {
+    /// The step `dn / d`, `d ≠ 0`.
+    pub(crate) fn new(dn: i128, d: i128) -> RoundDivStep {
+        let neg = d < 0;
+        let (dn, d) = if neg { (-dn, -d) } else { (dn, d) };
+        let (den, step) = (2 * d, 2 * dn);
+        let dq = floor_div_wide(step, den);
+        RoundDivStep {
+            dq,
+            dr: step - dq * den,
+            den,
+            neg,
         }
     }
 }
@@ -271,13 +313,20 @@ mod tests {
             }
             assert_eq!(round_div(n0, d), round_div_wide(n0, d), "{n0} / {d}");
             let mut st = RoundDivSteps::new(n0, dn, d);
+            let mut st2 = RoundDivSteps::start(n0, &RoundDivStep::new(dn, d));
             for i in 0..8 {
                 assert_eq!(
                     st.value(),
                     round_div_wide(n0 + i * dn, d),
                     "{n0} + {i}·{dn} / {d}"
                 );
+                assert_eq!(
+                    st2.value(),
+                    st.value(),
+                    "prepared step, {n0} + {i}·{dn} / {d}"
+                );
                 st.advance();
+                st2.advance();
             }
         }
     }
