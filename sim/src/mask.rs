@@ -286,7 +286,7 @@ mod tests {
         // Every pixel of every row of random triangles (small and large, edges through
         // subpixel centres on a coarse grid, every winding) for several sizes: the mask cut
         // from the subpixel-row intervals is the per-pixel AND of the three edge masks.
-        let mut rng = crate::rng::Lcg64(0x5eed_0f_3a5c);
+        let mut rng = crate::rng::Lcg64(0x5eed_0f3a_5c00);
         let (w, h) = (12u32, 10u32);
         let sizes = [(4, 4), (8, 8), (2, 2), (3, 5), (8, 1), (1, 8), (5, 7)];
         let mut compared = 0u64;
