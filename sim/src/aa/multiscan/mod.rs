@@ -59,11 +59,15 @@
 //! `C = ⌊acc / (T·2^12)⌋`, so a uniform area stays exactly its colour.
 //!
 //! **Two rows of pixel memory.** Each sub-scanline adds to at most two pixel rows (box:
-//! the boundary sub-scanline; axisymmetric: rows j and j + 1). The model computes pixel
-//! rows in parallel (rayon), each from the sub-scanlines that reach it, so a shared
-//! sub-scanline is recomputed per row; results are identical to the sequential two-row
-//! order because each row's sum is taken in the same sub-scanline order. The depth
-//! evaluation counter counts each sub-scanline once, as the hardware does.
+//! the boundary sub-scanline; axisymmetric: rows j and j + 1). The model computes bands
+//! of 8 pixel rows in parallel (rayon); inside a band each sub-scanline is walked once,
+//! top to bottom, and added to the rows it reaches, so only the sub-scanlines shared by
+//! two bands are computed twice. The box filter's boundary sub-scanline is walked once
+//! for both of its rows unless a horizontal edge lies on it (then each side has its own
+//! span set). Pixel sums are integer sums and the visible triangle is the largest weight
+//! (then the lowest index), so results do not depend on the order in which sub-scanlines
+//! are added. The depth evaluation counter counts each sub-scanline once, as the hardware
+//! does.
 
 use rayon::prelude::*;
 
@@ -181,12 +185,31 @@ impl Plane {
     }
 }
 
+/// A non-horizontal edge on the sub-scanlines of the frame's denominator `yden`.
+#[derive(Clone, Copy, Debug, Default)]
+struct MsEdge {
+    /// The edge's y extent `[ya, yb]`, Q.8 · `yden` (compared with `256·ynum`).
+    ya: i64,
+    yb: i64,
+    /// On `y = ynum/yden` the edge is at `x16 = round(x(ynum))`, `x(ynum) = (a + b·ynum) / d`:
+    /// `256·(px + (qx − px)(y − py)/(qy − py))` over the common denominator
+    /// `(qy − py)·yden`, set up once per triangle.
+    a: i128,
+    b: i128,
+    d: i128,
+}
+
 #[derive(Clone, Debug)]
 struct MsTri {
     idx: i32,
-    v: [[i64; 2]; 3],
     ymin: i64,
     ymax: i64,
+    /// `ymin`, `ymax` times `yden`.
+    ylo: i64,
+    yhi: i64,
+    /// The non-horizontal edges, `ne` of them.
+    edges: [MsEdge; 3],
+    ne: usize,
     /// Depth (the host face's plane for a decal) and colour planes on the sub-scanlines
     /// of the frame's denominator.
     rows: [RowPlanes; 4],
@@ -201,11 +224,36 @@ fn prepare(k: usize, t: &SnappedTri, yden: i64) -> Option<MsTri> {
     };
     let cp = |ch: usize| Plane::new(v, [0, 1, 2].map(|q| t.c[q][ch] as i64));
     let c = [cp(0)?, cp(1)?, cp(2)?];
+    let v = v.map(|p| [p[0] as i64, p[1] as i64]);
+    let ymin = v.iter().map(|p| p[1]).min().unwrap();
+    let ymax = v.iter().map(|p| p[1]).max().unwrap();
+    let mut edges = [MsEdge::default(); 3];
+    let mut ne = 0;
+    let yd = yden as i128;
+    for e in 0..3 {
+        let (p, q) = (v[e], v[(e + 1) % 3]);
+        if p[1] == q[1] {
+            continue;
+        }
+        let (px, py, qx, qy) = (p[0] as i128, p[1] as i128, q[0] as i128, q[1] as i128);
+        // 256·(px·(qy − py)·yd + (qx − px)·(256·ynum − py·yd)) / ((qy − py)·yd).
+        edges[ne] = MsEdge {
+            ya: p[1].min(q[1]) * yden,
+            yb: p[1].max(q[1]) * yden,
+            a: 256 * yd * (px * (qy - py) - (qx - px) * py),
+            b: 256 * 256 * (qx - px),
+            d: (qy - py) * yd,
+        };
+        ne += 1;
+    }
     Some(MsTri {
         idx: k as i32,
-        v: v.map(|p| [p[0] as i64, p[1] as i64]),
-        ymin: v.iter().map(|p| p[1]).min().unwrap() as i64,
-        ymax: v.iter().map(|p| p[1]).max().unwrap() as i64,
+        ymin,
+        ymax,
+        ylo: ymin * yden,
+        yhi: ymax * yden,
+        edges,
+        ne,
         rows: [
             RowPlanes::new(&zp, yden),
             RowPlanes::new(&c[0], yden),
@@ -217,39 +265,39 @@ fn prepare(k: usize, t: &SnappedTri, yden: i64) -> Option<MsTri> {
 }
 
 impl MsTri {
-    /// The Q.16 x-interval `[xl, xr)` on the sub-scanline `y = ynum/yden`, if non-empty.
-    /// `from_above` takes the limit `y → y⁻` (the cross-section just above the line:
-    /// `ymin < y ≤ ymax`) instead of `y → y⁺` (`ymin ≤ y < ymax`).
-    fn interval(&self, ynum: i64, yden: i64, from_above: bool) -> Option<(i64, i64)> {
-        let y = 256 * ynum as i128; // Q.8 · yden
-        let yd = yden as i128;
-        let (lo, hi) = (self.ymin as i128 * yd, self.ymax as i128 * yd);
+    /// The Q.16 x-interval `[xl, xr)` on the sub-scanline `y = ynum/yden` (`yden` of
+    /// [`prepare`]), if non-empty. `from_above` takes the limit `y → y⁻` (the
+    /// cross-section just above the line: `ymin < y ≤ ymax`) instead of `y → y⁺`
+    /// (`ymin ≤ y < ymax`).
+    #[inline]
+    fn interval(&self, ynum: i64, from_above: bool) -> Option<(i64, i64)> {
+        let y = 256 * ynum; // Q.8 · yden
         let hit = if from_above {
-            lo < y && y <= hi
+            self.ylo < y && y <= self.yhi
         } else {
-            lo <= y && y < hi
+            self.ylo <= y && y < self.yhi
         };
         if !hit {
             return None;
         }
         let (mut lo, mut hi) = (i64::MAX, i64::MIN);
-        for e in 0..3 {
-            let (p, q) = (self.v[e], self.v[(e + 1) % 3]);
-            if p[1] == q[1] {
+        for e in &self.edges[..self.ne] {
+            if y < e.ya || y > e.yb {
                 continue;
             }
-            let (a, b) = (p[1].min(q[1]) as i128 * yd, p[1].max(q[1]) as i128 * yd);
-            if y < a || y > b {
-                continue;
-            }
-            let (px, py, qx, qy) = (p[0] as i128, p[1] as i128, q[0] as i128, q[1] as i128);
-            // x16 = 256·(px + (qx − px)(y/yd − py)/(qy − py)).
-            let num = 256 * (px * (qy - py) * yd + (qx - px) * (y - py * yd));
-            let x = round_div(num, (qy - py) * yd) as i64;
+            let x = round_div(e.a + e.b * ynum as i128, e.d) as i64;
             lo = lo.min(x);
             hi = hi.max(x);
         }
         (lo < hi).then_some((lo, hi))
+    }
+
+    /// Does the sub-scanline `y = ynum/yden` see a different interval from above than
+    /// from below (a horizontal edge of the triangle lies on it)?
+    fn sides_differ(&self, ynum: i64) -> bool {
+        let y = 256 * ynum;
+        (self.ylo == y || self.yhi == y)
+            && (self.interval(ynum, true).is_some() || self.interval(ynum, false).is_some())
     }
 }
 
@@ -263,10 +311,10 @@ struct Piece {
     slot: usize,
 }
 
+/// A triangle hit by the sub-scanline: its depth plane on the line and its interval.
 struct Active<'a> {
     t: &'a MsTri,
     z: RowPlane,
-    c: [RowPlane; 3],
     xl: i64,
     xr: i64,
 }
@@ -296,10 +344,14 @@ fn walk(
         if a.xr <= xa || a.xl >= xb {
             continue;
         }
-        let d = a.t.decal as u8;
-        // Key: x, right (0) before left (1); rights: decal first; lefts: face first.
-        ev.push((a.xl.max(xa), 1, d, a.t.idx, s));
-        ev.push((a.xr.min(xb), 0, 1 - d, a.t.idx, s));
+        let d = a.t.decal as u128;
+        // Key, most significant first: x, right (0) before left (1); rights: decal
+        // first; lefts: face first; then the triangle and its slot (all keys distinct).
+        let key = |x: i64, kind: u128, d: u128| {
+            ((x - xa) as u128) << 64 | kind << 63 | d << 62 | (a.t.idx as u128) << 31 | s as u128
+        };
+        ev.push(key(a.xl.max(xa), 1, d));
+        ev.push(key(a.xr.min(xb), 0, 1 - d));
     }
     ev.sort_unstable();
     let mut wk = Walker {
@@ -309,7 +361,12 @@ fn walk(
     };
     let mut cur: Option<usize> = None;
     let mut x = xa;
-    for &(ex, kind, _, _, s) in ev.iter() {
+    for &key in ev.iter() {
+        let (ex, kind, s) = (
+            (key >> 64) as i64 + xa,
+            (key >> 63) as u8 & 1,
+            (key as usize) & SLOT_MASK,
+        );
         // Between crossings: a polygon of NEXT may pass in front of the current one.
         if inter {
             while let Some(c) = cur {
@@ -369,8 +426,8 @@ fn emit(out: &mut Vec<Piece>, act: &[Active], x0: i64, x1: i64, cur: Option<usiz
 /// Buffers of [`walk`], reused from sub-scanline to sub-scanline.
 #[derive(Default)]
 struct WalkScratch {
-    /// Crossings.
-    ev: Vec<(i64, u8, u8, i32, usize)>,
+    /// Crossings, as sort keys (see [`walk`]).
+    ev: Vec<u128>,
     /// The stack NEXT.
     next: Vec<usize>,
     /// Per active polygon, its last two depths `(x, z)` (older first).
@@ -460,6 +517,9 @@ impl Walker<'_, '_, '_> {
     }
 }
 
+/// The slot bits of a crossing's sort key (slots and triangle indices stay below 2^31).
+const SLOT_MASK: usize = (1 << 31) - 1;
+
 /// Per-frame constants of a multi-scanning render.
 struct MsFrame<'a> {
     mt: &'a [MsTri],
@@ -474,82 +534,134 @@ struct MsFrame<'a> {
     bands: Bands,
 }
 
-impl MsFrame<'_> {
-    /// Renders pixel row `j`: RGB8, visible triangles, depth evaluations and pieces of the
-    /// sub-scanlines it owns.
-    fn render_row(&self, j: i64, rs: &mut RowScratch) -> (Vec<u8>, Vec<i32>, u64, u64) {
+/// Output of one band of pixel rows: RGB8, visible triangles, depth evaluations and
+/// pieces of the sub-scanlines it owns.
+type BandOut = (Vec<u8>, Vec<i32>, u64, u64);
+
+impl<'a> MsFrame<'a> {
+    /// The triangles hit by the sub-scanline `ynum` (seen from above or below), in input
+    /// order, into `act`.
+    fn hits(&self, cand: &[&'a MsTri], ynum: i64, from_above: bool, act: &mut Vec<Active<'a>>) {
+        act.clear();
+        act.extend(cand.iter().filter_map(|&t| {
+            let (xl, xr) = t.interval(ynum, from_above)?;
+            Some(Active {
+                t,
+                z: t.rows[0].row(ynum),
+                xl,
+                xr,
+            })
+        }));
+    }
+
+    /// Renders the pixel rows of band `b`: each sub-scanline reaching them is walked once
+    /// and added to the (one or two) rows it reaches.
+    fn render_band(&self, b: usize, rs: &mut BandScratch<'a>) -> BandOut {
         let (p, width, height) = (self.p, self.width, self.height);
+        let (j0, j1) = self.bands.rows(b);
+        let nr = (j1 - j0 + 1) as usize;
         let n64 = p.subscanlines as i64;
-        let yden = 2 * n64;
         let w = width as usize;
-        let RowScratch {
+        let BandScratch {
             acc,
             pieces,
             walk: ws,
+            act,
+            cand,
         } = rs;
-        acc.resize_with(w, PixAcc::default);
+        acc.resize_with(nr * w, PixAcc::default);
         for a in acc.iter_mut() {
             a.c = [0; 3];
             a.w.clear();
         }
-        let mut act: Vec<Active> = Vec::new();
         let (mut evals, mut npieces) = (0u64, 0u64);
-        // Sub-scanlines reaching row j: (ynum, weight selector m, owned?).
-        let lines: Vec<(i64, i64, bool)> = match p.filter {
-            Filter::Box => (0..=n64)
-                .map(|l| {
-                    let owned = l < n64 || j == height as i64 - 1;
-                    (2 * (j * n64 + l), l, owned)
-                })
-                .collect(),
-            _ => (-(n64 - 1)..n64)
-                .map(|m| (2 * (j * n64 + m) + n64, m, m >= 0))
-                .collect(),
-        };
-        // Triangles touching the rows' y range.
-        let (ylo, yhi) = (256 * (j - 1), 256 * (j + 2));
-        let cand: Vec<&MsTri> = self
-            .bands
-            .members(self.bands.of_row(j))
-            .iter()
-            .map(|&k| &self.mt[k as usize])
-            .filter(|t| t.ymax >= ylo && t.ymin <= yhi)
-            .collect();
+        // Triangles touching the rows' y range (a superset of those any sub-scanline of
+        // the band hits; each sub-scanline tests them exactly).
+        let (ylo, yhi) = (256 * (j0 - 1), 256 * (j1 + 2));
+        cand.clear();
+        cand.extend(
+            self.bands
+                .members(b)
+                .iter()
+                .map(|&k| &self.mt[k as usize])
+                .filter(|t| t.ymax >= ylo && t.ymin <= yhi),
+        );
         let (xa, xb) = match p.filter {
             Filter::Box => (0, width as i64 * ONE16),
             _ => (-ONE16 / 2, width as i64 * ONE16 + ONE16 / 2),
         };
-        for &(ynum, m, owned) in &lines {
-            // The bottom boundary of a pixel row is seen from inside the row.
-            let from_above = p.filter == Filter::Box && m == n64;
-            act.clear();
-            act.extend(cand.iter().filter_map(|t| {
-                let (xl, xr) = t.interval(ynum, yden, from_above)?;
-                Some(Active {
-                    t,
-                    z: t.rows[0].row(ynum),
-                    c: [
-                        t.rows[1].row(ynum),
-                        t.rows[2].row(ynum),
-                        t.rows[3].row(ynum),
-                    ],
-                    xl,
-                    xr,
-                })
-            }));
-            let e = walk(&act, xa, xb, p.intersections, pieces, ws);
-            if owned {
-                evals += e;
-                npieces += pieces.len() as u64;
-            }
-            match &self.tab {
-                None => {
-                    let wl = if m == 0 || m == n64 { 1 } else { 2 };
-                    accumulate_box(acc, pieces, &act, wl, self.bgc);
+        let inter = p.intersections;
+        // Row j's pixels in `acc`.
+        let row = |j: i64| (j - j0) as usize * w..(j - j0 + 1) as usize * w;
+        match &self.tab {
+            None => {
+                // Sub-scanline g at y = g/n lies in row ja = ⌊g/n⌋ at l = g − n·ja; l = 0 is
+                // also the bottom boundary l = n of row ja − 1, seen from above.
+                for g in j0 * n64..=(j1 + 1) * n64 {
+                    let ynum = 2 * g;
+                    let ja = g.div_euclid(n64);
+                    let l = g - ja * n64;
+                    if l != 0 {
+                        self.hits(cand, ynum, false, act);
+                        let e = walk(act, xa, xb, inter, pieces, ws);
+                        evals += e;
+                        npieces += pieces.len() as u64;
+                        let r = row(ja);
+                        accumulate_box(&mut acc[r], pieces, act, ynum, 2, self.bgc);
+                        continue;
+                    }
+                    // Row ja from below (owned), row ja − 1 from above (owned only by the
+                    // last row).
+                    let below = ja <= j1;
+                    let above = ja > j0;
+                    let above_owned = ja - 1 == height as i64 - 1;
+                    if below {
+                        self.hits(cand, ynum, false, act);
+                        let e = walk(act, xa, xb, inter, pieces, ws);
+                        evals += e;
+                        npieces += pieces.len() as u64;
+                        let r = row(ja);
+                        accumulate_box(&mut acc[r], pieces, act, ynum, 1, self.bgc);
+                        if above && !cand.iter().any(|t| t.sides_differ(ynum)) {
+                            // Both sides see the same spans: the same pieces.
+                            let r = row(ja - 1);
+                            accumulate_box(&mut acc[r], pieces, act, ynum, 1, self.bgc);
+                            continue;
+                        }
+                    }
+                    if above {
+                        self.hits(cand, ynum, true, act);
+                        let e = walk(act, xa, xb, inter, pieces, ws);
+                        if above_owned {
+                            evals += e;
+                            npieces += pieces.len() as u64;
+                        }
+                        let r = row(ja - 1);
+                        accumulate_box(&mut acc[r], pieces, act, ynum, 1, self.bgc);
+                    }
                 }
-                Some(tab) => {
-                    let fm = &tab.f[m.unsigned_abs() as usize];
-                    accumulate_filtered(acc, pieces, &act, fm, width, self.bgc);
+            }
+            Some(tab) => {
+                // Sub-scanline g at y = ½ + g/n: m = g − n·ja ≥ 0 of row ja = ⌊g/n⌋ (owned)
+                // and, for m > 0, m − n of row ja + 1.
+                for g in j0 * n64 - (n64 - 1)..=j1 * n64 + (n64 - 1) {
+                    let ynum = 2 * g + n64;
+                    let ja = g.div_euclid(n64);
+                    let m = g - ja * n64;
+                    self.hits(cand, ynum, false, act);
+                    let e = walk(act, xa, xb, inter, pieces, ws);
+                    if (j0..=j1).contains(&ja) {
+                        evals += e;
+                        npieces += pieces.len() as u64;
+                        let r = row(ja);
+                        let fm = &tab.f[m as usize];
+                        accumulate_filtered(&mut acc[r], pieces, act, ynum, fm, width, self.bgc);
+                    }
+                    if m > 0 && (j0..=j1).contains(&(ja + 1)) {
+                        let r = row(ja + 1);
+                        let fm = &tab.f[(n64 - m) as usize];
+                        accumulate_filtered(&mut acc[r], pieces, act, ynum, fm, width, self.bgc);
+                    }
                 }
             }
         }
@@ -557,8 +669,8 @@ impl MsFrame<'_> {
             None => 2 * p.subscanlines as u64 * ONE16 as u64 * 4096,
             Some(t) => t.total as u64 * 4096,
         };
-        let mut rgb = Vec::with_capacity(3 * w);
-        let mut vis = Vec::with_capacity(w);
+        let mut rgb = Vec::with_capacity(3 * nr * w);
+        let mut vis = Vec::with_capacity(nr * w);
         for a in acc.iter_mut() {
             for ch in 0..3 {
                 rgb.push((a.c[ch] / div).min(255) as u8);
@@ -570,28 +682,37 @@ impl MsFrame<'_> {
     }
 }
 
-/// Buffers one rendering thread reuses from pixel row to pixel row.
+/// Buffers one rendering thread reuses from band to band.
 #[derive(Default)]
-struct RowScratch {
+struct BandScratch<'a> {
+    /// Pixel memory of the band's rows, row after row.
     acc: Vec<PixAcc>,
     pieces: Vec<Piece>,
     walk: WalkScratch,
+    /// The triangles hit by the current sub-scanline.
+    act: Vec<Active<'a>>,
+    /// The band's candidate triangles.
+    cand: Vec<&'a MsTri>,
 }
 
 /// Colours of one piece's parts, left to right: the background, or the polygon's colour
 /// at the middle of the part, Q8.12. Parts one pixel wide in a row (the inside of a long
 /// piece) have middles one pixel apart, whose colours are stepped with additions.
-struct PieceColour<'p> {
-    plane: Option<&'p [RowPlane; 3]>,
+struct PieceColour {
+    plane: Option<[RowPlane; 3]>,
     bgc: [i64; 3],
     /// Steppers at the middle `mid`, when set up.
     steps: Option<([RoundDivSteps; 3], i64)>,
 }
 
-impl<'p> PieceColour<'p> {
-    fn new(act: &'p [Active], pc: &Piece, bgc: [i64; 3]) -> PieceColour<'p> {
+impl PieceColour {
+    /// The colours of piece `pc` on the sub-scanline `ynum`.
+    fn new(act: &[Active], pc: &Piece, ynum: i64, bgc: [i64; 3]) -> PieceColour {
         PieceColour {
-            plane: (pc.tri >= 0).then(|| &act[pc.slot].c),
+            plane: (pc.tri >= 0).then(|| {
+                let r = &act[pc.slot].t.rows;
+                [r[1].row(ynum), r[2].row(ynum), r[3].row(ynum)]
+            }),
             bgc,
             steps: None,
         }
@@ -631,9 +752,16 @@ impl<'p> PieceColour<'p> {
 }
 
 /// Box filter: adds each piece, split at pixel boundaries, with line weight `wl`.
-fn accumulate_box(acc: &mut [PixAcc], pieces: &[Piece], act: &[Active], wl: i64, bgc: [i64; 3]) {
+fn accumulate_box(
+    acc: &mut [PixAcc],
+    pieces: &[Piece],
+    act: &[Active],
+    ynum: i64,
+    wl: i64,
+    bgc: [i64; 3],
+) {
     for pc in pieces {
-        let mut pcol = PieceColour::new(act, pc, bgc);
+        let mut pcol = PieceColour::new(act, pc, ynum, bgc);
         let mut x0 = pc.x0;
         while x0 < pc.x1 {
             let i = x0.div_euclid(ONE16);
@@ -651,12 +779,13 @@ fn accumulate_filtered(
     acc: &mut [PixAcc],
     pieces: &[Piece],
     act: &[Active],
+    ynum: i64,
     fm: &[i64; 65],
     width: u32,
     bgc: [i64; 3],
 ) {
     for pc in pieces {
-        let mut pcol = PieceColour::new(act, pc, bgc);
+        let mut pcol = PieceColour::new(act, pc, ynum, bgc);
         let mut x0 = pc.x0;
         while x0 < pc.x1 {
             let i = (x0 - ONE16 / 2).div_euclid(ONE16);
@@ -712,9 +841,9 @@ pub fn render(
         tab: (p.filter != Filter::Box).then(|| tables(p.filter, n)),
     };
     let w = width as usize;
-    let rows: Vec<(Vec<u8>, Vec<i32>, u64, u64)> = (0..height as i64)
+    let rows: Vec<BandOut> = (0..f.bands.len())
         .into_par_iter()
-        .map_init(RowScratch::default, |rs, j| f.render_row(j, rs))
+        .map_init(BandScratch::default, |rs, b| f.render_band(b, rs))
         .collect();
     let mut rgb = Vec::with_capacity(3 * w * height as usize);
     let mut visible = Vec::with_capacity(w * height as usize);
@@ -755,7 +884,7 @@ mod tests {
         };
         let (ta, tb) = (prepare(0, &a, 12).unwrap(), prepare(1, &b, 12).unwrap());
         for g in 0..100 {
-            let (ia, ib) = (ta.interval(g, 12, false), tb.interval(g, 12, false));
+            let (ia, ib) = (ta.interval(g, false), tb.interval(g, false));
             if let (Some(ia), Some(ib)) = (ia, ib) {
                 assert_eq!(ia.1, ib.0, "sub-scanline {g}");
             }
