@@ -210,9 +210,6 @@ impl MaskEdges {
     /// Which pixels of row `j` within `0..width` the triangle touches and fully covers, or
     /// `None` if it covers no subpixel centre of the row.
     pub fn row_coverage(&self, j: i64, width: u32) -> Option<RowCoverage> {
-        if j < self.row_min || j > self.row_max {
-            return None;
-        }
         self.row_masks(j, width).map(|r| r.cov)
     }
 

@@ -78,17 +78,7 @@ pub(crate) struct RoundDivSteps {
 impl RoundDivSteps {
     /// Starts at `k = 0`; `d ≠ 0`.
     pub(crate) fn new(n0: i128, dn: i128, d: i128) -> RoundDivSteps {
-        // round_div(n, d) = ⌊(2n + d) / 2d⌋ with d > 0 (signs moved to n).
-        let (n0, dn, d) = if d < 0 { (-n0, -dn, -d) } else { (n0, dn, d) };
-        let (num, den, step) = (2 * n0 + d, 2 * d, 2 * dn);
-        let (q, dq) = (floor_div_wide(num, den), floor_div_wide(step, den));
-        RoundDivSteps {
-            q,
-            r: num - q * den,
-            dq,
-            dr: step - dq * den,
-            den,
-        }
+        RoundDivSteps::start(n0, &RoundDivStep::new(dn, d))
     }
 
     /// Starts at `k = 0` with a step prepared by [`RoundDivStep::new`]: the same stepper as

@@ -1,0 +1,226 @@
+//! The hidden-surface walk of one sub-scanline (seed 002, §3, stack memory NEXT): sorted
+//! crossings, the current polygon and the stack, and the visible pieces it emits (see the
+//! module header of [`super`]).
+
+use super::spans::{MsTri, RowPlane};
+use super::ZF;
+use crate::raster::depth;
+
+/// The slot bits of a crossing's sort key (slots and triangle indices stay below 2^31).
+const SLOT_MASK: usize = (1 << 31) - 1;
+
+/// One visible piece `[x0, x1)` of triangle `tri` (−1 background) on a sub-scanline,
+/// with its row planes for colour.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Piece {
+    pub(super) x0: i64,
+    pub(super) x1: i64,
+    pub(super) tri: i32,
+    pub(super) slot: usize,
+}
+
+/// A triangle hit by the sub-scanline: its depth plane on the line and its interval.
+pub(super) struct Active<'a> {
+    pub(super) t: &'a MsTri,
+    pub(super) z: RowPlane,
+    pub(super) xl: i64,
+    pub(super) xr: i64,
+}
+
+/// `a` in front of `b` at equal depth (the renderer's depth-test order).
+pub(super) fn tie_front(a: &MsTri, b: &MsTri) -> bool {
+    depth::tie_front((a.decal, a.idx as i64), (b.decal, b.idx as i64))
+}
+
+/// The walk of one sub-scanline over `[xa, xb)`: visible pieces in order, and the number
+/// of depth evaluations.
+pub(super) fn walk(
+    act: &[Active],
+    xa: i64,
+    xb: i64,
+    inter: bool,
+    out: &mut Vec<Piece>,
+    ws: &mut WalkScratch,
+) -> u64 {
+    out.clear();
+    let WalkScratch { ev, next, zcache } = ws;
+    ev.clear();
+    next.clear();
+    zcache.clear();
+    zcache.resize(act.len(), [(i64::MIN, 0); 2]);
+    for (s, a) in act.iter().enumerate() {
+        if a.xr <= xa || a.xl >= xb {
+            continue;
+        }
+        let d = a.t.decal as u128;
+        // Key, most significant first: x, right (0) before left (1); rights: decal
+        // first; lefts: face first; then the triangle and its slot (all keys distinct).
+        let key = |x: i64, kind: u128, d: u128| {
+            ((x - xa) as u128) << 64 | kind << 63 | d << 62 | (a.t.idx as u128) << 31 | s as u128
+        };
+        ev.push(key(a.xl.max(xa), 1, d));
+        ev.push(key(a.xr.min(xb), 0, 1 - d));
+    }
+    ev.sort_unstable();
+    let mut wk = Walker {
+        act,
+        evals: 0,
+        zcache,
+    };
+    let mut cur: Option<usize> = None;
+    let mut x = xa;
+    for &key in ev.iter() {
+        let (ex, kind, s) = (
+            (key >> 64) as i64 + xa,
+            (key >> 63) as u8 & 1,
+            (key as usize) & SLOT_MASK,
+        );
+        // Between crossings: a polygon of NEXT may pass in front of the current one.
+        if inter {
+            while let Some(c) = cur {
+                if ex <= x || next.is_empty() {
+                    break;
+                }
+                match wk.first_pass(c, next, x, ex) {
+                    Some(xs) if xs < ex => {
+                        emit(out, act, x, xs, cur);
+                        x = xs;
+                        // The front-most of NEXT and the old current becomes current
+                        // (a decal on the passing polygon's plane comes with it).
+                        next.push(c);
+                        cur = wk.nearest(next, xs).map(|b| next.swap_remove(b));
+                    }
+                    _ => break,
+                }
+            }
+        }
+        emit(out, act, x, ex, cur);
+        x = ex;
+        if kind == 1 {
+            match cur {
+                None => cur = Some(s),
+                Some(c) => {
+                    if wk.front(s, c, ex) {
+                        next.push(c);
+                        cur = Some(s);
+                    } else {
+                        next.push(s);
+                    }
+                }
+            }
+        } else if cur == Some(s) {
+            // The nearest polygon in NEXT becomes current.
+            cur = wk.nearest(next, ex).map(|b| next.swap_remove(b));
+        } else if let Some(p) = next.iter().position(|&q| q == s) {
+            next.swap_remove(p);
+        }
+    }
+    emit(out, act, x, xb, cur);
+    wk.evals
+}
+
+/// Appends the visible piece `[x0, x1)` of `cur` (background if `None`), if non-empty.
+pub(super) fn emit(out: &mut Vec<Piece>, act: &[Active], x0: i64, x1: i64, cur: Option<usize>) {
+    if x1 > x0 {
+        out.push(Piece {
+            x0,
+            x1,
+            tri: cur.map_or(-1, |s| act[s].t.idx),
+            slot: cur.unwrap_or(usize::MAX),
+        });
+    }
+}
+
+/// Buffers of [`walk`], reused from sub-scanline to sub-scanline.
+#[derive(Default)]
+pub(super) struct WalkScratch {
+    /// Crossings, as sort keys (see [`walk`]).
+    pub(super) ev: Vec<u128>,
+    /// The stack NEXT.
+    pub(super) next: Vec<usize>,
+    /// Per active polygon, its last two depths `(x, z)` (older first).
+    pub(super) zcache: Vec<[(i64, i64); 2]>,
+}
+
+/// Depth comparisons of one sub-scanline walk, counting plane evaluations.
+pub(super) struct Walker<'a, 'b, 'c> {
+    pub(super) act: &'a [Active<'b>],
+    pub(super) evals: u64,
+    /// Per active polygon, its last two depths: the walk asks for the same polygon at
+    /// the same crossing again and again (the count of evaluations is unchanged; only
+    /// the arithmetic is not repeated).
+    pub(super) zcache: &'c mut [[(i64, i64); 2]],
+}
+
+impl Walker<'_, '_, '_> {
+    /// Depth of active polygon `s` at `x` (one evaluation).
+    #[inline]
+    pub(super) fn zat(&mut self, s: usize, x: i64) -> i64 {
+        self.evals += 1;
+        let c = &mut self.zcache[s];
+        if c[1].0 == x {
+            return c[1].1;
+        }
+        if c[0].0 == x {
+            c.swap(0, 1);
+            return c[1].1;
+        }
+        let z = self.act[s].z.at(x, ZF);
+        c[0] = c[1];
+        c[1] = (x, z);
+        z
+    }
+
+    /// Is `p` in front of `q` at x (depth, then slope to the right, then tie order)?
+    pub(super) fn front(&mut self, p: usize, q: usize, x: i64) -> bool {
+        let (zp, zq) = (self.zat(p, x), self.zat(q, x));
+        if zp != zq {
+            return zp < zq;
+        }
+        let act = self.act;
+        let (sp, sq) = (act[p].z.s * act[q].z.d, act[q].z.s * act[p].z.d);
+        if sp != sq {
+            return sp < sq;
+        }
+        tie_front(act[p].t, act[q].t)
+    }
+
+    /// The first x in `(x, ex]` where a polygon of `next` is in front of the current one
+    /// `c` (the earliest over `next`, the first listed on a tie), if any passes it.
+    pub(super) fn first_pass(&mut self, c: usize, next: &[usize], x: i64, ex: i64) -> Option<i64> {
+        let mut best: Option<i64> = None;
+        for &q in next {
+            let (za, zb) = (
+                self.zat(q, x) - self.zat(c, x),
+                self.zat(q, ex) - self.zat(c, ex),
+            );
+            if za >= 0 && zb < 0 {
+                // First x in (x, ex] where q is in front: d(x*) < 0.
+                let xs = x + ((ex - x) as i128 * za as i128 / (za - zb) as i128) as i64 + 1;
+                let xs = xs.min(ex);
+                if best.is_none_or(|b| xs < b) {
+                    best = Some(xs);
+                }
+            }
+        }
+        best
+    }
+
+    /// Position in `next` of its front-most polygon at `x` (the first listed on a tie).
+    pub(super) fn nearest(&mut self, next: &[usize], x: i64) -> Option<usize> {
+        let mut best: Option<usize> = None;
+        for (ni, &q) in next.iter().enumerate() {
+            best = match best {
+                None => Some(ni),
+                Some(b) => {
+                    if self.front(q, next[b], x) {
+                        Some(ni)
+                    } else {
+                        Some(b)
+                    }
+                }
+            };
+        }
+        best
+    }
+}

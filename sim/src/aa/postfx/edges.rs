@@ -1,0 +1,181 @@
+//! Edge detection of the post-process (seed 004, "edges from the z-buffer" and "edges
+//! from normals"): second differences, edge bits between pixels and their class (see the
+//! module header of [`super`]).
+
+use super::{NormalSource, PostFxParams, StoredNormal};
+use rayon::prelude::*;
+
+/// Second differences of a finished z-buffer (seed eq. 7, borders replicate):
+/// `(d2x, d2y)`.
+pub fn second_differences(z: &[u32], w: usize, h: usize) -> (Vec<i32>, Vec<i32>) {
+    let at = |x: i64, y: i64| -> i32 {
+        z[y.clamp(0, h as i64 - 1) as usize * w + x.clamp(0, w as i64 - 1) as usize] as i32
+    };
+    let mut dx = vec![0; w * h];
+    let mut dy = vec![0; w * h];
+    // Rows are independent: each writes only its own entries.
+    dx.par_chunks_mut(w)
+        .zip(dy.par_chunks_mut(w))
+        .enumerate()
+        .for_each(|(y, (dxr, dyr))| {
+            let y = y as i64;
+            for x in 0..w as i64 {
+                let c = at(x, y);
+                dxr[x as usize] = at(x + 1, y) + at(x - 1, y) - 2 * c;
+                dyr[x as usize] = at(x, y + 1) + at(x, y - 1) - 2 * c;
+            }
+        });
+    (dx, dy)
+}
+
+/// Edge bits between pixels and their class.
+pub struct Edges {
+    /// Width.
+    pub w: usize,
+    /// Height.
+    pub h: usize,
+    /// `ex[y·w + x]`: edge between (x, y) and (x+1, y); 0 none, 1 crease, 2 jump.
+    pub ex: Vec<u8>,
+    /// `ey[y·w + x]`: edge between (x, y) and (x, y+1).
+    pub ey: Vec<u8>,
+}
+
+/// Computes the edge bits of a finished depth buffer: second differences from `z`,
+/// reconstructed normals (see the module header). Equivalent to [`detect_edges_from`]
+/// with the buffers of [`second_differences`] and no stored normals.
+pub fn detect_edges(z: &[u32], w: usize, h: usize, p: &PostFxParams) -> Edges {
+    let (dx, dy) = second_differences(z, w, h);
+    detect_edges_from(z, &dx, &dy, None, w, h, p)
+}
+
+/// Computes the edge bits from a z-buffer, its second differences (from the final z or
+/// maintained during drawing) and, if given and selected by
+/// [`PostFxParams::normal_source`], a stored normal buffer (else normals are
+/// reconstructed from `z`).
+pub fn detect_edges_from(
+    z: &[u32],
+    d2x: &[i32],
+    d2y: &[i32],
+    stored: Option<&[StoredNormal]>,
+    w: usize,
+    h: usize,
+    p: &PostFxParams,
+) -> Edges {
+    let at = |x: i64, y: i64| -> i64 {
+        let x = x.clamp(0, w as i64 - 1) as usize;
+        let y = y.clamp(0, h as i64 - 1) as usize;
+        z[y * w + x] as i64
+    };
+    let mut ex = vec![0u8; w * h];
+    let mut ey = vec![0u8; w * h];
+    let class = |a: i64, b: i64| if (a - b).abs() > p.zjump as i64 { 2 } else { 1 };
+    // A pixel whose |d2| exceeds Zth marks the boundary on the side with the larger first
+    // difference: the one toward (x + dx, y + dy) when `forward`, else the one behind it.
+    let over = |d2: i32| (d2 as i64).abs() > p.zth as i64;
+    let forward = |x: i64, y: i64, dx: i64, dy: i64| {
+        let c = at(x, y);
+        (at(x + dx, y + dy) - c).abs() >= (c - at(x - dx, y - dy)).abs()
+    };
+    // Gathered per boundary, so rows are independent: the boundary between P and its
+    // neighbour Q = P + (dx, dy) is an edge when P marks it forward or Q backward, of
+    // the class of the pair (P, Q).
+    ex.par_chunks_mut(w)
+        .zip(ey.par_chunks_mut(w))
+        .enumerate()
+        .for_each(|(y, (exr, eyr))| {
+            for x in 0..w {
+                let k = y * w + x;
+                let (xi, yi) = (x as i64, y as i64);
+                if x + 1 < w
+                    && ((over(d2x[k]) && forward(xi, yi, 1, 0))
+                        || (over(d2x[k + 1]) && !forward(xi + 1, yi, 1, 0)))
+                {
+                    exr[x] = class(at(xi, yi), at(xi + 1, yi));
+                }
+                if y + 1 < h
+                    && ((over(d2y[k]) && forward(xi, yi, 0, 1))
+                        || (over(d2y[k + w]) && !forward(xi, yi + 1, 0, 1)))
+                {
+                    eyr[x] = class(at(xi, yi), at(xi, yi + 1));
+                }
+            }
+        });
+    if p.normals {
+        match (p.normal_source, stored) {
+            (NormalSource::Stored, Some(nb)) => {
+                // Dot product of unit normals (Q2.30) against cos θ (Q.16 → Q.30).
+                let cth = (p.cos_q16 as i64) << 14;
+                let nv: Vec<[i64; 3]> = nb.iter().map(|n| n.unpack()).collect();
+                let differs =
+                    |a: [i64; 3], b: [i64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2] < cth;
+                for y in 0..h {
+                    for x in 0..w {
+                        let k = y * w + x;
+                        if x + 1 < w && differs(nv[k], nv[k + 1]) {
+                            ex[k] = ex[k]
+                                .max(class(at(x as i64, y as i64), at(x as i64 + 1, y as i64)));
+                        }
+                        if y + 1 < h && differs(nv[k], nv[k + w]) {
+                            ey[k] = ey[k]
+                                .max(class(at(x as i64, y as i64), at(x as i64, y as i64 + 1)));
+                        }
+                    }
+                }
+            }
+            _ => reconstructed_normal_edges(&at, &mut ex, &mut ey, w, h, p, &class),
+        }
+    }
+    Edges { w, h, ex, ey }
+}
+
+/// Normal edges from normals reconstructed from z (seed eq. 9).
+pub(super) fn reconstructed_normal_edges(
+    at: &dyn Fn(i64, i64) -> i64,
+    ex: &mut [u8],
+    ey: &mut [u8],
+    w: usize,
+    h: usize,
+    p: &PostFxParams,
+    class: &dyn Fn(i64, i64) -> u8,
+) {
+    let s = p.normal_scale as i128;
+    let n = |x: i64, y: i64| -> [i128; 3] {
+        [
+            (at(x + 1, y) - at(x, y)) as i128,
+            (at(x, y + 1) - at(x, y)) as i128,
+            -s,
+        ]
+    };
+    let c = p.cos_q16 as i128;
+    let differs = |a: [i128; 3], b: [i128; 3]| {
+        let dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let na = a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
+        let nb = b[0] * b[0] + b[1] * b[1] + b[2] * b[2];
+        // dot < cos·|a||b|  ⇔  dot < 0 or dot² < cos²·|a|²|b|² (cos ≥ 0).
+        if dot < 0 {
+            return true;
+        }
+        // Compare (dot·2^16)² < c²·na·nb.
+        let l = (dot << 16).checked_mul(dot << 16);
+        let r = (c * c).checked_mul(na).and_then(|v| v.checked_mul(nb));
+        match (l, r) {
+            (Some(l), Some(r)) => l < r,
+            _ => {
+                let (df, naf, nbf) = (dot as f64, na as f64, nb as f64);
+                df * df * 65536.0 * 65536.0 < (c * c) as f64 * naf * nbf
+            }
+        }
+    };
+    for y in 0..h as i64 {
+        for x in 0..w as i64 {
+            let k = y as usize * w + x as usize;
+            let a = n(x, y);
+            if x + 1 < w as i64 && differs(a, n(x + 1, y)) {
+                ex[k] = ex[k].max(class(at(x, y), at(x + 1, y)));
+            }
+            if y + 1 < h as i64 && differs(a, n(x, y + 1)) {
+                ey[k] = ey[k].max(class(at(x, y), at(x, y + 1)));
+            }
+        }
+    }
+}
