@@ -363,9 +363,7 @@ fn shadow_volumes(
         .cloned()
         .collect();
     let sc = shadow::shadow_commands(ls, pj, &l, fx.shadow_form)?;
-    for (dst, src) in rows.iter_mut().zip(sc.rows) {
-        dst.extend(src);
-    }
+    shadow::append_rows(rows, sc.rows);
     stats.volumes += sc.stats.volumes;
     stats.span_words += sc.stats.span_words;
     stats.eye_inside += sc.stats.eye_inside;

@@ -9,7 +9,7 @@
 use crate::pixel_array::{Command, PixelArray, ProcState, MORE_SHADE};
 use crate::raster::{SpanRaster, SpanSink};
 use crate::setup::{SetupError, SnappedTri};
-use crate::stream::feed_tile;
+use crate::stream::{feed_routed, TileRouter};
 use pixelproc_formats::{SpanWord, MAX_SCREEN};
 use rayon::prelude::*;
 
@@ -135,7 +135,9 @@ impl SpanSource {
 }
 
 /// Renders every row on an array of `array_width` processors; a wider line is processed
-/// in tiles. Each tile is fed by [`feed_tile`], the per-tile form of the command stream:
+/// in tiles. Each tile is fed the per-tile form of the command stream
+/// ([`crate::stream::feed_tile`], its choice made for all tiles at once by a
+/// [`TileRouter`]):
 /// `ClearLine`, the row's OP span words that touch it (an OP span outside a tile is a
 /// no-op there, so the span feeder skips it), then the commands `extra(row, &mut cmds)`
 /// adds (shadow spans and controls, which all tiles see: IF acts on every processor).
@@ -163,11 +165,14 @@ where
                     PixelArray::new(array_width, 0),
                     Vec::new(),
                     vec![Vec::new(); tiles],
+                    TileRouter::default(),
+                    vec![Vec::new(); tiles],
                 )
             },
-            |(arr, cmds, per_tile), (j, (row, mrow))| {
+            |(arr, cmds, per_tile, router, routed), (j, (row, mrow))| {
                 cmds.clear();
                 extra(j as u32, cmds);
+                router.route(cmds, array_width as u32, routed);
                 for t in per_tile.iter_mut() {
                     t.clear();
                 }
@@ -182,7 +187,7 @@ where
                     let base = (t * array_width) as u32;
                     arr.set_base(base);
                     let ops = list.iter().map(|&k| &spans[k as usize]);
-                    feed_tile(arr, bg, ops, cmds, base, array_width as u32);
+                    feed_routed(arr, bg, ops, cmds, &routed[t]);
                     let n = (w - base).min(array_width as u32) as usize;
                     row[base as usize..base as usize + n].copy_from_slice(&arr.state()[..n]);
                     if more_stride > 0 && !arr.shade_regs().is_empty() {

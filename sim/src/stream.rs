@@ -128,6 +128,119 @@ pub fn feed_tile<'a>(
     }
 }
 
+/// Feeds one tile as [`feed_tile`] does, with the row's other commands already chosen
+/// by a [`TileRouter`]: `ClearLine{bg}`, the OP span words `ops`, then `cmds[k]` for each
+/// `k` of `list`.
+pub fn feed_routed<'a>(
+    sink: &mut impl CommandSink,
+    bg: u32,
+    ops: impl IntoIterator<Item = &'a SpanWord>,
+    cmds: &[Command],
+    list: &[u32],
+) {
+    sink.command(&Command::ClearLine { bg });
+    for w in ops {
+        sink.span(w);
+    }
+    for &k in list {
+        sink.command(&cmds[k as usize]);
+    }
+}
+
+/// [`feed_tile`]'s choice of commands for every tile of a row at once: one pass over the
+/// row's commands instead of one per tile. `lists[t]` receives, in order, the indices
+/// into `cmds` of the commands `feed_tile` passes to tile `t` (columns `t·n .. t·n + n`);
+/// a command goes to the tiles it touches, an IF span or a control to all, an EV span to
+/// its own tiles and those a span of its volume touched (all after an IF), a `Check` to
+/// its own tiles. The scratch state is kept between rows (no allocation per row).
+#[derive(Debug, Default)]
+pub struct TileRouter {
+    /// Per tile: touched by a span since the last EV or `Check`.
+    touched: Vec<bool>,
+    /// The tiles whose `touched` is set (to clear them without a sweep).
+    marked: Vec<usize>,
+    /// An IF span since the last EV or `Check`: every tile counts as touched.
+    all: bool,
+}
+
+impl TileRouter {
+    /// Fills `lists` (one per tile, cleared first) for the commands `cmds` on tiles of `n`
+    /// processors.
+    pub fn route(&mut self, cmds: &[Command], n: u32, lists: &mut [Vec<u32>]) {
+        let tiles = lists.len();
+        for l in lists.iter_mut() {
+            l.clear();
+        }
+        self.touched.clear();
+        self.touched.resize(tiles, false);
+        self.marked.clear();
+        self.all = false;
+        // The tiles [a, b] a range touches (`feed_tile`'s `touches`), if any.
+        let range = |xl: u16, xr: u16| {
+            let (a, b) = (xl as usize / n as usize, xr as usize / n as usize);
+            (xl <= xr && a < tiles).then(|| (a, b.min(tiles - 1)))
+        };
+        for (i, c) in cmds.iter().enumerate() {
+            let i = i as u32;
+            match c {
+                Command::Span(w) => match w.attr {
+                    Attr::Op | Attr::Sp => {
+                        if let Some((a, b)) = range(w.xl, w.xr) {
+                            for (t, list) in lists.iter_mut().enumerate().take(b + 1).skip(a) {
+                                list.push(i);
+                                if !self.touched[t] {
+                                    self.touched[t] = true;
+                                    self.marked.push(t);
+                                }
+                            }
+                        }
+                    }
+                    Attr::If => {
+                        self.all = true;
+                        lists.iter_mut().for_each(|l| l.push(i));
+                    }
+                    Attr::Ev => {
+                        if self.all {
+                            lists.iter_mut().for_each(|l| l.push(i));
+                        } else {
+                            let own = range(w.xl, w.xr);
+                            for &t in &self.marked {
+                                if own.is_none_or(|(a, b)| t < a || t > b) {
+                                    lists[t].push(i);
+                                }
+                            }
+                            if let Some((a, b)) = own {
+                                for l in &mut lists[a..=b] {
+                                    l.push(i);
+                                }
+                            }
+                        }
+                        self.reset();
+                    }
+                },
+                Command::Check { xl, xr } => {
+                    if let Some((a, b)) = range(*xl, *xr) {
+                        for l in &mut lists[a..=b] {
+                            l.push(i);
+                        }
+                    }
+                    self.reset();
+                }
+                _ => lists.iter_mut().for_each(|l| l.push(i)),
+            }
+        }
+    }
+
+    /// Ends a volume: no tile touched.
+    fn reset(&mut self) {
+        for &t in &self.marked {
+            self.touched[t] = false;
+        }
+        self.marked.clear();
+        self.all = false;
+    }
+}
+
 /// The per-row and per-tile command stream of a scene (see the module header).
 pub struct SceneStream {
     /// Background, RGB8.
@@ -168,9 +281,7 @@ impl SceneStream {
             let pj = Projector::new(ls);
             for l in &lights {
                 let sc = shadow::shadow_commands(ls, &pj, std::slice::from_ref(l), form)?;
-                for (dst, add) in stream.shadow.iter_mut().zip(sc.rows) {
-                    dst.extend(add);
-                }
+                shadow::append_rows(&mut stream.shadow, sc.rows);
                 stream.shadow_stats.volumes += sc.stats.volumes;
                 stream.shadow_stats.span_words += sc.stats.span_words;
                 stream.shadow_stats.eye_inside += sc.stats.eye_inside;
@@ -279,5 +390,48 @@ mod tests {
             frame.px.iter().any(|p| p.mask != 0),
             "some pixel is shadowed"
         );
+    }
+
+    /// The router picks, for every tile, exactly the commands `feed_tile` passes to it, in
+    /// the same order: random rows of spans (every attribute, empty and out-of-screen
+    /// ranges), checks and controls, on several array widths.
+    #[test]
+    fn the_router_sends_each_tile_what_feed_tile_sends() {
+        let mut rng = crate::rng::XorShift64Star(0x005e_ed0f_7113);
+        let mut router = TileRouter::default();
+        for case in 0..400 {
+            let n = [1u32, 3, 8, 16, 64][case % 5];
+            let width = 1 + (rng.next_u64() % 300) as u32;
+            let tiles = width.div_ceil(n) as usize;
+            let x =
+                |r: &mut crate::rng::XorShift64Star| (r.next_u64() % (width as u64 + 40)) as u16;
+            let cmds: Vec<Command> = (0..rng.next_u64() % 60)
+                .map(|_| match rng.next_u64() % 10 {
+                    0..=5 => Command::Span(SpanWord {
+                        attr: [Attr::Op, Attr::Sp, Attr::Sp, Attr::Ev, Attr::Ev, Attr::If]
+                            [(rng.next_u64() % 6) as usize],
+                        xl: x(&mut rng),
+                        xr: x(&mut rng),
+                        ..Default::default()
+                    }),
+                    6 => Command::Check {
+                        xl: x(&mut rng),
+                        xr: x(&mut rng),
+                    },
+                    7 => Command::ClearFlags,
+                    8 => Command::LatchShadow { bit: 2 },
+                    _ => Command::AccumulateShadow,
+                })
+                .collect();
+            let mut lists = vec![Vec::new(); tiles];
+            router.route(&cmds, n, &mut lists);
+            for (t, list) in lists.iter().enumerate() {
+                let base = t as u32 * n;
+                let (mut want, mut got) = (Vec::new(), Vec::new());
+                feed_tile(&mut want, 0, [], &cmds, base, n);
+                feed_routed(&mut got, 0, [], &cmds, list);
+                assert_eq!(got, want, "case {case}, n {n}, tile {t}");
+            }
+        }
     }
 }

@@ -245,9 +245,6 @@ pub fn shadow_commands(
     let mut stats = ShadowStats::default();
     for l in lights {
         for &s in &l.samples {
-            for r in rows.iter_mut() {
-                r.push(Command::ClearFlags);
-            }
             let vols = volumes(&occ, s, pj.eye);
             stats.volumes += vols.len();
             stats.eye_inside += vols.iter().filter(|v| v.eye_inside).count();
@@ -255,35 +252,64 @@ pub fn shadow_commands(
                 .par_iter()
                 .map(|v| volume_spans(pj, v, bbox, w, h))
                 .collect::<Result<_, _>>()?;
-            for (spans, near) in per_vol {
-                let inside = near == NearPlane::Inside;
-                stats.near_caps += (near == NearPlane::Cut) as usize;
-                let mut k = 0;
-                for j in 0..h {
-                    let start = k;
-                    while k < spans.len() && spans[k].0 == j {
-                        k += 1;
-                    }
-                    let row = &spans[start..k];
-                    if row.is_empty() && !inside {
-                        continue;
-                    }
-                    let out = &mut rows[j as usize];
-                    let before = out.len();
-                    emit_volume_row(out, row.iter().map(|x| x.1), inside, form, w);
-                    stats.span_words += (out.len() - before) as u64;
-                }
-            }
+            stats.near_caps += per_vol
+                .iter()
+                .filter(|(_, near)| *near == NearPlane::Cut)
+                .count();
             let end = match l.bit {
                 Some(bit) => Command::LatchShadow { bit },
                 None => Command::AccumulateShadow,
             };
-            for r in rows.iter_mut() {
-                r.push(end);
-            }
+            // Rows are independent: each band of rows walks every volume's spans (sorted
+            // by row) from its first row on, appending in volume order as a sequential
+            // pass over the volumes would.
+            const BAND: usize = 8;
+            stats.span_words += rows
+                .par_chunks_mut(BAND)
+                .enumerate()
+                .map(|(b, band)| {
+                    let j0 = (b * BAND) as u32;
+                    let mut words = 0u64;
+                    let mut cur: Vec<usize> = per_vol
+                        .iter()
+                        .map(|(spans, _)| spans.partition_point(|x| x.0 < j0))
+                        .collect();
+                    for (j, out) in (j0..).zip(band.iter_mut()) {
+                        out.push(Command::ClearFlags);
+                        for ((spans, near), k) in per_vol.iter().zip(cur.iter_mut()) {
+                            let start = *k;
+                            while *k < spans.len() && spans[*k].0 == j {
+                                *k += 1;
+                            }
+                            let inside = *near == NearPlane::Inside;
+                            if start == *k && !inside {
+                                continue;
+                            }
+                            let before = out.len();
+                            let row = spans[start..*k].iter().map(|x| x.1);
+                            emit_volume_row(out, row, inside, form, w);
+                            words += (out.len() - before) as u64;
+                        }
+                        out.push(end);
+                    }
+                    words
+                })
+                .sum::<u64>();
         }
     }
     Ok(ShadowCommands { rows, stats })
+}
+
+/// Appends `add`'s commands to each row of `rows` (one more light's commands); moves them
+/// when `rows` has none yet.
+pub fn append_rows(rows: &mut [Vec<Command>], add: Vec<Vec<Command>>) {
+    for (dst, src) in rows.iter_mut().zip(add) {
+        if dst.is_empty() {
+            *dst = src;
+        } else {
+            dst.extend(src);
+        }
+    }
 }
 
 /// Appends one volume's commands for one row.
