@@ -37,7 +37,7 @@
 //!
 //! Coverage, depth and intensity per sample come from [`super::sampler`].
 
-use super::sampler::{rasterize, Lattice};
+use super::sampler::{prepare_all, Lattice, LatticeRaster};
 use super::{AaError, AaFrame, AaStats};
 use crate::setup::SnappedTri;
 use rayon::prelude::*;
@@ -255,6 +255,118 @@ fn pixel_samples_into(p: &CornerParams, i: u32, j: u32, out: &mut PixelSamples) 
     }
 }
 
+/// The samples of every pixel of one row from two templates: a pixel's samples depend on
+/// the parity of its column only, up to a shift of their lattice column `a` by a fixed
+/// amount per two pixels (one for the corner lattices, which hold every other corner;
+/// two for lattices with a sample per pixel). [`pixel_samples_into`] of pixels 0 and 1
+/// gives the templates, of pixels 2 and 3 the shifts; `of(i)` equals
+/// `pixel_samples_into(p, i, j)` (tested).
+struct RowSamples {
+    /// Per column parity: the samples of pixel 0 or 1.
+    tpl: [PixelSamples; 2],
+    /// Per column parity and sample: the shift of `a` per two pixels.
+    adv: [[u32; 5]; 2],
+}
+
+impl RowSamples {
+    fn new(p: &CornerParams, j: u32) -> RowSamples {
+        let mut tpl = [PixelSamples::default(), PixelSamples::default()];
+        let mut adv = [[0u32; 5]; 2];
+        for q in 0..2 {
+            let mut next = PixelSamples::default();
+            pixel_samples_into(p, q as u32, j, &mut tpl[q]);
+            pixel_samples_into(p, q as u32 + 2, j, &mut next);
+            for (n, (t, s)) in tpl[q].as_slice().iter().zip(next.as_slice()).enumerate() {
+                adv[q][n] = s.1 - t.1;
+            }
+        }
+        RowSamples { tpl, adv }
+    }
+
+    /// The samples of pixel `i` of the row.
+    #[inline]
+    fn of(&self, i: u32) -> PixelSamples {
+        let q = (i & 1) as usize;
+        let k = i >> 1;
+        let mut out = PixelSamples {
+            n: self.tpl[q].n,
+            ..Default::default()
+        };
+        for n in 0..out.n {
+            let (l, a, b, w) = self.tpl[q].s[n];
+            out.s[n] = (l, a + k * self.adv[q][n], b, w);
+        }
+        out
+    }
+}
+
+/// Pixel rows per band of [`render_with`] (each band rasterizes the lattice rows it
+/// reads into its thread's buffers).
+const BAND_ROWS: u32 = 16;
+
+/// Per lattice (`n` of them), the range `(lo, hi)` of lattice rows the pixels of rows
+/// `j0 .. j1` read (`lo > hi`: none).
+fn read_rows(p: &CornerParams, n: usize, j0: u32, j1: u32) -> Vec<(u32, u32)> {
+    let mut r = vec![(u32::MAX, 0); n];
+    for j in j0..j1 {
+        let rows = RowSamples::new(p, j);
+        for tpl in &rows.tpl {
+            for &(l, _, b, _) in tpl.as_slice() {
+                r[l] = (r[l].0.min(b), r[l].1.max(b));
+            }
+        }
+    }
+    r
+}
+
+/// A band's rows `lo ..= hi` of one lattice (a thread's buffer).
+#[derive(Clone, Default)]
+struct SampleRows {
+    lo: u32,
+    nx: usize,
+    rgb: Vec<[u32; 3]>,
+    tri: Vec<i32>,
+    z: Vec<i64>,
+}
+
+impl SampleRows {
+    /// Rasterizes rows `lo ..= hi` of `lr`'s lattice; returns the depth evaluations of
+    /// the rows after `seen` (those an earlier band has not counted).
+    fn fill(&mut self, lr: &LatticeRaster, lo: u32, hi: u32, seen: Option<u32>) -> u64 {
+        self.lo = lo;
+        self.nx = lr.lattice().nx as usize;
+        let n = if lo > hi {
+            0
+        } else {
+            (hi - lo + 1) as usize * self.nx
+        };
+        self.z.resize(n, 0);
+        self.rgb.resize(n, [0; 3]);
+        self.tri.resize(n, 0);
+        let mut evals = 0;
+        for (k, b) in (lo..=hi).enumerate() {
+            let r = k * self.nx..(k + 1) * self.nx;
+            let e = lr.row(
+                b,
+                &mut self.z[r.clone()],
+                &mut self.rgb[r.clone()],
+                &mut self.tri[r],
+            );
+            if seen.is_none_or(|s| b > s) {
+                evals += e;
+            }
+        }
+        evals
+    }
+
+    /// The sample `(a, b)`: colour and owner.
+    #[inline]
+    fn at(&self, a: u32, b: u32) -> Sample {
+        let s = (b - self.lo) as usize * self.nx + a as usize;
+        (self.rgb[s], self.tri[s])
+    }
+}
+
 fn check(p: &CornerParams) -> Result<u64, AaError> {
     let w = p.weights;
     let total = w.inside as u64 + 3 * w.outside as u64 + if p.centre { w.centre as u64 } else { 0 };
@@ -323,54 +435,95 @@ pub fn render_with(
     let want_visible = visible;
     let total = check(p)?;
     let lats = lattices(p, width, height);
-    let bufs = rasterize(tris, &lats, bg);
-    let w = width as usize;
-    let mut rgb = vec![0u8; w * height as usize * 3];
-    let mut visible = vec![-1i32; w * height as usize];
+    let st = prepare_all(tris);
+    let lrs: Vec<LatticeRaster> = lats
+        .iter()
+        .map(|l| LatticeRaster::new(&st, l, bg))
+        .collect();
+    let (w, h) = (width as usize, height as usize);
+    let band = BAND_ROWS as usize;
+    let mut rgb = vec![0u8; w * h * 3];
+    // The visible-triangle AOV only when wanted (else one empty slice per band).
+    let mut visible = if want_visible {
+        vec![-1i32; w * h]
+    } else {
+        Vec::new()
+    };
+    let bands = h.div_ceil(band);
+    let mut vis_bands: Vec<&mut [i32]> = if want_visible {
+        visible.chunks_mut(w * band).collect()
+    } else {
+        (0..bands).map(|_| &mut [][..]).collect()
+    };
     let corner = p.pattern == Pattern::Corner;
     // The hardware reads each corner sample once: the samples of a pixel row's top edge
     // come from a row buffer (the first row's are read before it), sample 2 of every
-    // pixel but the first is the previous pixel's sample 3. Rows run in parallel reading
-    // the sample memory directly (the same values) and count the reads that order makes.
+    // pixel but the first is the previous pixel's sample 3. Bands of rows run in parallel
+    // reading the samples directly (the same values) and count the reads that order makes.
     let first_row_reads = if corner { width as u64 + 1 } else { 0 };
-    let reads: u64 = rgb
-        .par_chunks_mut(3 * w)
-        .zip(visible.par_chunks_mut(w))
+    let (reads, evals) = rgb
+        .par_chunks_mut(3 * w * band)
+        .zip(vis_bands.par_iter_mut())
         .enumerate()
         .map_init(
-            || (PixelSamples::default(), Vec::new()),
-            |(smp, wsum), (j, (rgb_row, vis_row))| {
+            || (vec![SampleRows::default(); lrs.len()], Vec::new()),
+            |(bufs, wsum), (k, (rgb_band, vis_band))| {
+                let j0 = (k * band) as u32;
+                let j1 = (j0 + BAND_ROWS).min(height);
+                // Each lattice row is counted by the first band that reads it.
+                let prev = (k > 0).then(|| read_rows(p, lrs.len(), j0 - BAND_ROWS, j0));
+                let mut evals = 0u64;
+                for (l, (&(lo, hi), buf)) in read_rows(p, lrs.len(), j0, j1)
+                    .iter()
+                    .zip(bufs.iter_mut())
+                    .enumerate()
+                {
+                    let seen = prev.as_ref().map(|r| r[l].1);
+                    evals += buf.fill(&lrs[l], lo, hi, seen);
+                }
                 let mut reads = 0u64;
                 let mut vals = [(([0u32; 3], -1i32), 0u32); 5];
-                for i in 0..width {
-                    pixel_samples_into(p, i, j as u32, smp);
-                    for (n, &(l, a, b, wt)) in smp.as_slice().iter().enumerate() {
-                        reads += match n {
-                            0 | 1 if corner => 0,
-                            2 if corner && i > 0 => 0,
-                            _ => 1,
-                        };
-                        let s = bufs[l].idx(a, b);
-                        vals[n] = ((bufs[l].rgb[s], bufs[l].tri[s]), wt);
+                for j in j0..j1 {
+                    let rows = RowSamples::new(p, j);
+                    let r = (j - j0) as usize;
+                    for i in 0..width {
+                        let smp = rows.of(i);
+                        let smp = smp.as_slice();
+                        for (n, &(l, a, b, wt)) in smp.iter().enumerate() {
+                            reads += match n {
+                                0 | 1 if corner => 0,
+                                2 if corner && i > 0 => 0,
+                                _ => 1,
+                            };
+                            vals[n] = (bufs[l].at(a, b), wt);
+                        }
+                        let (c, t) = resolve_pixel(
+                            &vals[..smp.len()],
+                            total,
+                            want_visible.then_some(&mut *wsum),
+                        );
+                        let px = r * w + i as usize;
+                        rgb_band[3 * px..3 * px + 3].copy_from_slice(&c);
+                        if want_visible {
+                            vis_band[px] = t;
+                        }
                     }
-                    let (c, t) =
-                        resolve_pixel(&vals[..smp.n], total, want_visible.then_some(&mut *wsum));
-                    rgb_row[3 * i as usize..3 * i as usize + 3].copy_from_slice(&c);
-                    vis_row[i as usize] = t;
                 }
-                reads
+                (reads, evals)
             },
         )
-        .sum::<u64>()
-        + first_row_reads;
+        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+    let reads = reads + first_row_reads;
+    drop(vis_bands);
+    let samples: u64 = lats.iter().map(|l| l.nx as u64 * l.ny as u64).sum();
     Ok(AaFrame {
         width,
         height,
         rgb,
         visible: want_visible.then_some(visible),
         stats: AaStats {
-            depth_evals: bufs.iter().map(|b| b.depth_evals).sum(),
-            samples_written: bufs.iter().map(|b| b.z.len() as u64).sum(),
+            depth_evals: evals,
+            samples_written: samples,
             sample_reads: reads,
             ..Default::default()
         },
@@ -489,6 +642,79 @@ fn square_fraction_below(nx: f64, ny: f64, d: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Bands of rows rasterizing only the lattice rows they read give the image, the
+    /// visible triangles and the counters of the whole lattices rasterized at once and
+    /// resolved pixel by pixel (written out here), for every pattern, with and without
+    /// the centre sample, on even and odd frame sizes.
+    #[test]
+    fn bands_equal_whole_lattices() {
+        use crate::aa::sampler::rasterize;
+        let mut ls = crate::scene::load_builtin("default").unwrap();
+        for (w, h) in [(61, 37), (64, 48), (33, 1)] {
+            ls.scene.width = w;
+            ls.scene.height = h;
+            let tris = crate::frontend::project(&ls).unwrap().tris;
+            for pattern in [Pattern::Corner, Pattern::D3d4x, Pattern::Grid2x2] {
+                for centre in [false, true] {
+                    let p = CornerParams::new(pattern, centre);
+                    let got = render(&tris, w, h, [9, 8, 7], &p).unwrap();
+                    let total = check(&p).unwrap();
+                    let bufs = rasterize(&tris, &lattices(&p, w, h), [9, 8, 7]);
+                    let mut wsum = Vec::new();
+                    for j in 0..h {
+                        for i in 0..w {
+                            let vals: Vec<(Sample, u32)> = pixel_samples(&p, i, j)
+                                .into_iter()
+                                .map(|(l, a, b, wt)| {
+                                    let s = bufs[l].idx(a, b);
+                                    ((bufs[l].rgb[s], bufs[l].tri[s]), wt)
+                                })
+                                .collect();
+                            let (c, t) = resolve_pixel(&vals, total, Some(&mut wsum));
+                            let px = (j * w + i) as usize;
+                            assert_eq!(got.rgb[3 * px..3 * px + 3], c, "{pattern:?} ({i}, {j})");
+                            assert_eq!(got.visible.as_ref().unwrap()[px], t);
+                        }
+                    }
+                    let evals: u64 = bufs.iter().map(|b| b.depth_evals).sum();
+                    let written: u64 = bufs.iter().map(|b| b.z.len() as u64).sum();
+                    assert_eq!(got.stats.depth_evals, evals, "{pattern:?} {w}x{h}");
+                    assert_eq!(got.stats.samples_written, written);
+                    let hidden = render_with(&tris, w, h, [9, 8, 7], &p, false).unwrap();
+                    assert_eq!(hidden.rgb, got.rgb);
+                    assert_eq!(hidden.stats.depth_evals, evals);
+                }
+            }
+        }
+    }
+
+    /// The per-row templates give every pixel the samples `pixel_samples` gives it, for
+    /// every pattern with and without the centre sample (weights that tell the samples
+    /// apart).
+    #[test]
+    fn row_templates_give_each_pixels_samples() {
+        for pattern in [Pattern::Corner, Pattern::D3d4x, Pattern::Grid2x2] {
+            for centre in [false, true] {
+                let mut p = CornerParams::new(pattern, centre);
+                p.weights = CornerWeights {
+                    inside: 5,
+                    outside: 3,
+                    centre: 7,
+                };
+                for j in 0..7 {
+                    let rows = RowSamples::new(&p, j);
+                    for i in 0..41 {
+                        assert_eq!(
+                            rows.of(i).as_slice(),
+                            pixel_samples(&p, i, j),
+                            "{pattern:?} centre {centre} pixel ({i}, {j})"
+                        );
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn corner_pattern_matches_seed_example() {

@@ -132,16 +132,27 @@ fn prepare(k: usize, t: &SnappedTri) -> Option<SampTri> {
 
 /// Rasterizes `tris` (scene order, z-buffer) onto each lattice; background `bg`.
 pub fn rasterize(tris: &[SnappedTri], lats: &[Lattice], bg: [u8; 3]) -> Vec<SampleBuf> {
-    let st: Vec<SampTri> = tris
-        .iter()
-        .enumerate()
-        .filter_map(|(k, t)| prepare(k, t))
-        .collect();
-    let bgq = bg.map(|v| ((v as u32) << 12) + 2048);
-    lats.iter().map(|l| rasterize_one(&st, l, bgq)).collect()
+    let st = prepare_all(tris);
+    lats.iter()
+        .map(|l| LatticeRaster::new(&st, l, bg).rasterize())
+        .collect()
 }
 
-/// Lattice rows per bin band of [`rasterize_one`].
+/// The triangles of `tris` prepared for sampling (degenerate ones dropped), in scene
+/// order.
+pub struct Prepared(Vec<SampTri>);
+
+/// Prepares `tris` for [`LatticeRaster`].
+pub fn prepare_all(tris: &[SnappedTri]) -> Prepared {
+    Prepared(
+        tris.iter()
+            .enumerate()
+            .filter_map(|(k, t)| prepare(k, t))
+            .collect(),
+    )
+}
+
+/// Lattice rows per bin band of [`LatticeRaster`].
 const SAMPLE_BAND: i64 = 8;
 
 /// The range of `a ≥ a0` (up to `a1`) where an edge with value `e0` at `a0` and step
@@ -164,102 +175,143 @@ fn inside_range(ed: &EdgeFn, e0: i64, de: i64, a0: i64, a1: i64) -> (i64, i64) {
     }
 }
 
-fn rasterize_one(st: &[SampTri], l: &Lattice, bgq: [u32; 3]) -> SampleBuf {
-    let n = l.nx as usize * l.ny as usize;
-    let mut z = vec![i64::MAX; n];
-    let mut rgb = vec![bgq; n];
-    let mut tri = vec![-1i32; n];
-    let nx = l.nx as usize;
-    // Bin the triangles by the lattice rows their bounding boxes reach (scene order kept
-    // within a band): each row visits only the triangles that can cover it.
-    let bands = Bands::new(
-        SAMPLE_BAND,
-        l.ny,
-        st.iter().map(|t| {
-            // Rows b with bb[1]·den ≤ 256·(b·sy + oy) ≤ bb[3]·den.
-            let lo = ceil_div(t.bb[1] * l.den - 256 * l.oy, 256 * l.sy);
-            let hi = (t.bb[3] * l.den - 256 * l.oy).div_euclid(256 * l.sy);
-            (lo, hi)
-        }),
-    );
-    // Per triangle, the steps per sample of its depth and colour planes on this lattice:
-    // the same on every row, so computed once.
-    let steps: Vec<[i128; 4]> = st
-        .par_iter()
-        .map(|t| {
-            [
-                t.z.lattice_step(l),
-                t.c[0].lattice_step(l),
-                t.c[1].lattice_step(l),
-                t.c[2].lattice_step(l),
-            ]
-        })
-        .collect();
-    let evals: u64 = z
-        .par_chunks_mut(nx)
-        .zip(rgb.par_chunks_mut(nx))
-        .zip(tri.par_chunks_mut(nx))
-        .enumerate()
-        .map(|(b, ((zr, cr), tr))| {
-            let b = b as i64;
-            // Sample y in Q.8·den.
-            let yq = 256 * (b * l.sy + l.oy);
-            let mut evals = 0u64;
-            for &ti in bands.members(bands.of_row(b)) {
-                let t = &st[ti as usize];
-                if yq < t.bb[1] * l.den || yq > t.bb[3] * l.den {
-                    continue;
-                }
-                // a range from the bounding box: 256·(a·sx + ox) ∈ [xmin·den, xmax·den].
-                let a_lo = ceil_div(t.bb[0] * l.den - 256 * l.ox, 256 * l.sx).max(0);
-                let a_hi = (t.bb[2] * l.den - 256 * l.ox)
-                    .div_euclid(256 * l.sx)
-                    .min(l.nx as i64 - 1);
-                if a_lo > a_hi {
-                    continue;
-                }
-                // Narrowed to the samples inside all three edges (the only ones that do
-                // anything).
-                let (mut lo, mut hi) = (a_lo, a_hi);
-                for ed in &t.edges {
-                    let e0 = ed.a * 256 * (a_lo * l.sx + l.ox) + ed.b * yq + ed.c * l.den;
-                    let (p, q) = inside_range(ed, e0, ed.a * 256 * l.sx, a_lo, a_hi);
-                    lo = lo.max(p);
-                    hi = hi.min(q);
-                }
-                if lo > hi {
-                    continue;
-                }
-                evals += (hi - lo + 1) as u64;
-                let sp = &steps[ti as usize];
-                let (z0, dz) = (t.z.lattice_value(l, b), sp[0]);
-                let mut zacc = z0 + lo as i128 * dz;
-                let mut cols: Option<[(i128, i128); 3]> = None;
-                for a in lo..=hi {
-                    let zv = (zacc >> 20) as i64;
-                    zacc += dz;
-                    let s = a as usize;
-                    if depth::passes(zv, zr[s], t.decal) {
-                        zr[s] = zv;
-                        tr[s] = t.idx;
-                        let cc = *cols.get_or_insert_with(|| {
-                            [0, 1, 2].map(|ch| (t.c[ch].lattice_value(l, b), sp[1 + ch]))
-                        });
-                        for ch in 0..3 {
-                            let v = (cc[ch].0 + a as i128 * cc[ch].1) >> 32;
-                            cr[s][ch] = v.clamp(0, (255 << 12) + 4095) as u32;
-                        }
+/// One lattice's rasterizer: the triangles binned by the lattice rows their bounding
+/// boxes reach and their plane steps per sample, set up once; any lattice row can then be
+/// rasterized on its own ([`LatticeRaster::row`]), with the same result as the whole
+/// lattice at once, since every sample is independent.
+pub struct LatticeRaster<'a> {
+    st: &'a [SampTri],
+    lat: Lattice,
+    bgq: [u32; 3],
+    bands: Bands,
+    /// Per triangle, the steps per sample of its depth and colour planes on this
+    /// lattice: the same on every row, so computed once.
+    steps: Vec<[i128; 4]>,
+}
+
+impl<'a> LatticeRaster<'a> {
+    /// Sets up lattice `l` for the prepared triangles `st`, background `bg`.
+    pub fn new(st: &'a Prepared, l: &Lattice, bg: [u8; 3]) -> LatticeRaster<'a> {
+        let st = &st.0[..];
+        // Bin the triangles by the lattice rows their bounding boxes reach (scene order
+        // kept within a band): each row visits only the triangles that can cover it.
+        let bands = Bands::new(
+            SAMPLE_BAND,
+            l.ny,
+            st.iter().map(|t| {
+                // Rows b with bb[1]·den ≤ 256·(b·sy + oy) ≤ bb[3]·den.
+                let lo = ceil_div(t.bb[1] * l.den - 256 * l.oy, 256 * l.sy);
+                let hi = (t.bb[3] * l.den - 256 * l.oy).div_euclid(256 * l.sy);
+                (lo, hi)
+            }),
+        );
+        let steps = st
+            .par_iter()
+            .map(|t| {
+                [
+                    t.z.lattice_step(l),
+                    t.c[0].lattice_step(l),
+                    t.c[1].lattice_step(l),
+                    t.c[2].lattice_step(l),
+                ]
+            })
+            .collect();
+        LatticeRaster {
+            st,
+            lat: *l,
+            bgq: bg.map(|v| ((v as u32) << 12) + 2048),
+            bands,
+            steps,
+        }
+    }
+
+    /// The lattice.
+    pub fn lattice(&self) -> &Lattice {
+        &self.lat
+    }
+
+    /// The whole lattice, rows in parallel.
+    pub fn rasterize(&self) -> SampleBuf {
+        let l = &self.lat;
+        let n = l.nx as usize * l.ny as usize;
+        let mut z = vec![0; n];
+        let mut rgb = vec![[0; 3]; n];
+        let mut tri = vec![0; n];
+        let nx = l.nx as usize;
+        let evals: u64 = z
+            .par_chunks_mut(nx)
+            .zip(rgb.par_chunks_mut(nx))
+            .zip(tri.par_chunks_mut(nx))
+            .enumerate()
+            .map(|(b, ((zr, cr), tr))| self.row(b as u32, zr, cr, tr))
+            .sum();
+        SampleBuf {
+            lat: *l,
+            z,
+            rgb,
+            tri,
+            depth_evals: evals,
+        }
+    }
+
+    /// Rasterizes lattice row `b` into `zr`, `cr`, `tr` (each `nx` long), which it first
+    /// sets to the background; returns the depth evaluations made.
+    pub fn row(&self, b: u32, zr: &mut [i64], cr: &mut [[u32; 3]], tr: &mut [i32]) -> u64 {
+        let l = &self.lat;
+        zr.fill(i64::MAX);
+        cr.fill(self.bgq);
+        tr.fill(-1);
+        let b = b as i64;
+        // Sample y in Q.8·den.
+        let yq = 256 * (b * l.sy + l.oy);
+        let mut evals = 0u64;
+        for &ti in self.bands.members(self.bands.of_row(b)) {
+            let t = &self.st[ti as usize];
+            if yq < t.bb[1] * l.den || yq > t.bb[3] * l.den {
+                continue;
+            }
+            // a range from the bounding box: 256·(a·sx + ox) ∈ [xmin·den, xmax·den].
+            let a_lo = ceil_div(t.bb[0] * l.den - 256 * l.ox, 256 * l.sx).max(0);
+            let a_hi = (t.bb[2] * l.den - 256 * l.ox)
+                .div_euclid(256 * l.sx)
+                .min(l.nx as i64 - 1);
+            if a_lo > a_hi {
+                continue;
+            }
+            // Narrowed to the samples inside all three edges (the only ones that do
+            // anything).
+            let (mut lo, mut hi) = (a_lo, a_hi);
+            for ed in &t.edges {
+                let e0 = ed.a * 256 * (a_lo * l.sx + l.ox) + ed.b * yq + ed.c * l.den;
+                let (p, q) = inside_range(ed, e0, ed.a * 256 * l.sx, a_lo, a_hi);
+                lo = lo.max(p);
+                hi = hi.min(q);
+            }
+            if lo > hi {
+                continue;
+            }
+            evals += (hi - lo + 1) as u64;
+            let sp = &self.steps[ti as usize];
+            let (z0, dz) = (t.z.lattice_value(l, b), sp[0]);
+            let mut zacc = z0 + lo as i128 * dz;
+            let mut cols: Option<[(i128, i128); 3]> = None;
+            for a in lo..=hi {
+                let zv = (zacc >> 20) as i64;
+                zacc += dz;
+                let s = a as usize;
+                if depth::passes(zv, zr[s], t.decal) {
+                    zr[s] = zv;
+                    tr[s] = t.idx;
+                    let cc = *cols.get_or_insert_with(|| {
+                        [0, 1, 2].map(|ch| (t.c[ch].lattice_value(l, b), sp[1 + ch]))
+                    });
+                    for ch in 0..3 {
+                        let v = (cc[ch].0 + a as i128 * cc[ch].1) >> 32;
+                        cr[s][ch] = v.clamp(0, (255 << 12) + 4095) as u32;
                     }
                 }
             }
-            evals
-        })
-        .sum();
-    SampleBuf {
-        lat: *l,
-        z,
-        rgb,
-        tri,
-        depth_evals: evals,
+        }
+        evals
     }
 }
