@@ -13,7 +13,8 @@
 //! ([`pixelproc_sim::pipeline::render`]), its ratio to the plain frame, the time per unit
 //! of work the method counts (span word, fragment, shadow span word, sub-scanline piece,
 //! sample), and the peak resident memory of one render (Linux: the high-water mark is
-//! reset before each case; elsewhere not measured).
+//! reset before each case; elsewhere not measured). Large buffers are fresh mappings in
+//! every render (glibc), so neither times nor peaks depend on the order of the cases.
 
 use std::collections::BTreeMap;
 use std::fmt::Write;
@@ -266,13 +267,32 @@ fn peak_mib() -> Option<f64> {
     Some(kib / 1024.0)
 }
 
+/// Makes every large allocation a fresh mapping, returned to the system when freed
+/// (glibc: a fixed `M_MMAP_THRESHOLD` of 128 KiB, its default, which turns off the
+/// threshold's dynamic growth). Without it glibc raises the threshold after a case frees a
+/// large buffer, and later cases reuse that heap memory without page faults: a case's time
+/// would depend on which cases ran before it (the plain frame of the `large` scene
+/// measured 23–41 ms in interleaved runs of one binary). With it, every timed render
+/// pays for its memory as a one-render process does. Elsewhere a no-op.
+fn fresh_allocations() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: `mallopt` only changes a malloc tuning parameter; it is called before the
+    // renders start and has no memory-safety preconditions.
+    unsafe {
+        libc::mallopt(libc::M_MMAP_THRESHOLD, 128 * 1024);
+    }
+}
+
 /// Renders every case of every scene `runs` times (after one warm-up render each, which
 /// also measures the peak memory) and returns the medians. `progress` is told each scene.
+/// Sets the allocator so that each render allocates as a fresh process would
+/// ([`fresh_allocations`]).
 pub fn run_all_methods(
     scenes: &[LoadedScene],
     runs: usize,
     mut progress: impl FnMut(&str),
 ) -> anyhow::Result<Vec<Measured>> {
+    fresh_allocations();
     let cases = cases();
     let mut out = Vec::new();
     for ls in scenes {
