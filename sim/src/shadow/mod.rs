@@ -260,23 +260,39 @@ pub fn shadow_commands(
                 Some(bit) => Command::LatchShadow { bit },
                 None => Command::AccumulateShadow,
             };
-            // Rows are independent: each band of rows walks every volume's spans (sorted
-            // by row) from its first row on, appending in volume order as a sequential
-            // pass over the volumes would.
+            // The rows a volume emits on: those of its spans (sorted by row), or every row
+            // when the eye is inside it (its IF span comes even without spans).
+            let reach: Vec<Option<(u32, u32)>> = per_vol
+                .iter()
+                .map(|(spans, near)| match (near, spans.first(), spans.last()) {
+                    (NearPlane::Inside, _, _) => Some((0, u32::MAX)),
+                    (_, Some(a), Some(b)) => Some((a.0, b.0)),
+                    _ => None,
+                })
+                .collect();
+            // Rows are independent: each band of rows walks the spans of the volumes that
+            // reach it from its first row on, appending in volume order as a sequential
+            // pass over all volumes would (a volume that does not reach a row adds
+            // nothing to it).
             const BAND: usize = 8;
             stats.span_words += rows
                 .par_chunks_mut(BAND)
                 .enumerate()
                 .map(|(b, band)| {
                     let j0 = (b * BAND) as u32;
+                    let j1 = j0 + band.len() as u32 - 1;
                     let mut words = 0u64;
-                    let mut cur: Vec<usize> = per_vol
+                    let here: Vec<usize> = (0..per_vol.len())
+                        .filter(|&v| reach[v].is_some_and(|(a, z)| a <= j1 && z >= j0))
+                        .collect();
+                    let mut cur: Vec<usize> = here
                         .iter()
-                        .map(|(spans, _)| spans.partition_point(|x| x.0 < j0))
+                        .map(|&v| per_vol[v].0.partition_point(|x| x.0 < j0))
                         .collect();
                     for (j, out) in (j0..).zip(band.iter_mut()) {
                         out.push(Command::ClearFlags);
-                        for ((spans, near), k) in per_vol.iter().zip(cur.iter_mut()) {
+                        for (&v, k) in here.iter().zip(cur.iter_mut()) {
+                            let (spans, near) = &per_vol[v];
                             let start = *k;
                             while *k < spans.len() && spans[*k].0 == j {
                                 *k += 1;

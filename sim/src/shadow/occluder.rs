@@ -16,33 +16,46 @@ pub struct Occluder {
     pub(super) edges: Vec<([DVec3; 2], Vec<usize>)>,
 }
 
-/// Splits every shadow-casting mesh into connected components.
+/// Splits every shadow-casting mesh into connected components (meshes in parallel; the
+/// occluders in mesh order, then component order).
 pub fn occluders(ls: &LoadedScene) -> Vec<Occluder> {
-    let mut out = Vec::new();
-    for (m, mr) in ls.meshes.iter().zip(&ls.scene.meshes) {
-        if !mr.casts_shadows {
-            continue;
-        }
-        let (pos, faces) = weld(m);
-        let edge_faces = edge_faces(&faces);
-        let comps = components(faces.len(), &edge_faces);
-        // Each component's edges (those whose first face is in it), in one pass over the
-        // edges rather than one per component.
-        let mut comp_of = vec![0usize; faces.len()];
-        for (c, fl) in comps.iter().enumerate() {
-            for &f in fl {
-                comp_of[f] = c;
+    let per_mesh: Vec<Vec<Occluder>> = ls
+        .meshes
+        .par_iter()
+        .zip(&ls.scene.meshes)
+        .map(|(m, mr)| {
+            if mr.casts_shadows {
+                mesh_occluders(m)
+            } else {
+                Vec::new()
             }
-        }
-        let mut comp_edges: Vec<Vec<&(usize, usize)>> = vec![Vec::new(); comps.len()];
-        for (e, fs) in &edge_faces {
-            comp_edges[comp_of[fs[0]]].push(e);
-        }
-        for (fl, keys) in comps.iter().zip(comp_edges) {
-            out.push(occluder(&pos, &faces, &edge_faces, fl, keys));
+        })
+        .collect();
+    per_mesh.concat()
+}
+
+/// One mesh's occluders, one per connected component.
+fn mesh_occluders(m: &crate::scene::LoadedMesh) -> Vec<Occluder> {
+    let (pos, faces) = weld(m);
+    let edge_faces = edge_faces(&faces);
+    let comps = components(faces.len(), &edge_faces);
+    // Each component's edges (those whose first face is in it), in one pass over the
+    // edges rather than one per component.
+    let mut comp_of = vec![0usize; faces.len()];
+    for (c, fl) in comps.iter().enumerate() {
+        for &f in fl {
+            comp_of[f] = c;
         }
     }
-    out
+    let mut comp_edges: Vec<Vec<&(usize, usize)>> = vec![Vec::new(); comps.len()];
+    for (e, fs) in &edge_faces {
+        comp_edges[comp_of[fs[0]]].push(e);
+    }
+    comps
+        .iter()
+        .zip(comp_edges)
+        .map(|(fl, keys)| occluder(&pos, &faces, &edge_faces, fl, keys))
+        .collect()
 }
 
 /// Welds a mesh's positions bit-exactly; drops faces that become degenerate.
