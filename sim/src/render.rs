@@ -134,6 +134,16 @@ impl SpanSource {
     }
 }
 
+/// `buf` in chunks of `chunk` items to hand out beside `count` rows or bands in parallel;
+/// `count` empty slices when `buf` is empty (a per-pixel buffer that is not wanted).
+pub(crate) fn chunks_or_empty<T>(buf: &mut [T], chunk: usize, count: usize) -> Vec<&mut [T]> {
+    if buf.is_empty() {
+        (0..count).map(|_| &mut [][..]).collect()
+    } else {
+        buf.chunks_mut(chunk).collect()
+    }
+}
+
 /// Renders every row on an array of `array_width` processors; a wider line is processed
 /// in tiles. Each tile is fed the per-tile form of the command stream
 /// ([`crate::stream::feed_tile`], its choice made for all tiles at once by a
@@ -151,11 +161,7 @@ where
     let mut px = vec![ProcState::default(); (w * h) as usize];
     let more_stride = if src.max_chan >= 2 { MORE_SHADE } else { 0 };
     let mut more = vec![0u32; (w * h) as usize * more_stride];
-    let mut more_rows: Vec<&mut [u32]> = if more_stride > 0 {
-        more.chunks_mut(w as usize * more_stride).collect()
-    } else {
-        (0..h).map(|_| &mut [][..]).collect()
-    };
+    let mut more_rows = chunks_or_empty(&mut more, w as usize * more_stride, h as usize);
     px.par_chunks_mut(w as usize)
         .zip(more_rows.par_iter_mut())
         .enumerate()

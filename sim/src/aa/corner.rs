@@ -449,12 +449,7 @@ pub fn render_with(
     } else {
         Vec::new()
     };
-    let bands = h.div_ceil(band);
-    let mut vis_bands: Vec<&mut [i32]> = if want_visible {
-        visible.chunks_mut(w * band).collect()
-    } else {
-        (0..bands).map(|_| &mut [][..]).collect()
-    };
+    let mut vis_bands = crate::render::chunks_or_empty(&mut visible, w * band, h.div_ceil(band));
     let corner = p.pattern == Pattern::Corner;
     // The hardware reads each corner sample once: the samples of a pixel row's top edge
     // come from a row buffer (the first row's are read before it), sample 2 of every

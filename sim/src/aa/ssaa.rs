@@ -67,11 +67,7 @@ pub fn render_with(
     } else {
         Vec::new()
     };
-    let mut vis_rows: Vec<&mut [i32]> = if want_visible {
-        visible.chunks_mut(w).collect()
-    } else {
-        (0..h).map(|_| &mut [][..]).collect()
-    };
+    let mut vis_rows = crate::render::chunks_or_empty(&mut visible, w, h);
     let evals: u64 = rgb
         .par_chunks_mut(3 * w)
         .zip(vis_rows.par_iter_mut())
