@@ -36,11 +36,11 @@
 //! **Resolve.** `rgb = round_half_up((Σ visible_bits·rgb_q12 + free_bits·(bg << 12)) /
 //! (n·m·2^12))` per channel.
 
-use crate::mask::MaskEdges;
+use crate::mask::{MaskEdges, RowMasks};
 use crate::mask_search::{DepthSelect, DepthSelector};
 use crate::raster::edge::check_depths;
 use crate::raster::rows::Bands;
-use crate::raster::{round_div, RoundDivStep, RoundDivSteps};
+use crate::raster::{round_div, PlaneStepper, RoundDivStep, RoundDivSteps};
 use crate::setup::{ExactPlane, SetupError, SnappedTri};
 use pixelproc_formats::abuffer::{saturate_plane, FragPlane, MaskSize, PLANE_FRAC};
 use pixelproc_formats::{I_FRAC, MAX_SCREEN, SUBPIXEL_ONE};
@@ -213,7 +213,7 @@ impl FragSetup {
     /// The fragment whose depth and colour planes the steppers are at (see
     /// [`FragSetup::row_steps`]).
     #[inline]
-    fn fragment_from(&self, st: &[RoundDivSteps; 4], mask: u64) -> Fragment {
+    fn fragment_from<S: PlaneStepper>(&self, st: &[S; 4], mask: u64) -> Fragment {
         let max = 255i128 << I_FRAC;
         Fragment {
             mask,
@@ -338,83 +338,128 @@ fn frag_setups(
     Ok((setups, bands))
 }
 
-/// The fragments of one row grouped by pixel: `frags[start[i]..start[i + 1]]` are pixel
-/// `i`'s, in scene order. Buffers are reused from row to row.
+/// The fragments of one row grouped by pixel: `frags[start[i]..end[i]]` are pixel `i`'s,
+/// in scene order. Buffers are reused from row to row.
+///
+/// Each pixel gets a run of slots as long as the number of triangles whose touched range
+/// ([`crate::mask::RowCoverage`]) contains it (a difference array over the ranges, summed),
+/// and every fragment is written straight into its pixel's run; a touched pixel whose
+/// mask is empty leaves its slot unused.
 #[derive(Default)]
 struct RowFrags {
-    /// (pixel, fragment) in triangle (scene) order, as generated.
-    raw: Vec<(u32, Fragment)>,
-    /// Fragments sorted by pixel (stable: scene order within a pixel).
+    /// The row's masks of the triangles that touch it: (setup index, masks), scene order.
+    masks: Vec<(u32, RowMasks)>,
+    /// Difference array of the touched ranges (`width + 1` entries).
+    diff: Vec<i32>,
+    /// Fragment slots, pixel after pixel.
     frags: Vec<Fragment>,
-    /// Start of each pixel's run in `frags`; `width + 1` entries.
+    /// First slot of each pixel; `width + 1` entries.
     start: Vec<u32>,
+    /// One past the last fragment written for each pixel.
+    end: Vec<u32>,
 }
 
 impl RowFrags {
-    /// Generates the non-empty fraction masks of row `j` of the triangles `tris` (scene
-    /// order) with their fragments, and groups them by pixel (a counting sort, stable).
-    fn build<'a>(
+    /// Generates the non-empty fraction masks of row `j` of the triangles
+    /// `setups[members[..]]` (scene order) with their fragments, grouped by pixel.
+    fn build(
         &mut self,
         j: i64,
         width: u32,
-        tris: impl Iterator<Item = &'a FragSetup>,
+        setups: &[FragSetup],
+        members: &[u32],
         size: MaskSize,
     ) {
-        self.raw.clear();
-        let full = size.full();
-        for t in tris {
-            let Some(rm) = t.edges.row_masks(j, width) else {
-                continue;
-            };
-            let rc = rm.cov;
-            let mut st = t.row_steps(rc.touched.0, j);
-            for i in rc.touched.0..=rc.touched.1 {
-                let mask = match rc.full {
-                    Some((a, b)) if a <= i && i <= b => full,
-                    _ => rm.mask(i),
-                };
-                if mask != 0 {
-                    self.raw.push((i as u32, t.fragment_from(&st, mask)));
-                }
-                for s in st.iter_mut() {
-                    s.advance();
-                }
+        let w = width as usize;
+        self.masks.clear();
+        self.diff.clear();
+        self.diff.resize(w + 1, 0);
+        for &k in members {
+            if let Some(rm) = setups[k as usize].edges.row_masks(j, width) {
+                let (a, b) = rm.cov.touched;
+                self.diff[a as usize] += 1;
+                self.diff[b as usize + 1] -= 1;
+                self.masks.push((k, rm));
             }
         }
-        let w = width as usize;
         self.start.clear();
-        self.start.resize(w + 1, 0);
-        for (i, _) in &self.raw {
-            self.start[*i as usize + 1] += 1;
-        }
+        self.start.push(0);
+        let mut live = 0i32;
         for i in 0..w {
-            self.start[i + 1] += self.start[i];
+            live += self.diff[i];
+            self.start.push(self.start[i] + live as u32);
         }
-        // Every slot is overwritten by the scatter below: only the length matters (a
-        // resize writes only slots beyond the previous length).
-        if let Some(&(_, f)) = self.raw.first() {
-            self.frags.resize(self.raw.len(), f);
+        self.end.clear();
+        self.end.extend_from_slice(&self.start[..w]);
+        let slots = self.start[w] as usize;
+        if self.frags.len() < slots {
+            self.frags.resize(slots, EMPTY_FRAGMENT);
         }
-        self.frags.truncate(self.raw.len());
-        // Scatter with a running cursor per pixel (the first w entries of `start` are
-        // advanced and then shifted back).
-        for (i, f) in &self.raw {
-            let at = &mut self.start[*i as usize];
-            self.frags[*at as usize] = *f;
-            *at += 1;
+        let full = size.full();
+        let (frags, end) = (&mut self.frags, &mut self.end);
+        for (k, rm) in &self.masks {
+            let t = &setups[*k as usize];
+            let (a, b) = rm.cov.touched;
+            let st = t.row_steps(a, j);
+            let steps = (b - a + 1) as u64;
+            match [0, 1, 2, 3].map(|q| st[q].narrow(steps)) {
+                [Some(z), Some(r), Some(g), Some(bl)] => {
+                    emit(frags, end, t, rm, [z, r, g, bl], full);
+                }
+                _ => emit(frags, end, t, rm, st, full),
+            }
         }
-        for i in (1..=w).rev() {
-            self.start[i] = self.start[i - 1];
-        }
-        self.start[0] = 0;
     }
 
     /// The fragments of pixel `i`.
     #[inline]
     fn pixel(&self, i: usize) -> &[Fragment] {
-        &self.frags[self.start[i] as usize..self.start[i + 1] as usize]
+        &self.frags[self.start[i] as usize..self.end[i] as usize]
     }
 }
+
+/// Writes the fragments of one triangle's row into their pixels' slots (`end[i]` is pixel
+/// `i`'s next free slot), the depth and colour planes stepped from the first touched
+/// pixel.
+#[inline]
+fn emit<S: PlaneStepper>(
+    frags: &mut [Fragment],
+    end: &mut [u32],
+    t: &FragSetup,
+    rm: &RowMasks,
+    mut st: [S; 4],
+    full: u64,
+) {
+    let rc = rm.cov;
+    for i in rc.touched.0..=rc.touched.1 {
+        let mask = match rc.full {
+            Some((a, b)) if a <= i && i <= b => full,
+            _ => rm.mask(i),
+        };
+        if mask != 0 {
+            let at = &mut end[i as usize];
+            frags[*at as usize] = t.fragment_from(&st, mask);
+            *at += 1;
+        }
+        for s in st.iter_mut() {
+            s.advance();
+        }
+    }
+}
+
+/// A filler for fragment slots not yet written.
+const EMPTY_FRAGMENT: Fragment = Fragment {
+    mask: 0,
+    plane: FragPlane {
+        zc: 0,
+        sx: 0,
+        sy: 0,
+    },
+    rgb_q12: [0; 3],
+    tag: 0,
+    decal: false,
+    prim: 0,
+};
 
 /// A pixel with two or more fragments (where the depth selection runs).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -442,7 +487,7 @@ pub fn multi_fragment_pixels(
         .map(|j| {
             let band = bands.members(bands.of_row(j));
             let mut rf = RowFrags::default();
-            rf.build(j, width, band.iter().map(|&k| &setups[k as usize]), size);
+            rf.build(j, width, &setups, band, size);
             (0..width as usize)
                 .filter(|&i| rf.pixel(i).len() >= 2)
                 .map(|i| MultiFragmentPixel {
@@ -486,7 +531,7 @@ pub fn render_abuffer(
                 render_row(
                     j as i64,
                     width,
-                    band.iter().map(|&k| &setups[k as usize]),
+                    (&setups, band),
                     &sel,
                     params,
                     bg,
@@ -538,10 +583,10 @@ fn compare_variants(
 
 /// Renders one row; returns its statistics.
 #[allow(clippy::too_many_arguments)]
-fn render_row<'a>(
+fn render_row(
     j: i64,
     width: u32,
-    tris: impl Iterator<Item = &'a FragSetup>,
+    (setups, members): (&[FragSetup], &[u32]),
     sel: &DepthSelector,
     params: &AbufferParams,
     bg: [u8; 3],
@@ -555,7 +600,7 @@ fn render_row<'a>(
     let full = size.full();
     let mut st = AbufferStats::default();
     let RowScratch { rows, pixel } = scratch;
-    rows.build(j, width, tris, size);
+    rows.build(j, width, setups, members, size);
     for px in rgb_row.chunks_mut(3) {
         px.copy_from_slice(&bg);
     }

@@ -281,7 +281,8 @@ pub(crate) struct PixelSummary {
     pub free: u64,
 }
 
-/// The packing key of a group: (zmin, zmax, not decal, first tie, first member).
+/// The packing key of a group: (zmin, zmax, not decal, first tie, first member). Unique
+/// per group (the first member is).
 type GroupKey = (i64, i64, bool, i64, usize);
 
 /// One merged group as [`PixelScratch`] builds it (the fields of [`Group`] without the
@@ -294,27 +295,48 @@ struct GroupAcc {
     decal: bool,
     first_tie: i64,
     first: usize,
+    /// Number of members.
+    parts: usize,
+    /// Already packed.
+    taken: bool,
+}
+
+impl GroupAcc {
+    #[inline]
+    fn key(&self) -> GroupKey {
+        (self.zmin, self.zmax, !self.decal, self.first_tie, self.first)
+    }
+}
+
+/// The sweep key of the merge: tag, then range start (sign bit flipped so that the
+/// unsigned order is the signed one), then fragment index, packed into one integer.
+#[inline]
+fn sweep_key(tag: u16, start: i64, k: usize) -> u128 {
+    ((tag as u128) << 112) | (((start as u64 ^ (1 << 63)) as u128) << 48) | k as u128
 }
 
 /// Reusable buffers for [`process_pixel`]'s work without allocating per pixel: the same
 /// depth picks, merge (the connected components of "same tag, overlapping range", which
 /// is what [`merge`]'s repeated pairwise merging produces, in order of first member), the
-/// same packing order and visible bits, and the same resolve.
+/// same visible bits, and the same resolve.
+///
+/// Packing takes the groups in [`pack`]'s order, each the minimum of the packing keys
+/// not yet taken, and stops when no free bit is left: every later group's visible bits
+/// are `mask & 0`. In a pixel whose front surface covers it fully one group is taken
+/// and nothing is sorted.
 #[derive(Default)]
 pub(crate) struct PixelScratch {
     picks: Vec<DepthPick>,
     ranges: Vec<(i64, i64)>,
-    /// Sweep order of the merge: (tag, range start, fragment).
-    by_range: Vec<(u16, i64, usize)>,
+    /// Sweep order of the merge ([`sweep_key`]).
+    by_range: Vec<u128>,
+    /// First member of each fragment's component.
     comp: Vec<usize>,
     groups: Vec<GroupAcc>,
-    /// Packing keys of the groups: ((zmin, zmax, not decal, first tie, first member), group).
-    gorder: Vec<(GroupKey, usize)>,
-    /// Rank in packing order per group.
-    rank: Vec<usize>,
+    /// Group index per component (at its first member).
     grank: Vec<usize>,
-    /// Packing order: (group rank, zmin, zmax, not decal, tie, fragment).
-    order: Vec<(usize, i64, i64, bool, i64, usize)>,
+    /// Members of the group being packed: (zmin, zmax, not decal, tie, fragment).
+    parts: Vec<(i64, i64, bool, i64, usize)>,
     visible: Vec<u64>,
 }
 
@@ -336,11 +358,13 @@ impl PixelScratch {
     ) -> PixelSummary {
         let n = frags.len();
         let covered = frags.iter().fold(0, |a, f| a | f.mask);
-        if n == 1 {
-            // One fragment, one group: its bits are visible, the rest free.
-            let free = size.full() & !frags[0].mask;
-            self.visible.clear();
-            self.visible.push(frags[0].mask & size.full());
+        self.visible.clear();
+        if n <= 1 {
+            // One fragment, one group: its bits are visible, the rest free (none: all
+            // free).
+            let mask = frags.first().map_or(0, |f| f.mask);
+            let free = size.full() & !mask;
+            self.visible.extend(frags.iter().map(|f| f.mask & size.full()));
             return PixelSummary {
                 rgb: resolve_bits(frags, &self.visible, free, bg, size),
                 covered,
@@ -352,22 +376,13 @@ impl PixelScratch {
         }
         self.picks.clear();
         let (mut evals, mut steps) = (0, 0);
-        if n >= 2 {
-            for f in frags {
-                let p = sel.select(variant, f.mask, &f.plane, interpenetrating);
-                evals += p.evals;
-                steps += p.steps;
-                self.picks.push(p);
-            }
-            coplanar_common_depth(frags, &mut self.picks);
-        } else {
-            self.picks.extend(frags.iter().map(|f| DepthPick {
-                zmin: f.plane.zc,
-                zmax: None,
-                evals: 0,
-                steps: 0,
-            }));
+        for f in frags {
+            let p = sel.select(variant, f.mask, &f.plane, interpenetrating);
+            evals += p.evals;
+            steps += p.steps;
+            self.picks.push(p);
         }
+        coplanar_common_depth(frags, &mut self.picks);
         let picks = &self.picks;
         // Merge: components of overlapping same-tag ranges, by a sweep in (tag, start)
         // order; a group's range is the union of its members' (they overlap), so two
@@ -380,29 +395,22 @@ impl PixelScratch {
                 .map(|(f, p)| merge_range(f, p, size, interpenetrating)),
         );
         let ranges = &self.ranges;
-        self.comp.clear();
-        // Only fragments with the same tag can merge: with every tag distinct each
-        // fragment is its own component and the sweep is skipped.
-        let shared_tag = (1..n).any(|b| (0..b).any(|a| frags[a].tag == frags[b].tag));
-        if !shared_tag {
-            self.comp.extend(0..n);
-        }
         self.by_range.clear();
-        if shared_tag {
-            self.by_range
-                .extend((0..n).map(|k| (frags[k].tag, ranges[k].0, k)));
-            self.by_range.sort_unstable();
-            self.comp.resize(n, 0);
-        }
-        let mut k = if shared_tag { 0 } else { n };
+        self.by_range
+            .extend((0..n).map(|k| sweep_key(frags[k].tag, ranges[k].0, k)));
+        self.by_range.sort_unstable();
+        self.comp.clear();
+        self.comp.resize(n, 0);
+        let member = |key: u128| (key & ((1 << 48) - 1)) as usize;
+        let mut k = 0;
         while k < n {
             // A component: a run of the sweep whose ranges chain.
-            let head = self.by_range[k].2;
+            let head = member(self.by_range[k]);
             let (tag, mut hi) = (frags[head].tag, ranges[head].1);
             let mut first = head;
             let mut e = k + 1;
             while e < n {
-                let q = self.by_range[e].2;
+                let q = member(self.by_range[e]);
                 if frags[q].tag != tag || ranges[q].0 > hi {
                     break;
                 }
@@ -410,8 +418,8 @@ impl PixelScratch {
                 first = first.min(q);
                 e += 1;
             }
-            for &(_, _, q) in &self.by_range[k..e] {
-                self.comp[q] = first;
+            for &key in &self.by_range[k..e] {
+                self.comp[member(key)] = first;
             }
             k = e;
         }
@@ -440,6 +448,8 @@ impl PixelScratch {
                     decal: frags[k].decal,
                     first_tie: tie(k),
                     first: k,
+                    parts: 1,
+                    taken: false,
                 });
             } else {
                 let g = &mut self.groups[self.grank[c]];
@@ -448,64 +458,42 @@ impl PixelScratch {
                 g.zmax = g.zmax.max(zmax);
                 g.decal |= frags[k].decal;
                 g.first_tie = g.first_tie.min(tie(k));
+                g.parts += 1;
             }
         }
-        // Group order: (zmin, zmax, decal first, first tie), stable in first-member order.
-        let groups = &self.groups;
-        self.gorder.clear();
-        self.gorder.extend(
-            groups
-                .iter()
-                .enumerate()
-                .map(|(g, gr)| ((gr.zmin, gr.zmax, !gr.decal, gr.first_tie, gr.first), g)),
-        );
-        self.gorder.sort_unstable();
-        // Rank of each group in packing order, then every fragment by (group rank, part
-        // key, index): the packing order.
-        self.rank.clear();
-        self.rank.resize(groups.len(), 0);
-        for (r, &(_, g)) in self.gorder.iter().enumerate() {
-            self.rank[g] = r;
-        }
-        self.order.clear();
-        for k in 0..n {
-            let p = &picks[k];
-            self.order.push((
-                self.rank[self.grank[self.comp[k]]],
-                p.zmin,
-                p.zmax.unwrap_or(p.zmin),
-                !frags[k].decal,
-                tie(k),
-                k,
-            ));
-        }
-        if groups.len() == n {
-            // No merges: one fragment per group, so the group ranks (distinct) are the
-            // order; place each entry at its rank instead of sorting.
-            for q in 0..n {
-                while self.order[q].0 != q {
-                    let r = self.order[q].0;
-                    self.order.swap(q, r);
-                }
-            }
-        } else {
-            self.order.sort_unstable();
-        }
-        // Packing.
+        // Packing: groups by (zmin, zmax, decal first, first tie, first member), members
+        // by (zmin, zmax, decal first, tie, index), until no bit is free.
         let mut free = size.full();
-        self.visible.clear();
         self.visible.resize(n, 0);
-        let mut cur = usize::MAX;
-        let mut vis = 0;
-        for &(_, _, _, _, _, k) in &self.order {
-            let g = self.grank[self.comp[k]];
-            if g != cur {
-                cur = g;
-                vis = self.groups[g].mask & free;
-                free &= !self.groups[g].mask;
+        while free != 0 {
+            let Some(g) = (0..self.groups.len())
+                .filter(|&g| !self.groups[g].taken)
+                .min_by_key(|&g| self.groups[g].key())
+            else {
+                break;
+            };
+            let gr = &mut self.groups[g];
+            gr.taken = true;
+            let mut vis = gr.mask & free;
+            free &= !gr.mask;
+            if gr.parts == 1 {
+                self.visible[gr.first] = frags[gr.first].mask & vis;
+                continue;
             }
-            self.visible[k] = frags[k].mask & vis;
-            vis &= !frags[k].mask;
+            let head = gr.first;
+            self.parts.clear();
+            self.parts.extend((head..n).filter(|&q| self.comp[q] == head).map(|q| {
+                let p = &picks[q];
+                (p.zmin, p.zmax.unwrap_or(p.zmin), !frags[q].decal, tie(q), q)
+            }));
+            self.parts.sort_unstable();
+            for &(_, _, _, _, q) in &self.parts {
+                if vis == 0 {
+                    break;
+                }
+                self.visible[q] = frags[q].mask & vis;
+                vis &= !frags[q].mask;
+            }
         }
         PixelSummary {
             rgb: resolve_bits(frags, &self.visible, free, bg, size),
@@ -514,6 +502,74 @@ impl PixelScratch {
             steps,
             merges: (n - self.groups.len()) as u32,
             free,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::XorShift64Star as Rng;
+    use pixelproc_formats::abuffer::FragPlane;
+
+    /// A random pixel: up to 12 fragments with masks that are full, empty-ish or random,
+    /// a handful of depths close together (ties and overlapping ranges), few tags (so
+    /// merges happen), some decals sharing a plane with a face.
+    fn random_pixel(rng: &mut Rng, size: MaskSize) -> Vec<Fragment> {
+        let n = 1 + (rng.next_u64() % 12) as usize;
+        let mut out: Vec<Fragment> = Vec::new();
+        for k in 0..n {
+            let mask = match rng.next_u64() % 4 {
+                0 | 1 => size.full(),
+                2 => rng.next_u64() & size.full() | 1,
+                _ => 1u64 << (rng.next_u64() % size.bits() as u64),
+            };
+            let small = |rng: &mut Rng, m: u64| (rng.next_u64() % m) as i64 - (m / 2) as i64;
+            let mut plane = FragPlane {
+                zc: 1000 + small(rng, 8) * 300,
+                sx: small(rng, 5) * 40,
+                sy: small(rng, 5) * 40,
+            };
+            let decal = rng.next_u64() % 5 == 0;
+            if decal && !out.is_empty() {
+                plane = out[(rng.next_u64() % out.len() as u64) as usize].plane;
+            }
+            out.push(Fragment {
+                mask,
+                plane,
+                rgb_q12: [0; 3].map(|_| (rng.next_u64() % (256 << 12)) as u32),
+                tag: (rng.next_u64() % 3) as u16,
+                decal,
+                prim: k as u32 * 3 + (rng.next_u64() % 3) as u32,
+            });
+        }
+        out
+    }
+
+    /// The scratch path gives what the literal merge and pack of [`process_pixel`] give,
+    /// on every variant, with and without interpenetration.
+    #[test]
+    fn scratch_equals_process_pixel() {
+        let mut rng = Rng(0x5eed_ab);
+        let mut scratch = PixelScratch::default();
+        for size in [MaskSize::S4X4, MaskSize::S8X8] {
+            let sel = DepthSelector::new(size);
+            for case in 0..4000 {
+                let frags = random_pixel(&mut rng, size);
+                let variant = DepthSelect::ALL[case % 4];
+                let inter = case % 3 == 0;
+                let bg = [17, 200, 99];
+                let want = process_pixel(&frags, &sel, variant, inter, bg, size);
+                let got = scratch.process(&frags, &sel, variant, inter, bg, size);
+                let ctx = format!("{frags:?} {variant:?} {inter}");
+                assert_eq!(got.rgb, want.rgb, "{ctx}");
+                assert_eq!(got.covered, want.covered, "{ctx}");
+                assert_eq!(got.evals, want.evals, "{ctx}");
+                assert_eq!(got.steps, want.steps, "{ctx}");
+                assert_eq!(got.merges, want.merges, "{ctx}");
+                assert_eq!(got.free, want.packed.free, "{ctx}");
+                assert_eq!(scratch.visible(), &want.packed.visible[..], "{ctx}");
+            }
         }
     }
 }

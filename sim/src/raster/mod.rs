@@ -115,6 +115,71 @@ impl RoundDivSteps {
     }
 }
 
+impl RoundDivSteps {
+    /// The same stepper in 64-bit arithmetic, if `steps` advances from here cannot leave
+    /// it: the remainder and its step stay below the denominator (`< 2^62`, so their sum
+    /// fits), and the quotient moves by at most `|dq| + 1` per advance.
+    #[inline]
+    pub(crate) fn narrow(&self, steps: u64) -> Option<RoundDivSteps64> {
+        const LIM: i128 = 1 << 62;
+        let reach = (self.dq.checked_abs()? + 1).checked_mul(steps as i128 + 1)?;
+        let reach = reach.checked_add(self.q.checked_abs()?)?;
+        (self.den < LIM && reach < LIM).then_some(RoundDivSteps64 {
+            q: self.q as i64,
+            r: self.r as i64,
+            dq: self.dq as i64,
+            dr: self.dr as i64,
+            den: self.den as i64,
+        })
+    }
+}
+
+/// A [`RoundDivSteps`] narrowed to 64 bits by [`RoundDivSteps::narrow`]: the same values
+/// for as many advances as it was narrowed for.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RoundDivSteps64 {
+    q: i64,
+    r: i64,
+    dq: i64,
+    dr: i64,
+    den: i64,
+}
+
+/// A stepper of exact rounded quotients ([`RoundDivSteps`] or its narrowed form).
+pub(crate) trait PlaneStepper: Copy {
+    /// The current value.
+    fn value(&self) -> i128;
+    /// Moves to the next numerator.
+    fn advance(&mut self);
+}
+
+impl PlaneStepper for RoundDivSteps {
+    #[inline]
+    fn value(&self) -> i128 {
+        RoundDivSteps::value(self)
+    }
+    #[inline]
+    fn advance(&mut self) {
+        RoundDivSteps::advance(self)
+    }
+}
+
+impl PlaneStepper for RoundDivSteps64 {
+    #[inline]
+    fn value(&self) -> i128 {
+        self.q as i128
+    }
+    #[inline]
+    fn advance(&mut self) {
+        self.q += self.dq;
+        self.r += self.dr;
+        if self.r >= self.den {
+            self.r -= self.den;
+            self.q += 1;
+        }
+    }
+}
+
 /// The step of a [`RoundDivSteps`] (`dn` over `d ≠ 0`), prepared once for steppers that
 /// share it (one plane started on many rows).
 #[derive(Clone, Copy, Debug)]
@@ -285,6 +350,7 @@ mod tests {
     #[test]
     fn round_div_fast_path_and_steps_match_the_wide_division() {
         let mut rng = crate::rng::Lcg64(0x1234_5678);
+        let mut narrowed = 0;
         for k in 0..20_000 {
             // Magnitudes on both sides of the 64-bit fast path's limit.
             let bits = [8, 40, 60, 62, 90][k % 5];
@@ -304,7 +370,19 @@ mod tests {
             assert_eq!(round_div(n0, d), round_div_wide(n0, d), "{n0} / {d}");
             let mut st = RoundDivSteps::new(n0, dn, d);
             let mut st2 = RoundDivSteps::start(n0, &RoundDivStep::new(dn, d));
+            // Narrowed for the 8 values checked (7 advances); where it narrows, it must
+            // give the same values.
+            let mut st3 = st.narrow(7);
+            narrowed += st3.is_some() as u32;
             for i in 0..8 {
+                if let Some(s3) = &mut st3 {
+                    assert_eq!(
+                        PlaneStepper::value(s3),
+                        round_div_wide(n0 + i * dn, d),
+                        "narrowed, {n0} + {i}·{dn} / {d}"
+                    );
+                    s3.advance();
+                }
                 assert_eq!(
                     st.value(),
                     round_div_wide(n0 + i * dn, d),
@@ -319,5 +397,8 @@ mod tests {
                 st2.advance();
             }
         }
+        // The 8- and 40-bit draws (and some 60-bit ones) narrow; the 62- and 90-bit ones
+        // must not.
+        assert!((8_000..16_000).contains(&narrowed), "{narrowed}");
     }
 }
