@@ -362,14 +362,7 @@ struct RowFrags {
 impl RowFrags {
     /// Generates the non-empty fraction masks of row `j` of the triangles
     /// `setups[members[..]]` (scene order) with their fragments, grouped by pixel.
-    fn build(
-        &mut self,
-        j: i64,
-        width: u32,
-        setups: &[FragSetup],
-        members: &[u32],
-        size: MaskSize,
-    ) {
+    fn build(&mut self, j: i64, width: u32, setups: &[FragSetup], members: &[u32], size: MaskSize) {
         let w = width as usize;
         self.masks.clear();
         self.diff.clear();

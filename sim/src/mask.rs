@@ -23,9 +23,9 @@
 //! edge (`A = 0, B > 0`). Two triangles sharing an edge therefore cover every subpixel centre
 //! on their union exactly once.
 
-use crate::raster::ceil_div;
 use crate::raster::edge::{check_coords, rewind, winding, EdgeFn};
 use crate::raster::rows::touched_rows;
+use crate::raster::{ceil_div, floor_div};
 use crate::setup::{SetupError, SnappedTri};
 use pixelproc_formats::abuffer::MaskSize;
 use pixelproc_formats::SUBPIXEL_ONE;
@@ -38,6 +38,10 @@ struct ScaledEdge {
     by: i64,
     c0: i64,
     edge: EdgeFn,
+    /// The bound of a sloped edge (`ax ≠ 0`) on one subpixel row is `±⌊M / D⌋` with
+    /// `D = 2|ax|` and `M` growing by `±2·by` per subpixel row: that step as
+    /// `(⌊s / D⌋, s mod D)`, prepared once so that the next rows take additions only.
+    step: (i64, i64),
 }
 
 impl ScaledEdge {
@@ -113,11 +117,21 @@ impl MaskEdges {
         let v = rewind(order, t.v);
         let (n, m) = (size.n() as i64, size.m() as i64);
         let one = SUBPIXEL_ONE as i64;
-        let scaled = |e: EdgeFn| ScaledEdge {
-            ax: one * 2 * m * e.a,
-            by: one * 2 * n * e.b,
-            c0: 4 * n * m * e.c,
-            edge: e,
+        let scaled = |e: EdgeFn| {
+            let (ax, by) = (one * 2 * m * e.a, one * 2 * n * e.b);
+            // See `subrow_intervals`: left edges step `M` by 2·by, right edges by −2·by.
+            let step = match ax.signum() {
+                1 => (floor_div(2 * by, 2 * ax), (2 * by).rem_euclid(2 * ax)),
+                -1 => (floor_div(-2 * by, -2 * ax), (-2 * by).rem_euclid(-2 * ax)),
+                _ => (0, 0),
+            };
+            ScaledEdge {
+                ax,
+                by,
+                c0: 4 * n * m * e.c,
+                edge: e,
+                step,
+            }
         };
         let ymin = v.iter().map(|p| p[1]).min().unwrap_or(0) as i64;
         let ymax = v.iter().map(|p| p[1]).max().unwrap_or(0) as i64;
@@ -159,7 +173,9 @@ impl MaskEdges {
     }
 
     /// Inclusive range of global subpixel columns `g = n·i + c` covered on global subpixel
-    /// row `y_sub = m·j + r`, or `None`.
+    /// row `y_sub = m·j + r`, or `None`: the direct form of [`MaskEdges::subrow_intervals`]
+    /// (which the tests hold against it).
+    #[cfg(test)]
     fn subrow_interval(&self, y_sub: i64) -> Option<(i64, i64)> {
         let y = 2 * y_sub + 1;
         let (mut lo, mut hi) = (i64::MIN / 4, i64::MAX / 4);
@@ -185,6 +201,57 @@ impl MaskEdges {
         (lo <= hi).then_some((lo, hi))
     }
 
+    /// [`MaskEdges::subrow_interval`] of the `m` subpixel rows of pixel row `j` (`lo > hi`
+    /// for none; entries past `m` are empty): per sloped edge one division on the first
+    /// subpixel row, then exact floor steps.
+    ///
+    /// A left edge (`ax > 0`) bounds `lo = ceil((−k − ax) / 2ax) = −⌊(k + ax) / 2ax⌋`, a
+    /// right edge `hi = ceil((k + ax) / −2ax) − 1 = −⌊(−k − ax) / −2ax⌋ − 1`, and `k` grows
+    /// by `2·by` per subpixel row.
+    fn subrow_intervals(&self, j: i64) -> [(i64, i64); 8] {
+        let m = self.size.m() as usize;
+        let y0 = 2 * (m as i64 * j) + 1;
+        let (mut lo, mut hi) = ([i64::MIN / 4; 8], [i64::MAX / 4; 8]);
+        let mut empty = [false; 8];
+        for e in &self.edges {
+            let k0 = e.by * y0 + e.c0;
+            let (sign, d) = match e.ax.signum() {
+                1 => (1, 2 * e.ax),
+                -1 => (-1, -2 * e.ax),
+                _ => {
+                    for (r, out) in empty.iter_mut().enumerate().take(m) {
+                        *out |= !e.inside(k0 + 2 * e.by * r as i64);
+                    }
+                    continue;
+                }
+            };
+            let num = sign * (k0 + e.ax);
+            let (mut q, mut rem) = (floor_div(num, d), num.rem_euclid(d));
+            for r in 0..m {
+                if r > 0 {
+                    q += e.step.0;
+                    rem += e.step.1;
+                    if rem >= d {
+                        rem -= d;
+                        q += 1;
+                    }
+                }
+                if sign > 0 {
+                    lo[r] = lo[r].max(-q);
+                } else {
+                    hi[r] = hi[r].min(-q - 1);
+                }
+            }
+        }
+        let mut rows = [(1, 0); 8];
+        for r in 0..m {
+            if !empty[r] && lo[r] <= hi[r] {
+                rows[r] = (lo[r], hi[r]);
+            }
+        }
+        rows
+    }
+
     /// [`MaskEdges::row_coverage`] with the covered subpixel columns of each subpixel row,
     /// from which [`RowMasks::mask`] gives every pixel's fraction mask without evaluating
     /// the edges per pixel.
@@ -192,13 +259,7 @@ impl MaskEdges {
         if j < self.row_min || j > self.row_max {
             return None;
         }
-        let m = self.size.m() as i64;
-        let mut rows = [(1, 0); 8];
-        for (r, row) in rows.iter_mut().enumerate().take(m as usize) {
-            if let Some(iv) = self.subrow_interval(m * j + r as i64) {
-                *row = iv;
-            }
-        }
+        let rows = self.subrow_intervals(j);
         let cov = self.coverage_of(&rows, width)?;
         Some(RowMasks {
             size: self.size,
@@ -218,8 +279,10 @@ impl MaskEdges {
     fn coverage_of(&self, rows: &[(i64, i64); 8], width: u32) -> Option<RowCoverage> {
         let (n, m) = (self.size.n() as i64, self.size.m() as usize);
         let gmax = n * width as i64 - 1;
-        let (mut tlo, mut thi) = (i64::MAX, i64::MIN);
-        let (mut flo, mut fhi) = (i64::MIN, i64::MAX);
+        // Extremes of the clamped row bounds first: the pixel bounds below are monotone
+        // in them, so one division each gives the min / max over the rows.
+        let (mut lo_min, mut hi_max) = (i64::MAX, i64::MIN);
+        let (mut lo_max, mut hi_min) = (i64::MIN, i64::MAX);
         let mut all_rows = true;
         for &(lo, hi) in rows.iter().take(m) {
             let (lo, hi) = (lo.max(0), hi.min(gmax));
@@ -227,14 +290,16 @@ impl MaskEdges {
                 all_rows = false;
                 continue;
             }
-            tlo = tlo.min(lo.div_euclid(n));
-            thi = thi.max(hi.div_euclid(n));
-            flo = flo.max(ceil_div(lo, n));
-            fhi = fhi.min((hi + 1).div_euclid(n) - 1);
+            lo_min = lo_min.min(lo);
+            hi_max = hi_max.max(hi);
+            lo_max = lo_max.max(lo);
+            hi_min = hi_min.min(hi);
         }
-        if tlo > thi {
+        if lo_min > hi_max {
             return None;
         }
+        let (tlo, thi) = (lo_min.div_euclid(n), hi_max.div_euclid(n));
+        let (flo, fhi) = (ceil_div(lo_max, n), (hi_min + 1).div_euclid(n) - 1);
         let full = (all_rows && flo <= fhi).then_some((flo, fhi));
         Some(RowCoverage {
             touched: (tlo, thi),
@@ -305,7 +370,18 @@ mod tests {
             let Some(e) = MaskEdges::new(&t, size).unwrap() else {
                 continue;
             };
-            for j in 0..h as i64 {
+            for j in -2..h as i64 + 2 {
+                // The stepped intervals are the direct ones on every subpixel row, also
+                // off screen.
+                let stepped = e.subrow_intervals(j);
+                for r in 0..m as usize {
+                    let direct = e.subrow_interval(m as i64 * j + r as i64);
+                    let got = stepped[r];
+                    assert_eq!((got.0 <= got.1).then_some(got), direct, "{k} row {j}.{r}");
+                }
+                if !(0..h as i64).contains(&j) {
+                    continue;
+                }
                 let rm = e.row_masks(j, w);
                 for i in 0..w as i64 {
                     let want = e.fraction_mask(i, j);

@@ -51,10 +51,12 @@ impl SearchTables {
         self.family
     }
     /// Search mask of line `k` from `corner`.
+    #[inline]
     pub fn search_mask(&self, corner: Corner, k: u32) -> u64 {
         self.masks[corner.code() as usize][k as usize]
     }
     /// Number of lines (the longest search).
+    #[inline]
     pub fn lines(&self) -> u32 {
         self.masks[0].len() as u32
     }
@@ -65,6 +67,7 @@ impl SearchTables {
     /// The offset ROM read as the RTL does it: priority-encode the most and least
     /// significant set bits of `and_result` and read the ROM at both. `and_result` must be
     /// non-zero (the unit only reads the ROM on a hit); zero reads entry 0 twice.
+    #[inline]
     pub fn offset_rom(&self, and_result: u64) -> RomWord {
         let hi = 63u32.saturating_sub(and_result.leading_zeros());
         let lo = if and_result == 0 {
@@ -134,6 +137,7 @@ impl<'t> SearchUnit<'t> {
     }
 
     /// Loads a fraction mask and a start corner; the next step tests line 0.
+    #[inline]
     pub fn start(&mut self, mask: u64, corner: Corner) {
         self.mask = mask & self.tables.size.full();
         self.corner = corner;
@@ -143,6 +147,7 @@ impl<'t> SearchUnit<'t> {
 
     /// One clock: AND the current search mask with the fraction mask, test for zero, and
     /// either stop (hit / exhausted) or move one line away from the corner.
+    #[inline]
     pub fn step(&mut self) -> StepOutput {
         if !self.running {
             return StepOutput::default();
@@ -171,6 +176,7 @@ impl<'t> SearchUnit<'t> {
     }
 
     /// Runs a whole search with [`SearchUnit::start`] and [`SearchUnit::step`].
+    #[inline]
     pub fn run(&mut self, mask: u64, corner: Corner) -> SearchResult {
         self.start(mask, corner);
         let mut steps = 0;
@@ -192,6 +198,7 @@ impl<'t> SearchUnit<'t> {
 
 /// The depth calculator on a ROM word: depths at end 1 and (if `pair`) end 2, with the
 /// number of evaluations (1 or 2).
+#[inline]
 pub fn depth_calc(plane: &FragPlane, w: RomWord) -> (i64, Option<i64>, u32) {
     let z1 = plane.depth_at(w.end1);
     if w.pair {
@@ -287,17 +294,34 @@ pub struct DepthSelector {
     size: MaskSize,
     /// Tables per slope class (index 2 is the seed's diagonal family).
     tables: Vec<SearchTables>,
+    /// Per table and start corner ([`Corner::code`]), the search of a full mask: the
+    /// unit's result depends on the mask and the corner only, and full masks (a
+    /// triangle covering the whole pixel) are the most common, so they are run once here.
+    full: Vec<[SearchResult; 4]>,
 }
 
 impl DepthSelector {
     /// Generates every table for `size`.
     pub fn new(size: MaskSize) -> DepthSelector {
-        DepthSelector {
-            size,
-            tables: SLOPE_FAMILIES
-                .iter()
-                .map(|&f| SearchTables::new(size, f))
-                .collect(),
+        let tables: Vec<SearchTables> = SLOPE_FAMILIES
+            .iter()
+            .map(|&f| SearchTables::new(size, f))
+            .collect();
+        let full = tables
+            .iter()
+            .map(|t| Corner::ALL.map(|c| SearchUnit::new(t).run(size.full(), c)))
+            .collect();
+        DepthSelector { size, tables, full }
+    }
+
+    /// [`SearchUnit::run`] on table `ti`, from the cache for a full mask.
+    #[inline]
+    fn search(&self, ti: usize, mask: u64, corner: Corner) -> SearchResult {
+        let full = self.size.full();
+        if mask & full == full {
+            self.full[ti][corner.code() as usize]
+        } else {
+            SearchUnit::new(&self.tables[ti]).run(mask, corner)
         }
     }
 
@@ -308,6 +332,7 @@ impl DepthSelector {
 
     /// Ordering depths of a fragment with fraction `mask` (non-zero) and `plane` under
     /// `variant`; `want_max` also finds the farthest depth (interpenetrating surfaces).
+    #[inline]
     pub fn select(
         &self,
         variant: DepthSelect,
@@ -342,12 +367,11 @@ impl DepthSelector {
                 }
             }
             DepthSelect::Search | DepthSelect::Slope => {
-                let t = if variant == DepthSelect::Search {
-                    self.diagonal()
+                let ti = if variant == DepthSelect::Search {
+                    2
                 } else {
-                    &self.tables[slope_class(plane.sx, plane.sy)]
+                    slope_class(plane.sx, plane.sy)
                 };
-                let mut unit = SearchUnit::new(t);
                 let corner = Corner::of_min(plane.sx, plane.sy);
                 let mut pick = DepthPick {
                     zmin: plane.zc,
@@ -355,7 +379,7 @@ impl DepthSelector {
                     evals: 0,
                     steps: 0,
                 };
-                let r = unit.run(mask, corner);
+                let r = self.search(ti, mask, corner);
                 pick.steps += r.steps;
                 if let Some((_, w)) = r.hit {
                     let (z1, z2, e) = depth_calc(plane, w);
@@ -363,7 +387,7 @@ impl DepthSelector {
                     pick.evals += e;
                 }
                 if want_max {
-                    let r = unit.run(mask, corner.opposite());
+                    let r = self.search(ti, mask, corner.opposite());
                     pick.steps += r.steps;
                     let mut zmax = plane.zc;
                     if let Some((_, w)) = r.hit {

@@ -181,15 +181,16 @@ pub(crate) fn resolve_bits(
 ) -> [u8; 3] {
     let denom = (size.bits() as u64) << I_FRAC;
     let free = free.count_ones() as u64;
-    let mut out = [0u8; 3];
-    for (ch, o) in out.iter_mut().enumerate() {
-        let mut sum = free * ((bg[ch] as u64) << I_FRAC);
-        for (f, &v) in frags.iter().zip(visible) {
-            sum += v.count_ones() as u64 * f.rgb_q12[ch] as u64;
+    let mut sum = bg.map(|b| free * ((b as u64) << I_FRAC));
+    for (f, &v) in frags.iter().zip(visible) {
+        if v != 0 {
+            let bits = v.count_ones() as u64;
+            for (s, &c) in sum.iter_mut().zip(&f.rgb_q12) {
+                *s += bits * c as u64;
+            }
         }
-        *o = ((2 * sum + denom) / (2 * denom)).min(255) as u8;
     }
-    out
+    sum.map(|s| ((2 * s + denom) / (2 * denom)).min(255) as u8)
 }
 
 /// The visible-surface AOV of a pixel: the triangle with the most visible subpixels
@@ -304,7 +305,13 @@ struct GroupAcc {
 impl GroupAcc {
     #[inline]
     fn key(&self) -> GroupKey {
-        (self.zmin, self.zmax, !self.decal, self.first_tie, self.first)
+        (
+            self.zmin,
+            self.zmax,
+            !self.decal,
+            self.first_tie,
+            self.first,
+        )
     }
 }
 
@@ -364,7 +371,8 @@ impl PixelScratch {
             // free).
             let mask = frags.first().map_or(0, |f| f.mask);
             let free = size.full() & !mask;
-            self.visible.extend(frags.iter().map(|f| f.mask & size.full()));
+            self.visible
+                .extend(frags.iter().map(|f| f.mask & size.full()));
             return PixelSummary {
                 rgb: resolve_bits(frags, &self.visible, free, bg, size),
                 covered,
@@ -466,10 +474,13 @@ impl PixelScratch {
         let mut free = size.full();
         self.visible.resize(n, 0);
         while free != 0 {
-            let Some(g) = (0..self.groups.len())
-                .filter(|&g| !self.groups[g].taken)
-                .min_by_key(|&g| self.groups[g].key())
-            else {
+            let mut best: Option<(usize, GroupKey)> = None;
+            for (g, gr) in self.groups.iter().enumerate() {
+                if !gr.taken && best.is_none_or(|(_, b)| gr.key() < b) {
+                    best = Some((g, gr.key()));
+                }
+            }
+            let Some((g, _)) = best else {
                 break;
             };
             let gr = &mut self.groups[g];
@@ -482,10 +493,11 @@ impl PixelScratch {
             }
             let head = gr.first;
             self.parts.clear();
-            self.parts.extend((head..n).filter(|&q| self.comp[q] == head).map(|q| {
-                let p = &picks[q];
-                (p.zmin, p.zmax.unwrap_or(p.zmin), !frags[q].decal, tie(q), q)
-            }));
+            self.parts
+                .extend((head..n).filter(|&q| self.comp[q] == head).map(|q| {
+                    let p = &picks[q];
+                    (p.zmin, p.zmax.unwrap_or(p.zmin), !frags[q].decal, tie(q), q)
+                }));
             self.parts.sort_unstable();
             for &(_, _, _, _, q) in &self.parts {
                 if vis == 0 {
