@@ -374,9 +374,8 @@ mod tests {
                 // The stepped intervals are the direct ones on every subpixel row, also
                 // off screen.
                 let stepped = e.subrow_intervals(j);
-                for r in 0..m as usize {
+                for (r, &got) in stepped.iter().enumerate().take(m as usize) {
                     let direct = e.subrow_interval(m as i64 * j + r as i64);
-                    let got = stepped[r];
                     assert_eq!((got.0 <= got.1).then_some(got), direct, "{k} row {j}.{r}");
                 }
                 if !(0..h as i64).contains(&j) {

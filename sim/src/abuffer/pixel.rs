@@ -542,7 +542,7 @@ mod tests {
                 sx: small(rng, 5) * 40,
                 sy: small(rng, 5) * 40,
             };
-            let decal = rng.next_u64() % 5 == 0;
+            let decal = rng.next_u64().is_multiple_of(5);
             if decal && !out.is_empty() {
                 plane = out[(rng.next_u64() % out.len() as u64) as usize].plane;
             }
@@ -562,7 +562,7 @@ mod tests {
     /// on every variant, with and without interpenetration.
     #[test]
     fn scratch_equals_process_pixel() {
-        let mut rng = Rng(0x5eed_ab);
+        let mut rng = Rng(0x005e_edab);
         let mut scratch = PixelScratch::default();
         for size in [MaskSize::S4X4, MaskSize::S8X8] {
             let sel = DepthSelector::new(size);

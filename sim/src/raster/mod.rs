@@ -77,6 +77,7 @@ pub(crate) struct RoundDivSteps {
 
 impl RoundDivSteps {
     /// Starts at `k = 0`; `d ≠ 0`.
+    #[cfg(test)]
     pub(crate) fn new(n0: i128, dn: i128, d: i128) -> RoundDivSteps {
         RoundDivSteps::start(n0, &RoundDivStep::new(dn, d))
     }

@@ -85,6 +85,8 @@ use walk::{walk, Active, Piece, WalkScratch};
 
 /// Q.16 pixel unit.
 const ONE16: i64 = 1 << 16;
+/// The largest colour a piece takes (Q8.12 with the rounding offset).
+const COLOUR_MAX: i64 = (255 << 12) + 4095;
 /// Fractional bits of the depth values compared by the walk.
 pub(super) const ZF: u32 = 20;
 
@@ -146,8 +148,16 @@ type BandOut = (Vec<u8>, Vec<i32>, u64, u64);
 impl<'a> MsFrame<'a> {
     /// The triangles hit by the sub-scanline `ynum` (seen from above or below), in input
     /// order, into `act`.
-    fn hits(&self, cand: &[&'a MsTri], ynum: i64, from_above: bool, act: &mut Vec<Active<'a>>) {
+    fn hits(
+        &self,
+        cand: &[&'a MsTri],
+        ynum: i64,
+        from_above: bool,
+        act: &mut Vec<Active<'a>>,
+        crow: &mut Vec<Option<Option<ColourRow>>>,
+    ) {
         act.clear();
+        crow.clear();
         act.extend(cand.iter().filter_map(|&t| {
             let (xl, xr) = t.interval(ynum, from_above)?;
             Some(Active {
@@ -157,6 +167,7 @@ impl<'a> MsFrame<'a> {
                 xr,
             })
         }));
+        crow.resize(act.len(), None);
     }
 
     /// Renders the pixel rows of band `b`: each sub-scanline reaching them is walked once
@@ -173,6 +184,7 @@ impl<'a> MsFrame<'a> {
             walk: ws,
             act,
             cand,
+            crow,
         } = rs;
         acc.resize_with(nr * w, PixAcc::default);
         for a in acc.iter_mut() {
@@ -207,12 +219,12 @@ impl<'a> MsFrame<'a> {
                     let ja = g.div_euclid(n64);
                     let l = g - ja * n64;
                     if l != 0 {
-                        self.hits(cand, ynum, false, act);
+                        self.hits(cand, ynum, false, act, crow);
                         let e = walk(act, xa, xb, inter, pieces, ws);
                         evals += e;
                         npieces += pieces.len() as u64;
                         let r = row(ja);
-                        accumulate_box(&mut acc[r], pieces, act, ynum, 2, self.bgc);
+                        accumulate_box(&mut acc[r], pieces, act, crow, ynum, 2, self.bgc);
                         continue;
                     }
                     // Row ja from below (owned), row ja − 1 from above (owned only by the
@@ -221,28 +233,28 @@ impl<'a> MsFrame<'a> {
                     let above = ja > j0;
                     let above_owned = ja - 1 == height as i64 - 1;
                     if below {
-                        self.hits(cand, ynum, false, act);
+                        self.hits(cand, ynum, false, act, crow);
                         let e = walk(act, xa, xb, inter, pieces, ws);
                         evals += e;
                         npieces += pieces.len() as u64;
                         let r = row(ja);
-                        accumulate_box(&mut acc[r], pieces, act, ynum, 1, self.bgc);
+                        accumulate_box(&mut acc[r], pieces, act, crow, ynum, 1, self.bgc);
                         if above && !cand.iter().any(|t| t.sides_differ(ynum)) {
                             // Both sides see the same spans: the same pieces.
                             let r = row(ja - 1);
-                            accumulate_box(&mut acc[r], pieces, act, ynum, 1, self.bgc);
+                            accumulate_box(&mut acc[r], pieces, act, crow, ynum, 1, self.bgc);
                             continue;
                         }
                     }
                     if above {
-                        self.hits(cand, ynum, true, act);
+                        self.hits(cand, ynum, true, act, crow);
                         let e = walk(act, xa, xb, inter, pieces, ws);
                         if above_owned {
                             evals += e;
                             npieces += pieces.len() as u64;
                         }
                         let r = row(ja - 1);
-                        accumulate_box(&mut acc[r], pieces, act, ynum, 1, self.bgc);
+                        accumulate_box(&mut acc[r], pieces, act, crow, ynum, 1, self.bgc);
                     }
                 }
             }
@@ -253,19 +265,37 @@ impl<'a> MsFrame<'a> {
                     let ynum = 2 * g + n64;
                     let ja = g.div_euclid(n64);
                     let m = g - ja * n64;
-                    self.hits(cand, ynum, false, act);
+                    self.hits(cand, ynum, false, act, crow);
                     let e = walk(act, xa, xb, inter, pieces, ws);
                     if (j0..=j1).contains(&ja) {
                         evals += e;
                         npieces += pieces.len() as u64;
                         let r = row(ja);
                         let fm = &tab.f[m as usize];
-                        accumulate_filtered(&mut acc[r], pieces, act, ynum, fm, width, self.bgc);
+                        accumulate_filtered(
+                            &mut acc[r],
+                            pieces,
+                            act,
+                            crow,
+                            ynum,
+                            fm,
+                            width,
+                            self.bgc,
+                        );
                     }
                     if m > 0 && (j0..=j1).contains(&(ja + 1)) {
                         let r = row(ja + 1);
                         let fm = &tab.f[(n64 - m) as usize];
-                        accumulate_filtered(&mut acc[r], pieces, act, ynum, fm, width, self.bgc);
+                        accumulate_filtered(
+                            &mut acc[r],
+                            pieces,
+                            act,
+                            crow,
+                            ynum,
+                            fm,
+                            width,
+                            self.bgc,
+                        );
                     }
                 }
             }
@@ -298,39 +328,125 @@ struct BandScratch<'a> {
     act: Vec<Active<'a>>,
     /// The band's candidate triangles.
     cand: Vec<&'a MsTri>,
+    /// Per triangle of `act`, its colour planes on the line in 64-bit form, once set up
+    /// (`Some(None)`: they do not fit).
+    crow: Vec<Option<Option<ColourRow>>>,
 }
 
 /// Colours of one piece's parts, left to right: the background, or the polygon's colour
 /// at the middle of the part, Q8.12. Parts one pixel wide in a row (the inside of a long
 /// piece) have middles one pixel apart, whose colours are stepped with additions.
-struct PieceColour {
-    plane: Option<[RowPlane; 3]>,
-    bgc: [i64; 3],
+struct PieceColour<'a, 't> {
+    src: ColourSource<'a, 't>,
+    ynum: i64,
     /// Steppers at the middle `mid`, when set up.
     steps: Option<([RoundDivSteps; 3], i64)>,
 }
 
-impl PieceColour {
+/// Where a piece's colours come from.
+enum ColourSource<'a, 't> {
+    /// The same colour for every part: the background, or a flat triangle's colour.
+    Fixed([i64; 3]),
+    /// A shaded triangle, with its colour planes on the line in 64-bit form where they fit.
+    Shaded(&'a Active<'t>, Option<ColourRow>),
+}
+
+/// A shaded triangle's colour planes on one sub-scanline in 64-bit arithmetic, from one
+/// reference point `x0`: `at(x) = q + ⌊(r + 2s·(x − x0)) / 2d⌋` per channel, which is
+/// [`RowPlane::at`]`(x, 0) = ⌊(2(k + s·x) + d) / 2d⌋` split at `x0` (`q`, `r` the
+/// quotient and remainder there). Set up only when every value stays below 2^62 for `x`
+/// in the triangle's interval on the line.
+#[derive(Clone, Copy, Debug)]
+struct ColourRow {
+    x0: i64,
+    q: [i64; 3],
+    r: [i64; 3],
+    s2: [i64; 3],
+    d2: [i64; 3],
+}
+
+impl ColourRow {
+    /// The planes `c` for `x` in `[x0, x1]`, if they fit.
+    fn new(c: &[RowPlane; 3], x0: i64, x1: i64) -> Option<ColourRow> {
+        const LIM: i128 = 1 << 62;
+        let span = (x1 - x0) as i128;
+        let mut out = ColourRow {
+            x0,
+            q: [0; 3],
+            r: [0; 3],
+            s2: [0; 3],
+            d2: [0; 3],
+        };
+        for (ch, p) in c.iter().enumerate() {
+            let d2 = 2 * p.d;
+            let s2 = 2 * p.s;
+            if p.d <= 0 || d2 >= LIM || s2.checked_abs()?.checked_mul(span)? + d2 >= LIM {
+                return None;
+            }
+            let n = (2 * (p.k.checked_add(p.s.checked_mul(x0 as i128)?)?)).checked_add(p.d)?;
+            let q = n.div_euclid(d2);
+            if q.abs() >= LIM {
+                return None;
+            }
+            out.q[ch] = q as i64;
+            out.r[ch] = (n - q * d2) as i64;
+            out.s2[ch] = s2 as i64;
+            out.d2[ch] = d2 as i64;
+        }
+        Some(out)
+    }
+
+    /// The three values at `x` (in the interval it was set up for).
+    #[inline]
+    fn at(&self, x: i64) -> [i64; 3] {
+        let dx = x - self.x0;
+        [0, 1, 2].map(|ch| self.q[ch] + (self.r[ch] + self.s2[ch] * dx).div_euclid(self.d2[ch]))
+    }
+}
+
+impl<'a, 't> PieceColour<'a, 't> {
     /// The colours of piece `pc` on the sub-scanline `ynum`.
-    fn new(act: &[Active], pc: &Piece, ynum: i64, bgc: [i64; 3]) -> PieceColour {
+    fn new(
+        act: &'a [Active<'t>],
+        crow: &mut [Option<Option<ColourRow>>],
+        pc: &Piece,
+        ynum: i64,
+        bgc: [i64; 3],
+    ) -> PieceColour<'a, 't> {
+        let src = match (pc.tri >= 0).then(|| &act[pc.slot]) {
+            None => ColourSource::Fixed(bgc),
+            Some(a) => match a.t.flat {
+                Some(c) => ColourSource::Fixed(c),
+                None => ColourSource::Shaded(
+                    a,
+                    *crow[pc.slot]
+                        .get_or_insert_with(|| ColourRow::new(&Self::planes(a, ynum), a.xl, a.xr)),
+                ),
+            },
+        };
         PieceColour {
-            plane: (pc.tri >= 0).then(|| {
-                let r = &act[pc.slot].t.rows;
-                [r[1].row(ynum), r[2].row(ynum), r[3].row(ynum)]
-            }),
-            bgc,
+            src,
+            ynum,
             steps: None,
         }
+    }
+
+    /// The colour planes of `a` on the sub-scanline `ynum`.
+    #[inline]
+    fn planes(a: &Active, ynum: i64) -> [RowPlane; 3] {
+        let r = &a.t.rows;
+        [r[1].row(ynum), r[2].row(ynum), r[3].row(ynum)]
     }
 
     /// The colour of the part `[x0, x1)`; `end` is the piece's end (how far steps go).
     #[inline]
     fn at(&mut self, x0: i64, x1: i64, end: i64) -> [i64; 3] {
-        let Some(c) = self.plane else {
-            return self.bgc;
+        let (a, fast) = match &self.src {
+            ColourSource::Fixed(c) => return *c,
+            ColourSource::Shaded(a, fast) => (*a, fast),
         };
         let mid = (x0 + x1).div_euclid(2);
-        let clamp = |v: i128| (v as i64).clamp(0, (255 << 12) + 4095);
+        let clamp = |v: i128| (v as i64).clamp(0, COLOUR_MAX);
         if let Some((st, m)) = &mut self.steps {
             if *m == mid {
                 let v = [0, 1, 2].map(|k| clamp(st[k].value()));
@@ -343,8 +459,11 @@ impl PieceColour {
         }
         if x1 - x0 == ONE16 && end - x1 >= 2 * ONE16 {
             // More whole parts follow: step from here.
-            let mut st =
-                c.map(|p| RoundDivSteps::new(p.k + p.s * mid as i128, p.s * ONE16 as i128, p.d));
+            let c = Self::planes(a, self.ynum);
+            let mut st = [0, 1, 2].map(|k| {
+                let p = &c[k];
+                RoundDivSteps::start(p.k + p.s * mid as i128, &a.t.cstep[k])
+            });
             let v = [0, 1, 2].map(|k| clamp(st[k].value()));
             for s in st.iter_mut() {
                 s.advance();
@@ -352,7 +471,10 @@ impl PieceColour {
             self.steps = Some((st, mid + ONE16));
             return v;
         }
-        c.map(|p| p.at(mid, 0).clamp(0, (255 << 12) + 4095))
+        match fast {
+            Some(f) => f.at(mid).map(|v| v.clamp(0, COLOUR_MAX)),
+            None => Self::planes(a, self.ynum).map(|p| p.at(mid, 0).clamp(0, COLOUR_MAX)),
+        }
     }
 }
 
@@ -361,12 +483,13 @@ fn accumulate_box(
     acc: &mut [PixAcc],
     pieces: &[Piece],
     act: &[Active],
+    crow: &mut [Option<Option<ColourRow>>],
     ynum: i64,
     wl: i64,
     bgc: [i64; 3],
 ) {
     for pc in pieces {
-        let mut pcol = PieceColour::new(act, pc, ynum, bgc);
+        let mut pcol = PieceColour::new(act, crow, pc, ynum, bgc);
         let mut x0 = pc.x0;
         while x0 < pc.x1 {
             let i = x0.div_euclid(ONE16);
@@ -380,17 +503,19 @@ fn accumulate_box(
 
 /// Axisymmetric filter: adds each piece, split at pixel centres (square R_i spans centres
 /// i .. i+1), to the two pixels of its square with the table weights `fm`.
+#[allow(clippy::too_many_arguments)]
 fn accumulate_filtered(
     acc: &mut [PixAcc],
     pieces: &[Piece],
     act: &[Active],
+    crow: &mut [Option<Option<ColourRow>>],
     ynum: i64,
     fm: &[i64; 65],
     width: u32,
     bgc: [i64; 3],
 ) {
     for pc in pieces {
-        let mut pcol = PieceColour::new(act, pc, ynum, bgc);
+        let mut pcol = PieceColour::new(act, crow, pc, ynum, bgc);
         let mut x0 = pc.x0;
         while x0 < pc.x1 {
             let i = (x0 - ONE16 / 2).div_euclid(ONE16);
@@ -422,6 +547,12 @@ pub fn render(
     if !(1..=16).contains(&n) {
         return Err(AaError::Param(format!(
             "subscanlines = {n} must be in 1..=16"
+        )));
+    }
+    let max = pixelproc_formats::MAX_SCREEN;
+    if width > max || height > max {
+        return Err(AaError::Param(format!(
+            "screen {width}x{height} exceeds {max}x{max}"
         )));
     }
     let mt: Vec<MsTri> = tris
@@ -494,6 +625,46 @@ mod tests {
                 assert_eq!(ia.1, ib.0, "sub-scanline {g}");
             }
         }
+    }
+
+    /// The 64-bit colour row gives [`RowPlane::at`] everywhere on the interval it was set
+    /// up for, and refuses planes that would not fit.
+    #[test]
+    fn colour_row_equals_the_wide_plane() {
+        let mut rng = crate::rng::Lcg64(0x00c0_100e);
+        let (mut built, mut refused) = (0, 0);
+        for case in 0..3000 {
+            let bits = [20u32, 40, 60, 70][case % 4];
+            let mut draw = |b: u32| {
+                let v = ((rng.step() as i128) << 64 | rng.step() as i128) % (1i128 << b);
+                if rng.step() & 1 == 0 {
+                    -v
+                } else {
+                    v
+                }
+            };
+            let planes = [0; 3].map(|_| RowPlane {
+                k: draw(bits + 10),
+                s: draw(bits.min(44)),
+                d: draw(bits).abs().max(1),
+            });
+            let x0 = (draw(26) as i64).abs() - (1 << 20);
+            let x1 = x0 + 1 + (draw(22) as i64).abs();
+            let Some(row) = ColourRow::new(&planes, x0, x1) else {
+                refused += 1;
+                continue;
+            };
+            built += 1;
+            let mut xs = vec![x0, x1, (x0 + x1) / 2];
+            xs.extend((0..8).map(|_| x0 + (draw(40) as i64).rem_euclid(x1 - x0 + 1)));
+            for x in xs {
+                assert_eq!(row.at(x), planes.map(|p| p.at(x, 0)), "{planes:?} at {x}");
+            }
+        }
+        assert!(
+            built > 1000 && refused > 300,
+            "built {built}, refused {refused}"
+        );
     }
 
     #[test]

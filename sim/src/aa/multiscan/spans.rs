@@ -2,7 +2,8 @@
 //! once, its x-interval on a sub-scanline rounded once to Q.16, and its depth and colour
 //! planes restricted to a sub-scanline (see the module header of [`super`]).
 
-use crate::raster::round_div;
+use super::{COLOUR_MAX, ONE16};
+use crate::raster::{round_div, RoundDivStep};
 use crate::setup::ExactPlane as Plane;
 use crate::setup::SnappedTri;
 
@@ -98,6 +99,12 @@ pub(super) struct MsTri {
     /// of the frame's denominator.
     pub(super) rows: [RowPlanes; 4],
     pub(super) decal: bool,
+    /// Flat colour (every colour plane constant: each [`RowPlane::at`] is exactly the
+    /// plane's `v0`), clamped as the walk's colours are; `None` for a shaded triangle.
+    pub(super) flat: Option<[i64; 3]>,
+    /// Per colour plane, its step by one pixel (`s·2^16 / d`, the same on every
+    /// sub-scanline), prepared once for stepping colours along a piece.
+    pub(super) cstep: [RoundDivStep; 3],
 }
 
 pub(super) fn prepare(k: usize, t: &SnappedTri, yden: i64) -> Option<MsTri> {
@@ -130,6 +137,17 @@ pub(super) fn prepare(k: usize, t: &SnappedTri, yden: i64) -> Option<MsTri> {
         };
         ne += 1;
     }
+    let rows = [
+        RowPlanes::new(&zp, yden),
+        RowPlanes::new(&c[0], yden),
+        RowPlanes::new(&c[1], yden),
+        RowPlanes::new(&c[2], yden),
+    ];
+    let flat = c
+        .iter()
+        .all(|p| p.nx == 0 && p.ny == 0)
+        .then(|| c.map(|p| (p.v0 as i64).clamp(0, COLOUR_MAX)));
+    let cstep = [1, 2, 3].map(|k| RoundDivStep::new(rows[k].s * ONE16 as i128, rows[k].d));
     Some(MsTri {
         idx: k as i32,
         ymin,
@@ -138,13 +156,10 @@ pub(super) fn prepare(k: usize, t: &SnappedTri, yden: i64) -> Option<MsTri> {
         yhi: ymax * yden,
         edges,
         ne,
-        rows: [
-            RowPlanes::new(&zp, yden),
-            RowPlanes::new(&c[0], yden),
-            RowPlanes::new(&c[1], yden),
-            RowPlanes::new(&c[2], yden),
-        ],
+        rows,
         decal: t.host.is_some(),
+        flat,
+        cstep,
     })
 }
 

@@ -6,8 +6,10 @@ use super::spans::{MsTri, RowPlane};
 use super::ZF;
 use crate::raster::depth;
 
-/// The slot bits of a crossing's sort key (slots and triangle indices stay below 2^31).
-const SLOT_MASK: usize = (1 << 31) - 1;
+/// Where x starts in a crossing's sort key: below it the kind, the decal bit and the slot.
+const KEY_X: u32 = 34;
+/// The slot bits of a crossing's sort key.
+const SLOT_MASK: u64 = (1 << (KEY_X - 2)) - 1;
 
 /// One visible piece `[x0, x1)` of triangle `tri` (−1 background) on a sub-scanline,
 /// with its row planes for colour.
@@ -42,21 +44,47 @@ pub(super) fn walk(
     out: &mut Vec<Piece>,
     ws: &mut WalkScratch,
 ) -> u64 {
+    // The sort key's fields (see below) must fit: x relative to `xa` in 30 bits (the
+    // screen is at most 2^12 pixels of 2^16), the slot in 32.
+    assert!(
+        xb - xa < 1 << (64 - KEY_X) && (act.len() as u64) <= SLOT_MASK,
+        "walk of {} polygons over {} units exceeds the crossing key",
+        act.len(),
+        xb - xa
+    );
+    debug_assert!(act.windows(2).all(|w| w[0].t.idx < w[1].t.idx));
     out.clear();
-    let WalkScratch { ev, next, zcache } = ws;
+    let WalkScratch {
+        ev,
+        next,
+        zcache,
+        zrange,
+    } = ws;
     ev.clear();
     next.clear();
     zcache.clear();
     zcache.resize(act.len(), [(i64::MIN, 0); 2]);
+    zrange.clear();
+    zrange.resize(act.len(), (i64::MIN, i64::MAX));
     for (s, a) in act.iter().enumerate() {
         if a.xr <= xa || a.xl >= xb {
             continue;
         }
-        let d = a.t.decal as u128;
+        if inter {
+            // The depth range over the polygon's part of the line: the rounded plane is
+            // monotone in x, so its ends bound it. The ends also seed the cache (the
+            // walk asks for the left end first).
+            let (x0, x1) = (a.xl.max(xa), a.xr.min(xb));
+            let (z0, z1) = (a.z.at(x0, ZF), a.z.at(x1, ZF));
+            zrange[s] = (z0.min(z1), z0.max(z1));
+            zcache[s] = [(x1, z1), (x0, z0)];
+        }
+        let d = a.t.decal as u64;
         // Key, most significant first: x, right (0) before left (1); rights: decal
-        // first; lefts: face first; then the triangle and its slot (all keys distinct).
-        let key = |x: i64, kind: u128, d: u128| {
-            ((x - xa) as u128) << 64 | kind << 63 | d << 62 | (a.t.idx as u128) << 31 | s as u128
+        // first; lefts: face first; then the triangle, which is the slot's order (the
+        // active list is in input order), so the slot stands for both (keys distinct).
+        let key = |x: i64, kind: u64, d: u64| {
+            ((x - xa) as u64) << KEY_X | kind << (KEY_X - 1) | d << (KEY_X - 2) | s as u64
         };
         ev.push(key(a.xl.max(xa), 1, d));
         ev.push(key(a.xr.min(xb), 0, 1 - d));
@@ -66,14 +94,15 @@ pub(super) fn walk(
         act,
         evals: 0,
         zcache,
+        zrange,
     };
     let mut cur: Option<usize> = None;
     let mut x = xa;
     for &key in ev.iter() {
         let (ex, kind, s) = (
-            (key >> 64) as i64 + xa,
-            (key >> 63) as u8 & 1,
-            (key as usize) & SLOT_MASK,
+            (key >> KEY_X) as i64 + xa,
+            (key >> (KEY_X - 1)) as u8 & 1,
+            (key & SLOT_MASK) as usize,
         );
         // Between crossings: a polygon of NEXT may pass in front of the current one.
         if inter {
@@ -135,11 +164,13 @@ pub(super) fn emit(out: &mut Vec<Piece>, act: &[Active], x0: i64, x1: i64, cur: 
 #[derive(Default)]
 pub(super) struct WalkScratch {
     /// Crossings, as sort keys (see [`walk`]).
-    pub(super) ev: Vec<u128>,
+    pub(super) ev: Vec<u64>,
     /// The stack NEXT.
     pub(super) next: Vec<usize>,
     /// Per active polygon, its last two depths `(x, z)` (older first).
     pub(super) zcache: Vec<[(i64, i64); 2]>,
+    /// Per active polygon, the least and greatest depth on its part of the line.
+    pub(super) zrange: Vec<(i64, i64)>,
 }
 
 /// Depth comparisons of one sub-scanline walk, counting plane evaluations.
@@ -150,6 +181,8 @@ pub(super) struct Walker<'a, 'b, 'c> {
     /// the same crossing again and again (the count of evaluations is unchanged; only
     /// the arithmetic is not repeated).
     pub(super) zcache: &'c mut [[(i64, i64); 2]],
+    /// Per active polygon, bounds of its depths on the line (see [`WalkScratch`]).
+    pub(super) zrange: &'c [(i64, i64)],
 }
 
 impl Walker<'_, '_, '_> {
@@ -189,7 +222,14 @@ impl Walker<'_, '_, '_> {
     /// `c` (the earliest over `next`, the first listed on a tie), if any passes it.
     pub(super) fn first_pass(&mut self, c: usize, next: &[usize], x: i64, ex: i64) -> Option<i64> {
         let mut best: Option<i64> = None;
+        let c_far = self.zrange[c].1;
         for &q in next {
+            if self.zrange[q].0 >= c_far {
+                // q is nowhere nearer than c on the line, so not at `ex`: it does not
+                // pass. The four evaluations below are counted, not computed.
+                self.evals += 4;
+                continue;
+            }
             let (za, zb) = (
                 self.zat(q, x) - self.zat(c, x),
                 self.zat(q, ex) - self.zat(c, ex),
