@@ -190,6 +190,13 @@ impl Walker<'_, '_, '_> {
     #[inline]
     pub(super) fn zat(&mut self, s: usize, x: i64) -> i64 {
         self.evals += 1;
+        self.z(s, x)
+    }
+
+    /// [`Walker::zat`] without counting: for bounds that decide comparisons whose
+    /// evaluations are counted where they are made (or counted without being made).
+    #[inline]
+    fn z(&mut self, s: usize, x: i64) -> i64 {
         let c = &mut self.zcache[s];
         if c[1].0 == x {
             return c[1].1;
@@ -222,11 +229,11 @@ impl Walker<'_, '_, '_> {
     /// `c` (the earliest over `next`, the first listed on a tie), if any passes it.
     pub(super) fn first_pass(&mut self, c: usize, next: &[usize], x: i64, ex: i64) -> Option<i64> {
         let mut best: Option<i64> = None;
-        let c_far = self.zrange[c].1;
+        let c_end = self.z(c, ex);
         for &q in next {
-            if self.zrange[q].0 >= c_far {
-                // q is nowhere nearer than c on the line, so not at `ex`: it does not
-                // pass. The four evaluations below are counted, not computed.
+            if self.zrange[q].0 >= c_end {
+                // q is nowhere on the line nearer than c is at `ex`, so not there: it does
+                // not pass. The four evaluations below are counted, not computed.
                 self.evals += 4;
                 continue;
             }
@@ -252,6 +259,12 @@ impl Walker<'_, '_, '_> {
         for (ni, &q) in next.iter().enumerate() {
             best = match best {
                 None => Some(ni),
+                Some(b) if self.zrange[q].0 > self.z(next[b], x) => {
+                    // q is behind the best at x wherever it is on the line: `front`
+                    // would find it farther. Its two evaluations are counted.
+                    self.evals += 2;
+                    Some(b)
+                }
                 Some(b) => {
                     if self.front(q, next[b], x) {
                         Some(ni)
