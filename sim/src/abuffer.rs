@@ -131,6 +131,9 @@ pub struct FragSetup {
     /// Steps per pixel along a row of the depth plane (Q.12) and the colour planes: the
     /// same on every row, prepared once.
     steps: [RoundDivStep; 4],
+    /// A flat triangle's colour (every colour plane constant: its value is the plane's
+    /// `v0` exactly, `round(v0·area2 / area2)`), else `None`.
+    flat: Option<[i128; 3]>,
     tag: u16,
     decal: bool,
     prim: u32,
@@ -171,13 +174,19 @@ impl FragSetup {
             step(&c1, 0),
             step(&c2, 0),
         ];
+        let c = [c0, c1, c2];
+        let flat = c
+            .iter()
+            .all(|p| p.nx == 0 && p.ny == 0)
+            .then(|| c.map(|p| p.v0));
         Ok(Some(FragSetup {
             edges,
             z,
             sx,
             sy,
             steps,
-            c: [c0, c1, c2],
+            flat,
+            c,
             tag: t.tag,
             decal: t.host.is_some(),
             prim,
@@ -213,16 +222,21 @@ impl FragSetup {
     /// The fragment whose depth and colour planes the steppers are at (see
     /// [`FragSetup::row_steps`]).
     #[inline]
-    fn fragment_from<S: PlaneStepper>(&self, st: &[S; 4], mask: u64) -> Fragment {
+    fn fragment_from<Z: PlaneStepper, C: PlaneStepper>(
+        &self,
+        z: &Z,
+        c: &[C; 3],
+        mask: u64,
+    ) -> Fragment {
         let max = 255i128 << I_FRAC;
         Fragment {
             mask,
             plane: FragPlane {
-                zc: saturate_plane(st[0].value()),
+                zc: saturate_plane(z.value()),
                 sx: self.sx,
                 sy: self.sy,
             },
-            rgb_q12: [1, 2, 3].map(|k| st[k].value().clamp(0, max) as u32),
+            rgb_q12: c.map(|s| s.value().clamp(0, max) as u32),
             tag: self.tag,
             decal: self.decal,
             prim: self.prim,
@@ -395,11 +409,16 @@ impl RowFrags {
             let (a, b) = rm.cov.touched;
             let st = t.row_steps(a, j);
             let steps = (b - a + 1) as u64;
-            match [0, 1, 2, 3].map(|q| st[q].narrow(steps)) {
-                [Some(z), Some(r), Some(g), Some(bl)] => {
-                    emit(frags, end, t, rm, [z, r, g, bl], full);
-                }
-                _ => emit(frags, end, t, rm, st, full),
+            let [z, c0, c1, c2] = st;
+            match (z.narrow(steps), t.flat) {
+                (Some(z), Some(rgb)) => emit(frags, end, t, rm, (z, rgb.map(Constant)), full),
+                (None, Some(rgb)) => emit(frags, end, t, rm, (z, rgb.map(Constant)), full),
+                (z64, None) => match (z64, [c0, c1, c2].map(|c| c.narrow(steps))) {
+                    (Some(z), [Some(r), Some(g), Some(bl)]) => {
+                        emit(frags, end, t, rm, (z, [r, g, bl]), full)
+                    }
+                    _ => emit(frags, end, t, rm, (z, [c0, c1, c2]), full),
+                },
             }
         }
     }
@@ -415,12 +434,12 @@ impl RowFrags {
 /// `i`'s next free slot), the depth and colour planes stepped from the first touched
 /// pixel.
 #[inline]
-fn emit<S: PlaneStepper>(
+fn emit<Z: PlaneStepper, C: PlaneStepper>(
     frags: &mut [Fragment],
     end: &mut [u32],
     t: &FragSetup,
     rm: &RowMasks,
-    mut st: [S; 4],
+    (mut z, mut c): (Z, [C; 3]),
     full: u64,
 ) {
     let rc = rm.cov;
@@ -431,13 +450,27 @@ fn emit<S: PlaneStepper>(
         };
         if mask != 0 {
             let at = &mut end[i as usize];
-            frags[*at as usize] = t.fragment_from(&st, mask);
+            frags[*at as usize] = t.fragment_from(&z, &c, mask);
             *at += 1;
         }
-        for s in st.iter_mut() {
+        z.advance();
+        for s in c.iter_mut() {
             s.advance();
         }
     }
+}
+
+/// The value of a constant plane (a flat triangle's colour): the same at every pixel.
+#[derive(Clone, Copy, Debug)]
+struct Constant(i128);
+
+impl PlaneStepper for Constant {
+    #[inline]
+    fn value(&self) -> i128 {
+        self.0
+    }
+    #[inline]
+    fn advance(&mut self) {}
 }
 
 /// A filler for fragment slots not yet written.
@@ -725,6 +758,64 @@ mod tests {
         // 8 bits of 1 on background 0: 0.5 → 1.
         let o = run(&[frag(0xFF, 0, 1, 0, 0)], 0);
         assert_eq!(o.rgb, [1; 3]);
+    }
+
+    /// Every fragment a row builds (stepped planes, 64-bit or not, flat colours) is the
+    /// one computed directly at its pixel by exact division, with the edges' mask.
+    #[test]
+    fn row_fragments_equal_the_direct_ones() {
+        let mut rng = crate::rng::Lcg64(0x00f1_a7c0);
+        let (w, h) = (40u32, 24u32);
+        let mut tris = Vec::new();
+        for k in 0..60 {
+            let mut p = || {
+                [
+                    (rng.range(-4.0, w as f64 + 4.0) * 256.0) as i32,
+                    (rng.range(-4.0, h as f64 + 4.0) * 256.0) as i32,
+                ]
+            };
+            let v = [p(), p(), p()];
+            let z = [0; 3].map(|_| (rng.unit() * 16_000_000.0) as u32 + 16);
+            let rgb =
+                |rng: &mut crate::rng::Lcg64| [0; 3].map(|_| (rng.unit() * 255.0 * 4096.0) as u32);
+            // Every other triangle flat (one colour at all three vertices).
+            let c = if k % 2 == 0 {
+                let one = rgb(&mut rng);
+                [one; 3]
+            } else {
+                [rgb(&mut rng), rgb(&mut rng), rgb(&mut rng)]
+            };
+            tris.push(SnappedTri {
+                v,
+                z,
+                c,
+                tag: k as u16,
+                ..Default::default()
+            });
+        }
+        let size = MaskSize::S4X4;
+        let set = frag_setups(&tris, w, h, size).unwrap();
+        let flat = set.0.iter().filter(|t| t.flat.is_some()).count();
+        assert!(flat > 20 && flat < set.0.len(), "{flat} flat");
+        let mut rf = RowFrags::default();
+        let mut compared = 0;
+        for j in 0..h as i64 {
+            rf.build(j, w, &set.0, set.1.members(set.1.of_row(j)), size);
+            for i in 0..w as usize {
+                let got = rf.pixel(i);
+                let want: Vec<Fragment> = set
+                    .0
+                    .iter()
+                    .filter_map(|t| {
+                        let mask = t.edges.fraction_mask(i as i64, j);
+                        (mask != 0).then(|| t.fragment(i as i64, j, mask))
+                    })
+                    .collect();
+                assert_eq!(got, &want[..], "pixel ({i}, {j})");
+                compared += want.len();
+            }
+        }
+        assert!(compared > 2000, "{compared}");
     }
 
     #[test]
