@@ -267,35 +267,27 @@ impl<'a> MsFrame<'a> {
                     let m = g - ja * n64;
                     self.hits(cand, ynum, false, act, crow);
                     let e = walk(act, xa, xb, inter, pieces, ws);
+                    // Row `j` with the table of distance `k`.
+                    let mut add = |j: i64, k: i64| {
+                        let fm = &tab.f[k as usize];
+                        accumulate_filtered(
+                            &mut acc[row(j)],
+                            pieces,
+                            act,
+                            crow,
+                            ynum,
+                            fm,
+                            width,
+                            self.bgc,
+                        );
+                    };
                     if (j0..=j1).contains(&ja) {
                         evals += e;
                         npieces += pieces.len() as u64;
-                        let r = row(ja);
-                        let fm = &tab.f[m as usize];
-                        accumulate_filtered(
-                            &mut acc[r],
-                            pieces,
-                            act,
-                            crow,
-                            ynum,
-                            fm,
-                            width,
-                            self.bgc,
-                        );
+                        add(ja, m);
                     }
                     if m > 0 && (j0..=j1).contains(&(ja + 1)) {
-                        let r = row(ja + 1);
-                        let fm = &tab.f[(n64 - m) as usize];
-                        accumulate_filtered(
-                            &mut acc[r],
-                            pieces,
-                            act,
-                            crow,
-                            ynum,
-                            fm,
-                            width,
-                            self.bgc,
-                        );
+                        add(ja + 1, n64 - m);
                     }
                 }
             }
