@@ -598,6 +598,16 @@ mod tests {
     use super::*;
 
     #[test]
+    fn screens_beyond_the_formats_are_refused() {
+        let p = MultiscanParams::new(4, Filter::Box);
+        for (w, h) in [(4097, 10), (10, 4097)] {
+            let e = render(&[], w, h, [0; 3], &p).unwrap_err();
+            assert!(e.to_string().contains("exceeds 4096x4096"), "{e}");
+        }
+        assert!(render(&[], 4096, 2, [0; 3], &p).is_ok());
+    }
+
+    #[test]
     fn shared_edge_intervals_meet_exactly() {
         let q = |x: f64| (x * 256.0).round() as i32;
         let a = SnappedTri {
