@@ -338,12 +338,13 @@ fn frag_setups(
     if width > MAX_SCREEN || height > MAX_SCREEN {
         return Err(AbufferError::ScreenTooLarge(width, height));
     }
-    let setups: Vec<Option<FragSetup>> = tris
+    // Degenerate triangles dropped in the parallel pass itself (no serial copy of the
+    // setups afterwards); the order is the input's.
+    let setups: Vec<FragSetup> = tris
         .par_iter()
         .enumerate()
-        .map(|(k, t)| FragSetup::new(t, k as u32, size))
+        .filter_map(|(k, t)| FragSetup::new(t, k as u32, size).transpose())
         .collect::<Result<_, _>>()?;
-    let setups: Vec<FragSetup> = setups.into_iter().flatten().collect();
     let bands = Bands::new(
         BAND,
         height,

@@ -11,6 +11,7 @@ use crate::setup::SetupError;
 use crate::shadow::{self, FactorTable, ShadowError, ShadowLight, ShadowStats};
 use crate::stream::StreamError;
 use crate::{aa, abuffer};
+use rayon::prelude::*;
 use std::time::{Duration, Instant};
 use thiserror::Error;
 
@@ -413,7 +414,7 @@ fn run_aa(
         AaOut {
             coverage: Some(
                 a.coverage
-                    .iter()
+                    .par_iter()
                     .map(|&c| (c as u32 * 255 / full) as u8)
                     .collect(),
             ),
