@@ -141,9 +141,9 @@ struct MsFrame<'a> {
     bands: Bands,
 }
 
-/// Output of one band of pixel rows: RGB8, visible triangles, depth evaluations and
-/// pieces of the sub-scanlines it owns.
-type BandOut = (Vec<u8>, Vec<i32>, u64, u64);
+/// Output of one band of pixel rows besides its pixels: depth evaluations and pieces of
+/// the sub-scanlines it owns.
+type BandOut = (u64, u64);
 
 impl<'a> MsFrame<'a> {
     /// The triangles hit by the sub-scanline `ynum` (seen from above or below), in input
@@ -172,7 +172,14 @@ impl<'a> MsFrame<'a> {
 
     /// Renders the pixel rows of band `b`: each sub-scanline reaching them is walked once
     /// and added to the (one or two) rows it reaches.
-    fn render_band(&self, b: usize, rs: &mut BandScratch<'a>) -> BandOut {
+    /// Its RGB8 and visible triangles go to `rgb` and `vis` (the band's rows).
+    fn render_band(
+        &self,
+        b: usize,
+        rs: &mut BandScratch<'a>,
+        rgb: &mut [u8],
+        vis: &mut [i32],
+    ) -> BandOut {
         let (p, width, height) = (self.p, self.width, self.height);
         let (j0, j1) = self.bands.rows(b);
         let nr = (j1 - j0 + 1) as usize;
@@ -296,16 +303,14 @@ impl<'a> MsFrame<'a> {
             None => 2 * p.subscanlines as u64 * ONE16 as u64 * 4096,
             Some(t) => t.total as u64 * 4096,
         };
-        let mut rgb = Vec::with_capacity(3 * nr * w);
-        let mut vis = Vec::with_capacity(nr * w);
-        for a in acc.iter_mut() {
-            for ch in 0..3 {
-                rgb.push((a.c[ch] / div).min(255) as u8);
+        for ((a, px), v) in acc.iter_mut().zip(rgb.chunks_mut(3)).zip(vis.iter_mut()) {
+            for (o, &c) in px.iter_mut().zip(&a.c) {
+                *o = (c / div).min(255) as u8;
             }
             a.w.sort_by_key(|e| (std::cmp::Reverse(e.1), e.0));
-            vis.push(a.w.first().map_or(-1, |e| e.0));
+            *v = a.w.first().map_or(-1, |e| e.0);
         }
-        (rgb, vis, evals, npieces)
+        (evals, npieces)
     }
 }
 
@@ -569,16 +574,24 @@ pub fn render(
         tab: (p.filter != Filter::Box).then(|| tables(p.filter, n)),
     };
     let w = width as usize;
-    let rows: Vec<BandOut> = (0..f.bands.len())
-        .into_par_iter()
-        .map_init(BandScratch::default, |rs, b| f.render_band(b, rs))
-        .collect();
-    let mut rgb = Vec::with_capacity(3 * w * height as usize);
-    let mut visible = Vec::with_capacity(w * height as usize);
+    let mut rgb = vec![0u8; 3 * w * height as usize];
+    let mut visible = vec![-1i32; w * height as usize];
+    // The bands are `f.bands.band()` rows each (the last one possibly fewer), written in
+    // place.
+    let band = f.bands.band() as usize;
+    let rows: Vec<BandOut> = if rgb.is_empty() {
+        Vec::new() // an empty screen: nothing to walk
+    } else {
+        rgb.par_chunks_mut(3 * w * band)
+            .zip(visible.par_chunks_mut(w * band))
+            .enumerate()
+            .map_init(BandScratch::default, |rs, (b, (r, v))| {
+                f.render_band(b, rs, r, v)
+            })
+            .collect()
+    };
     let mut stats = AaStats::default();
-    for (r, v, e, np) in rows {
-        rgb.extend(r);
-        visible.extend(v);
+    for (e, np) in rows {
         stats.depth_evals += e;
         stats.samples_written += np;
     }
