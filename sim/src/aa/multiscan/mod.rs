@@ -618,6 +618,11 @@ mod tests {
             assert!(e.to_string().contains("exceeds 4096x4096"), "{e}");
         }
         assert!(render(&[], 4096, 2, [0; 3], &p).is_ok());
+        // An empty screen renders nothing and counts nothing.
+        for (w, h) in [(0, 5), (5, 0)] {
+            let f = render(&[], w, h, [0; 3], &p).unwrap();
+            assert!(f.rgb.is_empty() && f.stats.depth_evals == 0);
+        }
     }
 
     #[test]
