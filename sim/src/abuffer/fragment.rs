@@ -1,0 +1,415 @@
+//! Fragments of the A-buffer (seed 000, JP2569952B2, background process 1: mask
+//! generation, and the fragment each mask is stored with): per pixel and triangle the
+//! fraction mask from [`crate::mask`], the depth plane relative to the pixel centre
+//! ([`FragPlane`]) and the colour at the pixel centre, built row by row for the frame
+//! renderer in [`super`]. The rules are stated in the header of [`super`].
+
+use super::AbufferError;
+use crate::mask::{MaskEdges, RowMasks};
+use crate::raster::edge::check_depths;
+use crate::raster::rows::Bands;
+use crate::raster::{round_div, PlaneStepper, RoundDivStep, RoundDivSteps};
+use crate::setup::{ExactPlane, SetupError, SnappedTri};
+use pixelproc_formats::abuffer::{saturate_plane, FragPlane, MaskSize, PLANE_FRAC};
+use pixelproc_formats::{I_FRAC, MAX_SCREEN, SUBPIXEL_ONE};
+use rayon::prelude::*;
+
+/// One fragment: a triangle's share of one pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Fragment {
+    /// Fraction mask (bit order of [`pixelproc_formats::abuffer`]).
+    pub mask: u64,
+    /// Depth plane relative to the pixel centre.
+    pub plane: FragPlane,
+    /// Colour at the pixel centre, Q8.12 per channel.
+    pub rgb_q12: [u32; 3],
+    /// Object tag.
+    pub tag: u16,
+    /// Decal: wins depth ties against non-decals.
+    pub decal: bool,
+    /// Triangle index in scene order (final tie-break).
+    pub prim: u32,
+}
+
+impl ExactPlane {
+    /// `round(v · 2^frac)` at the centre of pixel (i, j).
+    fn at_centre(&self, i: i64, j: i64, frac: u32) -> i128 {
+        let one = SUBPIXEL_ONE as i128;
+        let (x, y) = (i as i128 * one + one / 2, j as i128 * one + one / 2);
+        let num =
+            (self.v0 * self.area2 + self.nx * (x - self.x0) + self.ny * (y - self.y0)) << frac;
+        round_div(num, self.area2)
+    }
+}
+
+/// Per-triangle fragment setup: edges for the masks, planes for depth and colour.
+#[derive(Clone, Debug)]
+pub struct FragSetup {
+    /// The triangle's edges.
+    pub edges: MaskEdges,
+    z: ExactPlane,
+    sx: i64,
+    sy: i64,
+    c: [ExactPlane; 3],
+    /// Steps per pixel along a row of the depth plane (Q.12) and the colour planes: the
+    /// same on every row, prepared once.
+    steps: [RoundDivStep; 4],
+    /// A flat triangle's colour (every colour plane constant: its value is the plane's
+    /// `v0` exactly, `round(v0·area2 / area2)`), else `None`.
+    flat: Option<[i128; 3]>,
+    tag: u16,
+    decal: bool,
+    prim: u32,
+}
+
+impl FragSetup {
+    /// Sets up triangle number `prim`. `Ok(None)` for a zero-area triangle.
+    pub fn new(t: &SnappedTri, prim: u32, size: MaskSize) -> Result<Option<FragSetup>, SetupError> {
+        // Depths (with the host's) are checked, coordinates only the triangle's own: the
+        // host plane's coordinates are not range-checked here, unlike span setup.
+        check_depths(t)?;
+        let Some(edges) = MaskEdges::new(t, size)? else {
+            return Ok(None);
+        };
+        let zp = match &t.host {
+            Some(h) => ExactPlane::new(h.v, h.z.map(|x| x as i64)),
+            None => ExactPlane::new(t.v, t.z.map(|x| x as i64)),
+        };
+        let Some(z) = zp else { return Ok(None) };
+        let cp = |k: usize| ExactPlane::new(t.v, [0, 1, 2].map(|q| t.c[q][k] as i64));
+        let (Some(c0), Some(c1), Some(c2)) = (cp(0), cp(1), cp(2)) else {
+            return Ok(None);
+        };
+        let one = SUBPIXEL_ONE as i128;
+        // Slope per offset unit (1/(2n) px): ∂z/∂x_q8 · 256 / (2n), in Q.12.
+        let sx = saturate_plane(round_div(
+            (z.nx * one) << PLANE_FRAC,
+            z.area2 * 2 * size.n() as i128,
+        ));
+        let sy = saturate_plane(round_div(
+            (z.ny * one) << PLANE_FRAC,
+            z.area2 * 2 * size.m() as i128,
+        ));
+        let step = |p: &ExactPlane, frac: u32| RoundDivStep::new((p.nx * one) << frac, p.area2);
+        let steps = [
+            step(&z, PLANE_FRAC),
+            step(&c0, 0),
+            step(&c1, 0),
+            step(&c2, 0),
+        ];
+        let c = [c0, c1, c2];
+        let flat = c
+            .iter()
+            .all(|p| p.nx == 0 && p.ny == 0)
+            .then(|| c.map(|p| p.v0));
+        Ok(Some(FragSetup {
+            edges,
+            z,
+            sx,
+            sy,
+            steps,
+            flat,
+            c,
+            tag: t.tag,
+            decal: t.host.is_some(),
+            prim,
+        }))
+    }
+
+    /// The depth plane at pixel (i, j).
+    pub fn plane_at(&self, i: i64, j: i64) -> FragPlane {
+        FragPlane {
+            zc: saturate_plane(self.z.at_centre(i, j, PLANE_FRAC)),
+            sx: self.sx,
+            sy: self.sy,
+        }
+    }
+
+    /// Steppers of the depth and colour planes along row `j` from pixel `i0`: the values
+    /// [`FragSetup::fragment`] computes, pixel after pixel, with additions only.
+    fn row_steps(&self, i0: i64, j: i64) -> [RoundDivSteps; 4] {
+        let one = SUBPIXEL_ONE as i128;
+        let (x, y) = (i0 as i128 * one + one / 2, j as i128 * one + one / 2);
+        let at = |p: &ExactPlane, frac: u32, s: &RoundDivStep| {
+            let num = (p.v0 * p.area2 + p.nx * (x - p.x0) + p.ny * (y - p.y0)) << frac;
+            RoundDivSteps::start(num, s)
+        };
+        [
+            at(&self.z, PLANE_FRAC, &self.steps[0]),
+            at(&self.c[0], 0, &self.steps[1]),
+            at(&self.c[1], 0, &self.steps[2]),
+            at(&self.c[2], 0, &self.steps[3]),
+        ]
+    }
+
+    /// The fragment whose depth and colour planes the steppers are at (see
+    /// [`FragSetup::row_steps`]).
+    #[inline]
+    fn fragment_from<Z: PlaneStepper, C: PlaneStepper>(
+        &self,
+        z: &Z,
+        c: &[C; 3],
+        mask: u64,
+    ) -> Fragment {
+        let max = 255i128 << I_FRAC;
+        Fragment {
+            mask,
+            plane: FragPlane {
+                zc: saturate_plane(z.value()),
+                sx: self.sx,
+                sy: self.sy,
+            },
+            rgb_q12: c.map(|s| s.value().clamp(0, max) as u32),
+            tag: self.tag,
+            decal: self.decal,
+            prim: self.prim,
+        }
+    }
+
+    /// The fragment of pixel (i, j) with a given mask.
+    pub fn fragment(&self, i: i64, j: i64, mask: u64) -> Fragment {
+        let max = 255i128 << I_FRAC;
+        Fragment {
+            mask,
+            plane: self.plane_at(i, j),
+            rgb_q12: self.c.map(|p| p.at_centre(i, j, 0).clamp(0, max) as u32),
+            tag: self.tag,
+            decal: self.decal,
+            prim: self.prim,
+        }
+    }
+}
+
+/// Rows per bin band.
+const BAND: i64 = 8;
+
+/// Sets up every triangle for fragments (degenerate ones dropped) and bins them into bands
+/// of [`BAND`] rows.
+pub(super) fn frag_setups(
+    tris: &[SnappedTri],
+    width: u32,
+    height: u32,
+    size: MaskSize,
+) -> Result<(Vec<FragSetup>, Bands), AbufferError> {
+    if width > MAX_SCREEN || height > MAX_SCREEN {
+        return Err(AbufferError::ScreenTooLarge(width, height));
+    }
+    // Degenerate triangles dropped in the parallel pass itself (no serial copy of the
+    // setups afterwards); the order is the input's.
+    let setups: Vec<FragSetup> = tris
+        .par_iter()
+        .enumerate()
+        .filter_map(|(k, t)| FragSetup::new(t, k as u32, size).transpose())
+        .collect::<Result<_, _>>()?;
+    let bands = Bands::new(
+        BAND,
+        height,
+        setups.iter().map(|s| (s.edges.row_min, s.edges.row_max)),
+    );
+    Ok((setups, bands))
+}
+
+/// The fragments of one row grouped by pixel: `frags[start[i]..end[i]]` are pixel `i`'s,
+/// in scene order. Buffers are reused from row to row.
+///
+/// Each pixel gets a run of slots as long as the number of triangles whose touched range
+/// ([`crate::mask::RowCoverage`]) contains it (a difference array over the ranges, summed),
+/// and every fragment is written straight into its pixel's run; a touched pixel whose
+/// mask is empty leaves its slot unused.
+#[derive(Default)]
+pub(super) struct RowFrags {
+    /// The row's masks of the triangles that touch it: (setup index, masks), scene order.
+    masks: Vec<(u32, RowMasks)>,
+    /// Difference array of the touched ranges (`width + 1` entries).
+    diff: Vec<i32>,
+    /// Fragment slots, pixel after pixel.
+    frags: Vec<Fragment>,
+    /// First slot of each pixel; `width + 1` entries.
+    start: Vec<u32>,
+    /// One past the last fragment written for each pixel.
+    end: Vec<u32>,
+}
+
+impl RowFrags {
+    /// Generates the non-empty fraction masks of row `j` of the triangles
+    /// `setups[members[..]]` (scene order) with their fragments, grouped by pixel.
+    pub(super) fn build(
+        &mut self,
+        j: i64,
+        width: u32,
+        setups: &[FragSetup],
+        members: &[u32],
+        size: MaskSize,
+    ) {
+        let w = width as usize;
+        self.masks.clear();
+        self.diff.clear();
+        self.diff.resize(w + 1, 0);
+        for &k in members {
+            if let Some(rm) = setups[k as usize].edges.row_masks(j, width) {
+                let (a, b) = rm.cov.touched;
+                self.diff[a as usize] += 1;
+                self.diff[b as usize + 1] -= 1;
+                self.masks.push((k, rm));
+            }
+        }
+        self.start.clear();
+        self.start.push(0);
+        let mut live = 0i32;
+        for i in 0..w {
+            live += self.diff[i];
+            self.start.push(self.start[i] + live as u32);
+        }
+        self.end.clear();
+        self.end.extend_from_slice(&self.start[..w]);
+        let slots = self.start[w] as usize;
+        if self.frags.len() < slots {
+            self.frags.resize(slots, EMPTY_FRAGMENT);
+        }
+        let full = size.full();
+        let (frags, end) = (&mut self.frags, &mut self.end);
+        for (k, rm) in &self.masks {
+            let t = &setups[*k as usize];
+            let (a, b) = rm.cov.touched;
+            let st = t.row_steps(a, j);
+            let steps = (b - a + 1) as u64;
+            let [z, c0, c1, c2] = st;
+            match (z.narrow(steps), t.flat) {
+                (Some(z), Some(rgb)) => emit(frags, end, t, rm, (z, rgb.map(Constant)), full),
+                (None, Some(rgb)) => emit(frags, end, t, rm, (z, rgb.map(Constant)), full),
+                (z64, None) => match (z64, [c0, c1, c2].map(|c| c.narrow(steps))) {
+                    (Some(z), [Some(r), Some(g), Some(bl)]) => {
+                        emit(frags, end, t, rm, (z, [r, g, bl]), full)
+                    }
+                    _ => emit(frags, end, t, rm, (z, [c0, c1, c2]), full),
+                },
+            }
+        }
+    }
+
+    /// The fragments of pixel `i`.
+    #[inline]
+    pub(super) fn pixel(&self, i: usize) -> &[Fragment] {
+        &self.frags[self.start[i] as usize..self.end[i] as usize]
+    }
+}
+
+/// Writes the fragments of one triangle's row into their pixels' slots (`end[i]` is pixel
+/// `i`'s next free slot), the depth and colour planes stepped from the first touched
+/// pixel.
+#[inline]
+fn emit<Z: PlaneStepper, C: PlaneStepper>(
+    frags: &mut [Fragment],
+    end: &mut [u32],
+    t: &FragSetup,
+    rm: &RowMasks,
+    (mut z, mut c): (Z, [C; 3]),
+    full: u64,
+) {
+    let rc = rm.cov;
+    for i in rc.touched.0..=rc.touched.1 {
+        let mask = match rc.full {
+            Some((a, b)) if a <= i && i <= b => full,
+            _ => rm.mask(i),
+        };
+        if mask != 0 {
+            let at = &mut end[i as usize];
+            frags[*at as usize] = t.fragment_from(&z, &c, mask);
+            *at += 1;
+        }
+        z.advance();
+        for s in c.iter_mut() {
+            s.advance();
+        }
+    }
+}
+
+/// The value of a constant plane (a flat triangle's colour): the same at every pixel.
+#[derive(Clone, Copy, Debug)]
+struct Constant(i128);
+
+impl PlaneStepper for Constant {
+    #[inline]
+    fn value(&self) -> i128 {
+        self.0
+    }
+    #[inline]
+    fn advance(&mut self) {}
+}
+
+/// A filler for fragment slots not yet written.
+const EMPTY_FRAGMENT: Fragment = Fragment {
+    mask: 0,
+    plane: FragPlane {
+        zc: 0,
+        sx: 0,
+        sy: 0,
+    },
+    rgb_q12: [0; 3],
+    tag: 0,
+    decal: false,
+    prim: 0,
+};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every fragment a row builds (stepped planes, 64-bit or not, flat colours) is the
+    /// one computed directly at its pixel by exact division, with the edges' mask.
+    #[test]
+    fn row_fragments_equal_the_direct_ones() {
+        let mut rng = crate::rng::Lcg64(0x00f1_a7c0);
+        let (w, h) = (40u32, 24u32);
+        let mut tris = Vec::new();
+        for k in 0..60 {
+            let mut p = || {
+                [
+                    (rng.range(-4.0, w as f64 + 4.0) * 256.0) as i32,
+                    (rng.range(-4.0, h as f64 + 4.0) * 256.0) as i32,
+                ]
+            };
+            let v = [p(), p(), p()];
+            let z = [0; 3].map(|_| (rng.unit() * 16_000_000.0) as u32 + 16);
+            let rgb =
+                |rng: &mut crate::rng::Lcg64| [0; 3].map(|_| (rng.unit() * 255.0 * 4096.0) as u32);
+            // Every other triangle flat (one colour at all three vertices).
+            let c = if k % 2 == 0 {
+                let one = rgb(&mut rng);
+                [one; 3]
+            } else {
+                [rgb(&mut rng), rgb(&mut rng), rgb(&mut rng)]
+            };
+            tris.push(SnappedTri {
+                v,
+                z,
+                c,
+                tag: k as u16,
+                ..Default::default()
+            });
+        }
+        let size = MaskSize::S4X4;
+        let set = frag_setups(&tris, w, h, size).unwrap();
+        let flat = set.0.iter().filter(|t| t.flat.is_some()).count();
+        assert!(flat > 20 && flat < set.0.len(), "{flat} flat");
+        let mut rf = RowFrags::default();
+        let mut compared = 0;
+        for j in 0..h as i64 {
+            rf.build(j, w, &set.0, set.1.members(set.1.of_row(j)), size);
+            for i in 0..w as usize {
+                let got = rf.pixel(i);
+                let want: Vec<Fragment> = set
+                    .0
+                    .iter()
+                    .filter_map(|t| {
+                        let mask = t.edges.fraction_mask(i as i64, j);
+                        (mask != 0).then(|| t.fragment(i as i64, j, mask))
+                    })
+                    .collect();
+                assert_eq!(got, &want[..], "pixel ({i}, {j})");
+                compared += want.len();
+            }
+        }
+        assert!(compared > 2000, "{compared}");
+    }
+}
