@@ -284,7 +284,6 @@ impl<'a> MsFrame<'a> {
                             crow,
                             ynum,
                             fm,
-                            width,
                             self.bgc,
                         );
                     };
@@ -499,8 +498,8 @@ fn accumulate_box(
 }
 
 /// Axisymmetric filter: adds each piece, split at pixel centres (square R_i spans centres
-/// i .. i+1), to the two pixels of its square with the table weights `fm`.
-#[allow(clippy::too_many_arguments)]
+/// i .. i+1), to the two pixels of its square with the table weights `fm`. `acc` is the
+/// pixel row.
 fn accumulate_filtered(
     acc: &mut [PixAcc],
     pieces: &[Piece],
@@ -508,7 +507,6 @@ fn accumulate_filtered(
     crow: &mut [Option<Option<ColourRow>>],
     ynum: i64,
     fm: &[i64; 65],
-    width: u32,
     bgc: [i64; 3],
 ) {
     for pc in pieces {
@@ -524,7 +522,7 @@ fn accumulate_filtered(
             if i >= 0 {
                 acc[i as usize].add(fm[k2] - fm[k1], col, pc.tri);
             }
-            if i + 1 < width as i64 {
+            if i + 1 < acc.len() as i64 {
                 acc[(i + 1) as usize].add(fm[64 - k1] - fm[64 - k2], col, pc.tri);
             }
             x0 = x1;
