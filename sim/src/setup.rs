@@ -26,7 +26,7 @@
 //! an in-triangle value never leaves the 24-bit range or reaches `Z_FAR`.
 
 use crate::raster::edge::{check_coords, check_depths, rewind, winding, EdgeFn};
-use crate::raster::{ceil_div, round_div, rows::centre_rows};
+use crate::raster::{ceil_div, round_div, rows::centre_rows, RoundDivStep, RoundDivSteps};
 use pixelproc_formats::{
     Attr, SpanWord, DI_BITS, DZ_BITS, IL_BITS, I_FRAC, MAX_COORD_PX, SUBPIXEL_ONE, Z_FRAC,
     Z_GEOM_MAX, Z_GEOM_MIN,
@@ -163,55 +163,20 @@ impl ExactPlane {
 
     /// Exact incremental evaluator of `round(v(x_q8, y) · 2^frac)` down successive rows
     /// (y += 1 px): the quotient and remainder of `2·N + area2` by `2·area2` are stepped by
-    /// the constant row increment, so every row's value equals [`ExactPlane::at`] bit for bit
-    /// with additions only.
-    fn rows(&self, x_q8: i64, first_row: i64, frac: u32) -> RowEval {
+    /// the constant row increment (the raster core's [`RoundDivSteps`]), so every row's
+    /// value equals [`ExactPlane::at`] bit for bit with additions only.
+    fn rows(&self, x_q8: i64, first_row: i64, frac: u32) -> RoundDivSteps {
         let one = SUBPIXEL_ONE as i128;
         let yc = first_row as i128 * one + one / 2;
         let n =
             (self.v0 * self.area2 + self.nx * (x_q8 as i128 - self.x0) + self.ny * (yc - self.y0))
                 << frac;
-        let m = 2 * self.area2;
-        let d = 2 * ((self.ny * one) << frac);
-        let start = 2 * n + self.area2;
-        RowEval {
-            q: start.div_euclid(m),
-            r: start.rem_euclid(m),
-            dq: d.div_euclid(m),
-            dr: d.rem_euclid(m),
-            m,
-        }
+        RoundDivSteps::start(n, &RoundDivStep::new((self.ny * one) << frac, self.area2))
     }
 
     /// `round(∂v/∂x · 2^frac)` per pixel, half up.
     fn ddx_per_px(&self, frac: u32) -> i64 {
         round_div((self.nx * SUBPIXEL_ONE as i128) << frac, self.area2) as i64
-    }
-}
-
-/// See [`ExactPlane::rows`].
-#[derive(Clone, Copy, Debug)]
-struct RowEval {
-    q: i128,
-    r: i128,
-    dq: i128,
-    dr: i128,
-    m: i128,
-}
-
-impl RowEval {
-    #[inline]
-    fn value(&self) -> i64 {
-        self.q as i64
-    }
-    #[inline]
-    fn step(&mut self) {
-        self.q += self.dq;
-        self.r += self.dr;
-        if self.r >= self.m {
-            self.r -= self.m;
-            self.q += 1;
-        }
     }
 }
 
@@ -328,13 +293,13 @@ impl TriSetup {
         let mut cr = [0, 1, 2].map(|k| self.c[k].rows(x0, first, 0));
         for j in first..=last {
             if let Some((xl, xr)) = self.columns(j, width) {
-                let w = self.word(xl, xr, zr.value(), cr.map(|r| r.value()));
+                let w = self.word(xl, xr, zr.value() as i64, cr.map(|r| r.value() as i64));
                 debug_assert_eq!(Some(w), self.span(j, width));
                 f(j as u32, w);
             }
-            zr.step();
+            zr.advance();
             for r in &mut cr {
-                r.step();
+                r.advance();
             }
         }
     }
