@@ -267,6 +267,9 @@ pub const SLOPE_FAMILIES: [SearchFamily; 5] = [
     SearchFamily { p: 0, q: 1 },
 ];
 
+/// The index of the seed's diagonal family in [`SLOPE_FAMILIES`].
+const DIAGONAL: usize = 2;
+
 /// Slope class of a plane: index into [`SLOPE_FAMILIES`] whose line direction is closest to
 /// the level lines of the plane. With `a = |sx|`, `b = |sy|` (one offset unit is half a
 /// subpixel on both axes): `4b < a` columns, `4a < b` rows, `7b < 5a` 2:1, `7a < 5b` 1:2,
@@ -327,7 +330,7 @@ impl DepthSelector {
 
     /// The seed's diagonal tables.
     pub fn diagonal(&self) -> &SearchTables {
-        &self.tables[2]
+        &self.tables[DIAGONAL]
     }
 
     /// Ordering depths of a fragment with fraction `mask` (non-zero) and `plane` under
@@ -368,7 +371,7 @@ impl DepthSelector {
             }
             DepthSelect::Search | DepthSelect::Slope => {
                 let ti = if variant == DepthSelect::Search {
-                    2
+                    DIAGONAL
                 } else {
                     slope_class(plane.sx, plane.sy)
                 };

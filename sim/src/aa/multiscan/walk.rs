@@ -73,7 +73,9 @@ pub(super) fn walk(
         if inter {
             // The depth range over the polygon's part of the line: the rounded plane is
             // monotone in x, so its ends bound it. The ends also seed the cache (the
-            // walk asks for the left end first).
+            // walk asks for the left end first). Only with the intersection check, whose
+            // per-interval passes over NEXT it mostly serves: without it the range
+            // stays unbounded and `nearest` compares every polygon as the seed does.
             let (x0, x1) = (a.xl.max(xa), a.xr.min(xb));
             let (z0, z1) = (a.z.at(x0, ZF), a.z.at(x1, ZF));
             zrange[s] = (z0.min(z1), z0.max(z1));
