@@ -73,10 +73,14 @@ impl SpanSource {
         let bands: Vec<Vec<Vec<SpanWord>>> = (0..raster.band_count())
             .into_par_iter()
             .map(|b| {
-                let (lo, hi) = raster.band_rows(b);
+                let (lo, _) = raster.band_rows(b);
                 let mut feed = RowFeed {
                     lo,
-                    rows: vec![Vec::new(); (hi - lo + 1) as usize],
+                    rows: raster
+                        .band_row_bounds(b)
+                        .into_iter()
+                        .map(Vec::with_capacity)
+                        .collect(),
                 };
                 raster.scan_band(b, &mut feed);
                 feed.rows

@@ -204,26 +204,33 @@ impl TriSetup {
     /// Prepares a triangle. Returns `Ok(None)` for a zero-area (degenerate) triangle, which
     /// covers nothing.
     pub fn new(t: &SnappedTri) -> Result<Option<TriSetup>, SetupError> {
+        TriSetup::check(t)?;
+        Ok(TriSetup::of_checked(t))
+    }
+
+    /// The range checks [`TriSetup::new`] makes: depths and coordinates (the triangle's
+    /// and its decal host's) within the formats.
+    pub fn check(t: &SnappedTri) -> Result<(), SetupError> {
         check_depths(t)?;
-        check_coords(t.v.iter().chain(t.host.iter().flat_map(|h| h.v.iter())))?;
-        let Some(order) = winding(t.v) else {
-            return Ok(None);
-        };
+        check_coords(t.v.iter().chain(t.host.iter().flat_map(|h| h.v.iter())))
+    }
+
+    /// [`TriSetup::new`] of a triangle that passed [`TriSetup::check`].
+    pub fn of_checked(t: &SnappedTri) -> Option<TriSetup> {
+        let order = winding(t.v)?;
         let (v, z, c) = (rewind(order, t.v), rewind(order, t.z), rewind(order, t.c));
         let edges = EdgeFn::of_triangle(v);
         let zp = match &t.host {
             Some(h) => ExactPlane::new(h.v, h.z.map(|x| x as i64)),
             None => ExactPlane::new(v, z.map(|x| x as i64)),
         };
-        let Some(zp) = zp else { return Ok(None) };
+        let zp = zp?;
         let cp = |k: usize| ExactPlane::new(v, [c[0][k] as i64, c[1][k] as i64, c[2][k] as i64]);
-        let (Some(c0), Some(c1), Some(c2)) = (cp(0), cp(1), cp(2)) else {
-            return Ok(None);
-        };
+        let (c0, c1, c2) = (cp(0)?, cp(1)?, cp(2)?);
         let ymin = v.iter().map(|p| p[1]).min().unwrap() as i64;
         let ymax = v.iter().map(|p| p[1]).max().unwrap() as i64;
         let (row_min, row_max) = centre_rows(ymin, ymax);
-        Ok(Some(TriSetup {
+        Some(TriSetup {
             edges,
             dz: zp.ddx_per_px(Z_FRAC),
             di: [c0.ddx_per_px(0), c1.ddx_per_px(0), c2.ddx_per_px(0)],
@@ -235,7 +242,7 @@ impl TriSetup {
             decal: t.host.is_some(),
             nclass: t.nclass,
             chan: t.chan,
-        }))
+        })
     }
 
     /// The inclusive range of pixel columns whose centres on row `j` the triangle covers,

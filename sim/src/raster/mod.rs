@@ -223,33 +223,36 @@ pub const SPAN_BAND: i64 = 16;
 pub struct SpanRaster {
     width: u32,
     height: u32,
-    /// `(input index, setup)` in scene order.
-    set: Vec<(u32, TriSetup)>,
+    /// The setup of each input triangle, by input index (`None`: degenerate).
+    set: Vec<Option<TriSetup>>,
+    /// Number of non-degenerate triangles.
+    live: usize,
     bands: Bands,
 }
 
 impl SpanRaster {
     /// Sets up every triangle (in parallel; degenerate ones are dropped) and bins them into
-    /// row bands. Fails with a setup error if any triangle has one.
+    /// row bands. Fails with the setup error of the first triangle (in input order) that
+    /// has one.
     pub fn new(tris: &[SnappedTri], width: u32, height: u32) -> Result<SpanRaster, SetupError> {
-        let set: Vec<Option<TriSetup>> = tris
-            .par_iter()
-            .map(TriSetup::new)
-            .collect::<Result<_, _>>()?;
-        let set: Vec<(u32, TriSetup)> = set
-            .into_iter()
-            .enumerate()
-            .filter_map(|(k, s)| s.map(|s| (k as u32, s)))
-            .collect();
+        tris.iter().try_for_each(TriSetup::check)?;
+        // An indexed collect writes each setup in place: no intermediate lists or
+        // filtered copy of these large records.
+        let set: Vec<Option<TriSetup>> = tris.par_iter().map(TriSetup::of_checked).collect();
+        let live = set.iter().filter(|s| s.is_some()).count();
         let bands = Bands::new(
             SPAN_BAND,
             height,
-            set.iter().map(|(_, t)| (t.row_min, t.row_max)),
+            set.iter().map(|s| match s {
+                Some(t) => (t.row_min, t.row_max),
+                None => (0, -1),
+            }),
         );
         Ok(SpanRaster {
             width,
             height,
             set,
+            live,
             bands,
         })
     }
@@ -266,7 +269,7 @@ impl SpanRaster {
 
     /// Number of non-degenerate triangles.
     pub fn triangles(&self) -> usize {
-        self.set.len()
+        self.live
     }
 
     /// Number of row bands.
@@ -279,13 +282,29 @@ impl SpanRaster {
         self.bands.rows(b)
     }
 
+    /// At most how many span words each row of band `b` receives (one per triangle whose
+    /// row range holds the row), to size a sink's rows before [`SpanRaster::scan_band`].
+    pub fn band_row_bounds(&self, b: usize) -> Vec<usize> {
+        let (lo, hi) = self.bands.rows(b);
+        let mut n = vec![0usize; (hi - lo + 1).max(0) as usize];
+        for &k in self.bands.members(b) {
+            if let Some(t) = &self.set[k as usize] {
+                for c in &mut n[(t.row_min.max(lo) - lo) as usize..=(t.row_max.min(hi) - lo) as usize] {
+                    *c += 1;
+                }
+            }
+        }
+        n
+    }
+
     /// Scan-converts band `b`: for each triangle binned there, in scene order, its span
     /// words of the band's rows, top to bottom.
     pub fn scan_band(&self, b: usize, sink: &mut impl SpanSink) {
         let (lo, hi) = self.bands.rows(b);
         for &k in self.bands.members(b) {
-            let (prim, t) = &self.set[k as usize];
-            t.for_each_span_in(lo, hi, self.width, |j, w| sink.span(*prim, j, &w));
+            if let Some(t) = &self.set[k as usize] {
+                t.for_each_span_in(lo, hi, self.width, |j, w| sink.span(k, j, &w));
+            }
         }
     }
 
