@@ -5,7 +5,7 @@
 use crate::frontend::{self, FrontError, Projected};
 use crate::pixel_array::Command;
 use crate::plan::{AaMethod, Aov, ArrayPlan, Effects, Plan, Stage};
-use crate::render::{render_frame, Frame, SpanSource};
+use crate::render::{render_frame_with, Frame, SpanSource};
 use crate::scene::LoadedScene;
 use crate::setup::SetupError;
 use crate::shadow::{self, FactorTable, ShadowError, ShadowLight, ShadowStats};
@@ -280,14 +280,11 @@ fn run_array(
         lights,
         bg,
     };
-    let (mut frame, stats) = ctx.draw(&src, pj.as_ref(), timings)?;
-    let table = (!a.shadow_lights.is_empty()).then(|| {
-        timed(timings, Stage::ShadowShade, || {
-            let t = FactorTable::for_mode(ls, lights, fx.shading);
-            shadow::shade(&mut frame, &t);
-            t
-        })
-    });
+    // With shadows, each row is shaded as it is read out of the array (the core's shade
+    // unit), in the array's stage.
+    let table =
+        (!a.shadow_lights.is_empty()).then(|| FactorTable::for_mode(ls, lights, fx.shading));
+    let (frame, stats) = ctx.draw(&src, pj.as_ref(), table.as_ref(), timings)?;
     Ok(ArrayOut {
         span_words: src.span_count() as u64,
         frame,
@@ -315,11 +312,12 @@ pub(super) struct ArrayCtx<'a> {
 impl ArrayCtx<'_> {
     /// The array drawing a frame: each shadowing light's volumes through `pj` (timed as
     /// their own stages), then the span words of `src` with those shadow commands behind
-    /// each row's spans. The frame is not shaded yet.
+    /// each row's spans. Each row is shaded by `table` at readout, if given.
     fn draw(
         &self,
         src: &SpanSource,
         pj: Option<&frontend::Projector>,
+        table: Option<&FactorTable>,
         timings: &mut Timings,
     ) -> Result<(Frame, ShadowStats), RenderError> {
         let mut shadow_rows: Vec<Vec<Command>> = vec![Vec::new(); src.height() as usize];
@@ -340,9 +338,17 @@ impl ArrayCtx<'_> {
             }
         }
         let frame = timed(timings, Stage::PixelArray, || {
-            render_frame(src, self.bg, self.fx.array_width, |j, cmds| {
-                cmds.extend_from_slice(&shadow_rows[j as usize])
-            })
+            render_frame_with(
+                src,
+                self.bg,
+                self.fx.array_width,
+                &shadow_rows,
+                |row, more| {
+                    if let Some(t) = table {
+                        shadow::shade_row(row, more, t)
+                    }
+                },
+            )
         });
         Ok((frame, stats))
     }

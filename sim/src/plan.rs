@@ -207,10 +207,10 @@ pub enum Stage {
         light: usize,
     },
     /// The pixel-processor array expands OP spans (Z test, intensity), then any shadow
-    /// spans (DSF/FSF parity, counters).
+    /// spans (DSF/FSF parity, counters); with shadows, each row's intensities are
+    /// corrected from its shadow flags as it is read out (seed 001 §2, §6 table; the
+    /// core's shade unit).
     PixelArray,
-    /// Intensity correction from the shadow flags (seed 001 §2, §6 table).
-    ShadowShade,
     /// An anti-aliasing method renders the image (its own stages inside; the A-buffer's
     /// masks, search unit, packing and resolve; multi-scanning's sub-scanline passes; ...).
     Antialias(AaKind),
@@ -227,7 +227,6 @@ impl fmt::Display for Stage {
             Stage::SpanSetup => write!(f, "span setup"),
             Stage::ShadowVolumes { light } => write!(f, "shadow volumes, light {light}"),
             Stage::PixelArray => write!(f, "pixel-processor array"),
-            Stage::ShadowShade => write!(f, "shadow shading"),
             Stage::Antialias(m) => write!(f, "anti-aliasing: {m}"),
             Stage::ShadowApply => write!(f, "shadows at the method's samples"),
             Stage::Aov(a) => write!(f, "aov {a}"),
@@ -305,9 +304,6 @@ impl Plan {
                 st.push(Stage::ShadowVolumes { light: l });
             }
             st.push(Stage::PixelArray);
-            if shadows {
-                st.push(Stage::ShadowShade);
-            }
         }
         if let Plan::Antialias { method, .. } = self {
             st.push(Stage::Antialias(*method));
@@ -365,8 +361,7 @@ mod tests {
                 Stage::SpanSetup,
                 Stage::ShadowVolumes { light: 0 },
                 Stage::ShadowVolumes { light: 2 },
-                Stage::PixelArray,
-                Stage::ShadowShade
+                Stage::PixelArray
             ]
         );
     }

@@ -153,12 +153,36 @@ pub(crate) fn chunks_or_empty<T>(buf: &mut [T], chunk: usize, count: usize) -> V
 /// ([`crate::stream::feed_tile`], its choice made for all tiles at once by a
 /// [`TileRouter`]):
 /// `ClearLine`, the row's OP span words that touch it (an OP span outside a tile is a
-/// no-op there, so the span feeder skips it), then the commands `extra(row, &mut cmds)`
-/// adds (shadow spans and controls, which all tiles see: IF acts on every processor).
-pub fn render_frame<F>(src: &SpanSource, bg: [u8; 3], array_width: usize, extra: F) -> Frame
+/// no-op there, so the span feeder skips it), then the row's commands `extra[row]`
+/// (shadow spans and controls, which all tiles see: IF acts on every processor; `extra`
+/// is empty when there are none).
+pub fn render_frame(
+    src: &SpanSource,
+    bg: [u8; 3],
+    array_width: usize,
+    extra: &[Vec<Command>],
+) -> Frame {
+    render_frame_with(src, bg, array_width, extra, |_, _| {})
+}
+
+/// [`render_frame`], with `readout(row, more)` called on each row's final processor
+/// states (and its shade registers 2.., empty if unused) as the row is read out, while it
+/// is still in cache: where the core's shade unit corrects intensities
+/// ([`crate::shadow::shade_row`]).
+pub fn render_frame_with<G>(
+    src: &SpanSource,
+    bg: [u8; 3],
+    array_width: usize,
+    extra: &[Vec<Command>],
+    readout: G,
+) -> Frame
 where
-    F: Fn(u32, &mut Vec<Command>) + Sync,
+    G: Fn(&mut [ProcState], &[u32]) + Sync,
 {
+    assert!(
+        extra.is_empty() || extra.len() == src.height as usize,
+        "one command list per row"
+    );
     let (w, h) = (src.width, src.height);
     let bg = pixelproc_formats::pack_rgb(bg);
     let tiles = (w as usize).div_ceil(array_width);
@@ -173,15 +197,13 @@ where
             || {
                 (
                     PixelArray::new(array_width, 0),
-                    Vec::new(),
                     vec![Vec::new(); tiles],
                     TileRouter::default(),
                     vec![Vec::new(); tiles],
                 )
             },
-            |(arr, cmds, per_tile, router, routed), (j, (row, mrow))| {
-                cmds.clear();
-                extra(j as u32, cmds);
+            |(arr, per_tile, router, routed), (j, (row, mrow))| {
+                let cmds: &[Command] = extra.get(j).map_or(&[], |c| c);
                 router.route(cmds, array_width as u32, routed);
                 for t in per_tile.iter_mut() {
                     t.clear();
@@ -206,6 +228,7 @@ where
                             .copy_from_slice(&arr.shade_regs()[..n * more_stride]);
                     }
                 }
+                readout(row, mrow);
             },
         );
     drop(more_rows);

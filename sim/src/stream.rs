@@ -339,9 +339,7 @@ impl SceneStream {
     /// Renders the stream on an array of `array_width` processors
     /// ([`crate::render::render_frame`]).
     pub fn render(&self, array_width: usize) -> Frame {
-        render_frame(&self.spans, self.bg, array_width, |j, cmds| {
-            cmds.extend_from_slice(&self.shadow[j as usize])
-        })
+        render_frame(&self.spans, self.bg, array_width, &self.shadow)
     }
 }
 

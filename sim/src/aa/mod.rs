@@ -231,7 +231,7 @@ fn render_none(
     bg: [u8; 3],
 ) -> Result<AaFrame, AaError> {
     let src = SpanSource::new(tris, width, height)?;
-    let frame = render_frame(&src, bg, width as usize, |_, _| {});
+    let frame = render_frame(&src, bg, width as usize, &[]);
     let (visible, evals) = baseline_visible(tris, width, height)?;
     Ok(AaFrame {
         width,

@@ -207,7 +207,7 @@ pub fn render_with(
     visible: bool,
 ) -> Result<(AaFrame, Option<Vec<u8>>), AaError> {
     let src = SpanSource::new(tris, width, height)?;
-    let frame = render_frame(&src, bg, width as usize, |_, _| {});
+    let frame = render_frame(&src, bg, width as usize, &[]);
     let (w, h) = (width as usize, height as usize);
     let z: Vec<u32> = frame.px.par_iter().map(|s| s.zb).collect();
     let img: Vec<[u8; 3]> = match &shadow {

@@ -45,7 +45,7 @@ fn lattice_pass(inp: &PassInput, pj: &Projector) -> Result<Vec<[u8; 4]>, RenderE
     let projected = frontend::project_3d_with(ls, pj, fx.shade_channels())?;
     let src = SpanSource::new(&projected.array_tris(), w, h)?;
     // The pass's own stage times are not reported: the sample stage is timed as a whole.
-    let (frame, _) = inp.ctx.draw(&src, Some(pj), &mut Vec::new())?;
+    let (frame, _) = inp.ctx.draw(&src, Some(pj), None, &mut Vec::new())?;
     let stride = if frame.more.is_empty() {
         0
     } else {

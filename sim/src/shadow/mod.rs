@@ -80,7 +80,7 @@ pub use near::NearPlane;
 use near::*;
 use occluder::*;
 pub use occluder::{occluders, Occluder};
-pub use shading::{apply_to_rgb8, shade, FactorTable, Shading};
+pub use shading::{apply_to_rgb8, shade_row, FactorTable, Shading};
 use volume::*;
 pub use volume::{ray_box, volumes, Volume};
 

@@ -202,7 +202,14 @@ impl FactorTable {
     /// and shade registers 2.. `more` (empty if unused).
     pub fn shade_pixel(&self, rgb: u32, s: &ProcState, more: &[u32]) -> u32 {
         if self.channels.len() <= 1 {
-            return shade_rgb(rgb, s.sh, self.factor(s) as u32, self.drop_weight(s) as u32);
+            let i = self.index(s);
+            let (f, g) = (self.entries[i] as u32, self.drops[i] as u32);
+            // Factor 1 and nothing dropped leave every channel as it is:
+            // `(c·256 + 128) >> 8 = c` and `(d·0 + 128) >> 8 = 0`.
+            if f == 256 && g == 0 {
+                return rgb;
+            }
+            return shade_rgb(rgb, s.sh, f, g);
         }
         let c = pixelproc_formats::unpack_rgb(rgb);
         let mut out = c.map(|v| v as u32);
@@ -233,18 +240,19 @@ pub(super) fn share(bit: Option<u8>, mask: u8, count: u8, k: u32) -> u16 {
     }
 }
 
-/// "Correct the intensity and store it in the frame buffer" (§2): every covered pixel's
-/// colour becomes [`FactorTable::shade_pixel`] of it (table mode: `(c·F + 128) >> 8`).
-pub fn shade(frame: &mut crate::render::Frame, table: &FactorTable) {
-    let stride = if frame.more.is_empty() { 0 } else { MORE_SHADE };
-    let more = &frame.more;
-    frame.px.par_iter_mut().enumerate().for_each(|(i, s)| {
+/// "Correct the intensity and store it in the frame buffer" (§2), for one row of
+/// processors as it is read out: every covered pixel's colour becomes
+/// [`FactorTable::shade_pixel`] of it (table mode: `(c·F + 128) >> 8`). `more` holds the
+/// row's shade registers 2.. ([`MORE_SHADE`] per pixel), or is empty.
+pub fn shade_row(px: &mut [ProcState], more: &[u32], table: &FactorTable) {
+    let stride = if more.is_empty() { 0 } else { MORE_SHADE };
+    for (i, s) in px.iter_mut().enumerate() {
         if s.zb == Z_FAR {
-            return;
+            continue;
         }
         let m = &more[i * stride..(i + 1) * stride];
         s.rgb = table.shade_pixel(s.rgb, s, m);
-    });
+    }
 }
 
 /// Applies each pixel centre's shadow shading to an anti-aliased RGB8 image (the shadow
