@@ -248,7 +248,7 @@ pub fn shadow_commands(
             let vols = volumes(&occ, s, pj.eye);
             stats.volumes += vols.len();
             stats.eye_inside += vols.iter().filter(|v| v.eye_inside).count();
-            let per_vol: Vec<(Vec<(u32, SpanWord)>, NearPlane)> = vols
+            let per_vol: Vec<(VolumeSpans, NearPlane)> = vols
                 .par_iter()
                 .map(|v| volume_spans(pj, v, bbox, w, h))
                 .collect::<Result<_, _>>()?;
@@ -260,14 +260,13 @@ pub fn shadow_commands(
                 Some(bit) => Command::LatchShadow { bit },
                 None => Command::AccumulateShadow,
             };
-            // The rows a volume emits on: those of its spans (sorted by row), or every row
-            // when the eye is inside it (its IF span comes even without spans).
+            // The rows a volume emits on: those of its spans, or every row when the eye is
+            // inside it (its IF span comes even without spans).
             let reach: Vec<Option<(u32, u32)>> = per_vol
                 .iter()
-                .map(|(spans, near)| match (near, spans.first(), spans.last()) {
-                    (NearPlane::Inside, _, _) => Some((0, u32::MAX)),
-                    (_, Some(a), Some(b)) => Some((a.0, b.0)),
-                    _ => None,
+                .map(|(spans, near)| match near {
+                    NearPlane::Inside => Some((0, u32::MAX)),
+                    _ => spans.rows(),
                 })
                 .collect();
             // Rows are independent: each band of rows walks the spans of the volumes that
@@ -285,25 +284,17 @@ pub fn shadow_commands(
                     let here: Vec<usize> = (0..per_vol.len())
                         .filter(|&v| reach[v].is_some_and(|(a, z)| a <= j1 && z >= j0))
                         .collect();
-                    let mut cur: Vec<usize> = here
-                        .iter()
-                        .map(|&v| per_vol[v].0.partition_point(|x| x.0 < j0))
-                        .collect();
                     for (j, out) in (j0..).zip(band.iter_mut()) {
                         out.push(Command::ClearFlags);
-                        for (&v, k) in here.iter().zip(cur.iter_mut()) {
+                        for &v in &here {
                             let (spans, near) = &per_vol[v];
-                            let start = *k;
-                            while *k < spans.len() && spans[*k].0 == j {
-                                *k += 1;
-                            }
+                            let row = spans.row(j);
                             let inside = *near == NearPlane::Inside;
-                            if start == *k && !inside {
+                            if row.is_empty() && !inside {
                                 continue;
                             }
                             let before = out.len();
-                            let row = spans[start..*k].iter().map(|x| x.1);
-                            emit_volume_row(out, row, inside, form, w);
+                            emit_volume_row(out, row.iter().copied(), inside, form, w);
                             words += (out.len() - before) as u64;
                         }
                         out.push(end);
