@@ -250,7 +250,9 @@ pub fn shadow_commands(
             stats.eye_inside += vols.iter().filter(|v| v.eye_inside).count();
             let per_vol: Vec<(VolumeSpans, NearPlane)> = vols
                 .par_iter()
-                .map(|v| volume_spans(pj, v, bbox, w, h))
+                .map_init(Vec::new, |scratch, v| {
+                    volume_spans(pj, v, bbox, (w, h), scratch)
+                })
                 .collect::<Result<_, _>>()?;
             stats.near_caps += per_vol
                 .iter()

@@ -211,7 +211,7 @@ pub(super) struct VolumeSpans {
 impl VolumeSpans {
     /// Groups `(row, word)` pairs by row, keeping their order within a row (a counting
     /// sort: the same order as a stable sort by row).
-    fn from_rows(spans: Vec<(u32, SpanWord)>) -> VolumeSpans {
+    fn from_rows(spans: &[(u32, SpanWord)]) -> VolumeSpans {
         let (Some(lo), Some(hi)) = (
             spans.iter().map(|s| s.0).min(),
             spans.iter().map(|s| s.0).max(),
@@ -219,7 +219,7 @@ impl VolumeSpans {
             return VolumeSpans::default();
         };
         let mut off = vec![0u32; (hi - lo + 2) as usize];
-        for s in &spans {
+        for s in spans {
             off[(s.0 - lo + 1) as usize] += 1;
         }
         for i in 1..off.len() {
@@ -227,7 +227,7 @@ impl VolumeSpans {
         }
         let mut next = off.clone();
         let mut words = vec![SpanWord::default(); spans.len()];
-        for (j, w) in spans {
+        for &(j, w) in spans {
             let slot = &mut next[(j - lo) as usize];
             words[*slot as usize] = w;
             *slot += 1;
@@ -258,15 +258,16 @@ impl VolumeSpans {
 
 /// Projects a volume's polygons (clip to the ray box, then the view frustum; snap) and
 /// returns its span words per row, in polygon order, each with attr SP, then those of its
-/// near cap when the near plane cuts it; and where the near plane lies.
+/// near cap when the near plane cuts it; and where the near plane lies. `spans` is
+/// scratch space, reused from volume to volume.
 pub(super) fn volume_spans(
     pj: &Projector,
     v: &Volume,
     bbox: (DVec3, DVec3),
-    width: u32,
-    height: u32,
+    (width, height): (u32, u32),
+    spans: &mut Vec<(u32, SpanWord)>,
 ) -> Result<(VolumeSpans, NearPlane), SetupError> {
-    let mut spans = Vec::new();
+    spans.clear();
     let mut near_edges = Vec::new();
     for poly in &v.polys {
         let poly = clip_to_box(poly, bbox.0, bbox.1);
@@ -290,14 +291,14 @@ pub(super) fn volume_spans(
                 }
             }
         }
-        fan_spans(&sv, width, height, &mut spans)?;
+        fan_spans(&sv, width, height, spans)?;
     }
     let near = near_plane(pj, v);
     if near == NearPlane::Cut {
         let cap = near_cap(pj, v, bbox, &near_edges)?;
         let zn = crate::frontend::depth24(0.0);
         let sv: Vec<([i32; 2], u32)> = cap.into_iter().map(|p| (p, zn)).collect();
-        fan_spans(&sv, width, height, &mut spans)?;
+        fan_spans(&sv, width, height, spans)?;
     }
     Ok((VolumeSpans::from_rows(spans), near))
 }
@@ -327,7 +328,7 @@ mod tests {
             }
             let mut sorted = spans.clone();
             sorted.sort_by_key(|s| s.0);
-            let g = VolumeSpans::from_rows(spans.clone());
+            let g = VolumeSpans::from_rows(&spans);
             let expect_rows = sorted.first().map(|a| (a.0, sorted.last().unwrap().0));
             assert_eq!(g.rows(), expect_rows);
             for j in 0..60 {
