@@ -311,6 +311,35 @@ impl TriSetup {
         }
     }
 
+    /// The depth plane's exact row stepper from row `first` on, at the centre of column 0
+    /// (as [`TriSetup::for_each_span_in`] steps it), for [`TriSetup::shadow_span`].
+    pub(crate) fn depth_rows(&self, first: i64) -> RoundDivSteps {
+        self.z.rows((SUBPIXEL_ONE / 2) as i64, first, Z_FRAC)
+    }
+
+    /// Row `j`'s word as a shadow polygon sends it: [`TriSetup::span`] with attr SP and
+    /// zero intensities, its depth origin from `z`, the [`TriSetup::depth_rows`] stepper
+    /// standing at row `j`. `None` if the row covers no pixel centre.
+    pub(crate) fn shadow_span(&self, j: i64, width: u32, z: &RoundDivSteps) -> Option<SpanWord> {
+        let (xl, xr) = self.columns(j, width)?;
+        let w = SpanWord {
+            attr: Attr::Sp,
+            il: [0; 3],
+            di: [0; 3],
+            ..self.word(xl, xr, z.value() as i64, [0; 3])
+        };
+        debug_assert_eq!(
+            Some(w),
+            self.span(j, width).map(|s| SpanWord {
+                attr: Attr::Sp,
+                il: [0; 3],
+                di: [0; 3],
+                ..s
+            })
+        );
+        Some(w)
+    }
+
     /// Builds the word from the row origins `Z0` (Q24.12) and `C0` (Q8.12) at the centre of
     /// column 0: `ZL = Z0 + XL·dZ`, `IL = C0 + XL·dI`. Every span of one plane on one row
     /// thus gives the same value at the same pixel, whatever its XL (a pattern ties exactly

@@ -248,11 +248,9 @@ pub fn shadow_commands(
             let vols = volumes(&occ, s, pj.eye);
             stats.volumes += vols.len();
             stats.eye_inside += vols.iter().filter(|v| v.eye_inside).count();
-            let per_vol: Vec<(VolumeSpans, NearPlane)> = vols
+            let per_vol: Vec<(VolumeTris, NearPlane)> = vols
                 .par_iter()
-                .map_init(Vec::new, |scratch, v| {
-                    volume_spans(pj, v, bbox, (w, h), scratch)
-                })
+                .map(|v| volume_tris(pj, v, bbox))
                 .collect::<Result<_, _>>()?;
             stats.near_caps += per_vol
                 .iter()
@@ -262,20 +260,21 @@ pub fn shadow_commands(
                 Some(bit) => Command::LatchShadow { bit },
                 None => Command::AccumulateShadow,
             };
-            // The rows a volume emits on: those of its spans, or every row when the eye is
-            // inside it (its IF span comes even without spans).
+            // The rows a volume may emit on: those its triangles may cover, or every row
+            // when the eye is inside it (its IF span comes even without spans).
             let reach: Vec<Option<(u32, u32)>> = per_vol
                 .iter()
-                .map(|(spans, near)| match near {
+                .map(|(tris, near)| match near {
                     NearPlane::Inside => Some((0, u32::MAX)),
-                    _ => spans.rows(),
+                    _ => tris.rows(h),
                 })
                 .collect();
-            // Rows are independent: each band of rows walks the spans of the volumes that
-            // reach it from its first row on, appending in volume order as a sequential
-            // pass over all volumes would (a volume that does not reach a row adds
-            // nothing to it).
-            const BAND: usize = 8;
+            // Rows are independent: each band of rows walks the triangles of the volumes
+            // that reach it from its first row on, appending in volume order as a
+            // sequential pass over all volumes would (a volume with no span on a row, and
+            // the eye outside it, adds nothing to it). The words are made as they are
+            // appended, never stored per volume.
+            const BAND: usize = 16;
             stats.span_words += rows
                 .par_chunks_mut(BAND)
                 .enumerate()
@@ -286,12 +285,14 @@ pub fn shadow_commands(
                     let here: Vec<usize> = (0..per_vol.len())
                         .filter(|&v| reach[v].is_some_and(|(a, z)| a <= j1 && z >= j0))
                         .collect();
+                    let mut walk = BandRows::new(here.iter().map(|&v| &per_vol[v].0), j0 as i64);
+                    let mut row = Vec::new();
                     for (j, out) in (j0..).zip(band.iter_mut()) {
                         out.push(Command::ClearFlags);
-                        for &v in &here {
-                            let (spans, near) = &per_vol[v];
-                            let row = spans.row(j);
-                            let inside = *near == NearPlane::Inside;
+                        for (i, &v) in here.iter().enumerate() {
+                            row.clear();
+                            walk.row(i, j as i64, w, &mut row);
+                            let inside = per_vol[v].1 == NearPlane::Inside;
                             if row.is_empty() && !inside {
                                 continue;
                             }

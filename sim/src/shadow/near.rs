@@ -2,6 +2,7 @@
 //! near cap of a cut volume, and a volume's span words per row.
 
 use super::*;
+use crate::raster::RoundDivSteps;
 
 /// Where the camera's near plane (its part inside the guard band) lies relative to a
 /// volume.
@@ -84,13 +85,9 @@ pub(super) fn snap_clip(pj: &Projector, p: DVec4) -> Result<([i32; 2], u32), Set
     ))
 }
 
-/// Rasterizes a snapped polygon as a fan from its first vertex, pushing SP spans.
-pub(super) fn fan_spans(
-    sv: &[([i32; 2], u32)],
-    width: u32,
-    height: u32,
-    spans: &mut Vec<(u32, SpanWord)>,
-) -> Result<(), SetupError> {
+/// Sets up a snapped polygon as a fan from its first vertex, pushing the non-degenerate
+/// triangles in fan order.
+pub(super) fn fan_tris(sv: &[([i32; 2], u32)], out: &mut Vec<TriSetup>) -> Result<(), SetupError> {
     for i in 1..sv.len().saturating_sub(1) {
         let t = SnappedTri {
             v: [sv[0].0, sv[i].0, sv[i + 1].0],
@@ -98,12 +95,7 @@ pub(super) fn fan_spans(
             ..Default::default()
         };
         if let Some(s) = TriSetup::new(&t)? {
-            s.for_each_span(width, height, |j, mut w| {
-                w.attr = Attr::Sp;
-                w.il = [0; 3];
-                w.di = [0; 3];
-                spans.push((j, w));
-            });
+            out.push(s);
         }
     }
     Ok(())
@@ -197,77 +189,74 @@ pub(super) fn near_cap(
     Ok(pts)
 }
 
-/// A volume's span words grouped by row: row `first + i` holds
-/// `words[off[i]..off[i + 1]]`, in the order they were emitted. The offsets are kept
-/// apart from the words so that asking whether a volume has spans on a row reads four
-/// bytes, not a whole word.
+/// A volume's shadow polygons, set up: the fans of its clipped polygons in polygon order,
+/// then its near cap's fan. Each triangle sends at most one SP word per row, and a row's
+/// words come in this order.
 #[derive(Clone, Debug, Default)]
-pub(super) struct VolumeSpans {
-    first: u32,
-    off: Vec<u32>,
-    words: Vec<SpanWord>,
+pub(super) struct VolumeTris {
+    tris: Vec<TriSetup>,
 }
 
-impl VolumeSpans {
-    /// Groups `(row, word)` pairs by row, keeping their order within a row (a counting
-    /// sort: the same order as a stable sort by row).
-    fn from_rows(spans: &[(u32, SpanWord)]) -> VolumeSpans {
-        let (Some(lo), Some(hi)) = (
-            spans.iter().map(|s| s.0).min(),
-            spans.iter().map(|s| s.0).max(),
-        ) else {
-            return VolumeSpans::default();
+impl VolumeTris {
+    /// The rows any of the triangles may cover, clamped to `0..height`, if any.
+    pub(super) fn rows(&self, height: u32) -> Option<(u32, u32)> {
+        let lo = self.tris.iter().map(|t| t.row_min).min()?.max(0);
+        let hi = self.tris.iter().map(|t| t.row_max).max()?.min(height as i64 - 1);
+        (lo <= hi).then_some((lo as u32, hi as u32))
+    }
+}
+
+/// Some volumes' span words row by row through a band of rows, top to bottom, without
+/// storing them: each triangle's depth plane is stepped exactly
+/// ([`TriSetup::depth_rows`]) from the first row of the band it covers.
+pub(super) struct BandRows<'a> {
+    /// Per triangle: its setup, the first row it is stepped from, its depth stepper.
+    tris: Vec<(&'a TriSetup, i64, RoundDivSteps)>,
+    /// Volume `i`'s triangles are `tris[start[i]..start[i + 1]]`.
+    start: Vec<usize>,
+}
+
+impl<'a> BandRows<'a> {
+    /// The volumes `vols`, in order, from row `j0` on.
+    pub(super) fn new(vols: impl Iterator<Item = &'a VolumeTris>, j0: i64) -> BandRows<'a> {
+        let mut r = BandRows {
+            tris: Vec::new(),
+            start: vec![0],
         };
-        let mut off = vec![0u32; (hi - lo + 2) as usize];
-        for s in spans {
-            off[(s.0 - lo + 1) as usize] += 1;
+        for v in vols {
+            for t in &v.tris {
+                let first = t.row_min.max(j0);
+                r.tris.push((t, first, t.depth_rows(first)));
+            }
+            r.start.push(r.tris.len());
         }
-        for i in 1..off.len() {
-            off[i] += off[i - 1];
-        }
-        let mut next = off.clone();
-        let mut words = vec![SpanWord::default(); spans.len()];
-        for &(j, w) in spans {
-            let slot = &mut next[(j - lo) as usize];
-            words[*slot as usize] = w;
-            *slot += 1;
-        }
-        VolumeSpans {
-            first: lo,
-            off,
-            words,
-        }
+        r
     }
 
-    /// The first and last rows with spans, if any.
-    pub(super) fn rows(&self) -> Option<(u32, u32)> {
-        (!self.words.is_empty()).then(|| (self.first, self.first + self.off.len() as u32 - 2))
-    }
-
-    /// The span words of row `j` (empty outside the volume's rows).
-    pub(super) fn row(&self, j: u32) -> &[SpanWord] {
-        let Some(i) = j.checked_sub(self.first).map(|i| i as usize) else {
-            return &[];
-        };
-        match (self.off.get(i), self.off.get(i + 1)) {
-            (Some(&a), Some(&b)) => &self.words[a as usize..b as usize],
-            _ => &[],
+    /// Appends volume `i`'s SP words of row `j` to `out`. Called for every volume on every
+    /// row from `j0` on, in row order, so each stepper stands at the row it is asked for.
+    pub(super) fn row(&mut self, i: usize, j: i64, width: u32, out: &mut Vec<SpanWord>) {
+        for (t, first, z) in &mut self.tris[self.start[i]..self.start[i + 1]] {
+            if j < *first || j > t.row_max {
+                continue;
+            }
+            if let Some(w) = t.shadow_span(j, width, z) {
+                out.push(w);
+            }
+            z.advance();
         }
     }
 }
 
 /// Projects a volume's polygons (clip to the ray box, then the view frustum; snap) and
-/// returns its span words per row, in polygon order, each with attr SP, then those of its
-/// near cap when the near plane cuts it; and where the near plane lies. `spans` is
-/// scratch space, reused from volume to volume.
-pub(super) fn volume_spans(
+/// sets up the triangles of their fans, in polygon order, then those of its near cap
+/// when the near plane cuts it; and tells where the near plane lies.
+pub(super) fn volume_tris(
     pj: &Projector,
     v: &Volume,
     bbox: (DVec3, DVec3),
-    (width, height): (u32, u32),
-    spans: &mut Vec<(u32, SpanWord)>,
-) -> Result<(VolumeSpans, NearPlane), SetupError> {
-    spans.clear();
+) -> Result<(VolumeTris, NearPlane), SetupError> {
+    let mut tris = Vec::new();
     let mut near_edges = Vec::new();
     for poly in &v.polys {
         let poly = clip_to_box(poly, bbox.0, bbox.1);
@@ -291,51 +280,14 @@ pub(super) fn volume_spans(
                 }
             }
         }
-        fan_spans(&sv, width, height, spans)?;
+        fan_tris(&sv, &mut tris)?;
     }
     let near = near_plane(pj, v);
     if near == NearPlane::Cut {
         let cap = near_cap(pj, v, bbox, &near_edges)?;
         let zn = crate::frontend::depth24(0.0);
         let sv: Vec<([i32; 2], u32)> = cap.into_iter().map(|p| (p, zn)).collect();
-        fan_spans(&sv, width, height, spans)?;
+        fan_tris(&sv, &mut tris)?;
     }
-    Ok((VolumeSpans::from_rows(spans), near))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::rng::XorShift64Star;
-
-    /// Grouping by row gives, on every row, the words of that row in emission order: the
-    /// rows of a stable sort by row, checked row by row on random emissions (runs in row
-    /// order as fan triangles emit them, rows with gaps, repeats, one row, none).
-    #[test]
-    fn rows_group_as_a_stable_sort_does() {
-        let mut rng = XorShift64Star(0x5eed_0f_5a05);
-        for case in 0..300 {
-            let mut spans = Vec::new();
-            for run in 0..(case % 6) {
-                let top = (rng.next_u64() % 40) as u32 + 3;
-                let len = (rng.next_u64() % 12) as u32;
-                for j in top..top + len {
-                    if rng.next_u64() % 5 != 0 {
-                        let xl = (spans.len() % 4000) as u16;
-                        spans.push((j, SpanWord { xl, xr: run as u16, ..Default::default() }));
-                    }
-                }
-            }
-            let mut sorted = spans.clone();
-            sorted.sort_by_key(|s| s.0);
-            let g = VolumeSpans::from_rows(&spans);
-            let expect_rows = sorted.first().map(|a| (a.0, sorted.last().unwrap().0));
-            assert_eq!(g.rows(), expect_rows);
-            for j in 0..60 {
-                let want: Vec<SpanWord> =
-                    sorted.iter().filter(|s| s.0 == j).map(|s| s.1).collect();
-                assert_eq!(g.row(j), &want[..], "case {case} row {j}");
-            }
-        }
-    }
+    Ok((VolumeTris { tris }, near))
 }
