@@ -19,7 +19,7 @@
 //! exact removal of the shadowed share `G` of light 0 (exact mode, `F = 256`). A
 //! background pixel (`ZB = Z_FAR`) and every pixel of a unit built without shading keep
 //! their colour. This is `pixelproc_formats::core_stream::shade_rgb`, the golden model's
-//! `pixelproc_sim::shadow::shade`.
+//! `pixelproc_sim::shadow::shade_row`.
 //!
 //! # Ports
 //!

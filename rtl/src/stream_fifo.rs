@@ -1,5 +1,6 @@
-//! A first-word-fall-through stream FIFO on one synchronous-read RAM, with valid/ready
-//! handshakes on both sides (AXI4-Stream rules: a beat moves on a rising edge where
+//! A first-word-fall-through stream FIFO on one RAM with a combinational read port
+//! ([`crate::lut_ram::LutRam`]) and its own head register, with valid/ready handshakes on
+//! both sides (AXI4-Stream rules: a beat moves on a rising edge where
 //! `valid` and `ready` are both 1; `out_data` is stable while `out_valid` and not
 //! `out_ready`).
 //!
@@ -16,11 +17,11 @@
 //! # Behaviour, one rising edge (the golden twin is `pixelproc_sim::core_model::Fifo`)
 //!
 //! Registers: write pointer `wr`, read pointer `rd` (both `A + 1` bits: an `A`-bit
-//! address and a wrap bit), and `dv` (the
-//! RAM's read register holds the head entry). With `pop = dv ∧ out_ready`,
-//! `fetch = (wr ≠ rd) ∧ (¬dv ∨ pop)`, `push = in_valid ∧ in_ready`:
-//! - the RAM reads address `rd` if `fetch`, else `rd − 1` (re-reads the head entry, so
-//!   `out_data` holds);
+//! address and a wrap bit), the head register `head` (`out_data`) and `dv` (`head` holds
+//! the head entry). With `pop = dv ∧ out_ready`, `fetch = (wr ≠ rd) ∧ (¬dv ∨ pop)`,
+//! `push = in_valid ∧ in_ready`:
+//! - the RAM reads address `rd` (always: the address comes straight from the pointer
+//!   register), and `head := mem[rd]` if `fetch`, else `head` holds (a clock enable);
 //! - `rd += fetch`, `dv := fetch ∨ (dv ∧ ¬pop)`, `wr += push`, `mem[wr] := in_data` if
 //!   `push`;
 //! - `level = wr − rd + dv`, `in_ready = ¬rst ∧ level ≠ 2^A`.
@@ -32,8 +33,14 @@
 //!
 //! A beat written at edge `E` is presented (`out_valid`) from edge `E + 1` on if the FIFO
 //! was empty; in steady state one beat moves on each side on every edge. The head entry
-//! stays in the RAM until popped, so the RAM never reads a slot being written.
+//! stays in the RAM until popped, so a fetched slot is never one being written.
+//!
+//! Earlier the head register was the RAM's own registered read port, which had to re-read
+//! `rd − 1` to hold: the choice of address then depended on `out_ready`, and that choice
+//! fanned out to the address of every RAM slice (the core's critical path, `docs/fpga.md`).
+//! The behaviour on the ports, cycle for cycle, is the same.
 
+use crate::lut_ram::LutRam;
 use rust_hdl::prelude::*;
 
 /// The FIFO: `D` data, `2^A` entries, `A1 = A + 1` (pointer width). Each pointer is
@@ -58,7 +65,8 @@ pub struct StreamFifo<D: Synth, const A: usize, const A1: usize> {
     pub out_ready: Signal<In, Bit>,
     /// Entries held.
     pub level: Signal<Out, Bits<A1>>,
-    ram: RAM<D, A>,
+    ram: LutRam<D, A>,
+    head: DFF<D>,
     wa: DFF<Bits<A>>,
     ww: DFF<Bit>,
     ra: DFF<Bits<A>>,
@@ -98,6 +106,7 @@ impl<D: Synth, const A: usize, const A1: usize> Default for StreamFifo<D, A, A1>
             out_ready: Default::default(),
             level: Default::default(),
             ram: Default::default(),
+            head: Default::default(),
             wa: Default::default(),
             ww: Default::default(),
             ra: Default::default(),
@@ -141,8 +150,7 @@ impl<D: Synth, const A: usize, const A1: usize> StreamFifo<D, A, A1> {
 impl<D: Synth, const A: usize, const A1: usize> Logic for StreamFifo<D, A, A1> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, wa, ww, ra, rw, dv, full);
-        self.ram.read_clock.next = self.clock.val();
+        dff_setup!(self, clock, head, wa, ww, ra, rw, dv, full);
         self.ram.write_clock.next = self.clock.val();
         // The two pointers as `A + 1`-bit numbers.
         self.l_wr.next = bit_cast::<A1, A>(self.wa.q.val());
@@ -171,9 +179,9 @@ impl<D: Synth, const A: usize, const A1: usize> Logic for StreamFifo<D, A, A1> {
             self.full.d.next = false;
         }
         // Read side.
-        self.ram.read_address.next = self.ra.q.val() - self.k_one_a.val();
+        self.ram.read_address.next = self.ra.q.val();
         if self.l_fetch.val() {
-            self.ram.read_address.next = self.ra.q.val();
+            self.head.d.next = self.ram.read_data.val();
             self.ra.d.next = self.ra.q.val() + self.k_one_a.val();
             if self.ra.q.val() == self.k_last_a.val() {
                 self.rw.d.next = !self.rw.q.val();
@@ -181,7 +189,7 @@ impl<D: Synth, const A: usize, const A1: usize> Logic for StreamFifo<D, A, A1> {
         }
         self.dv.d.next = self.l_fetch.val() | (self.dv.q.val() & !self.l_pop.val());
         self.out_valid.next = self.dv.q.val();
-        self.out_data.next = self.ram.read_data.val();
+        self.out_data.next = self.head.q.val();
         // Write side.
         self.ram.write_address.next = self.wa.q.val();
         self.ram.write_data.next = self.in_data.val();

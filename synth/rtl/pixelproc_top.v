@@ -2385,13 +2385,15 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
     localparam  k_last_a = 5'b11111;
     
     // Stub signals
-    reg  [4:0] ram$read_address;
-    reg  ram$read_clock;
-    wire  [259:0] ram$read_data;
-    reg  [4:0] ram$write_address;
     reg  ram$write_clock;
-    reg  [259:0] ram$write_data;
     reg  ram$write_enable;
+    reg  [4:0] ram$write_address;
+    reg  [259:0] ram$write_data;
+    reg  [4:0] ram$read_address;
+    wire  [259:0] ram$read_data;
+    reg  [259:0] head$d;
+    wire  [259:0] head$q;
+    reg  head$clock;
     reg  [4:0] wa$d;
     wire  [4:0] wa$q;
     reg  wa$clock;
@@ -2422,13 +2424,17 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
     
     // Sub module instances
     pixelproc_top$in_fifo$ram ram(
-        .read_address(ram$read_address),
-        .read_clock(ram$read_clock),
-        .read_data(ram$read_data),
-        .write_address(ram$write_address),
         .write_clock(ram$write_clock),
+        .write_enable(ram$write_enable),
+        .write_address(ram$write_address),
         .write_data(ram$write_data),
-        .write_enable(ram$write_enable)
+        .read_address(ram$read_address),
+        .read_data(ram$read_data)
+    );
+    pixelproc_top$in_fifo$head head(
+        .d(head$d),
+        .q(head$q),
+        .clock(head$clock)
     );
     pixelproc_top$in_fifo$ra wa(
         .d(wa$d),
@@ -2463,19 +2469,20 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
     
     // Update code
     always @(*) begin
+        head$clock = clock;
         wa$clock = clock;
         ww$clock = clock;
         ra$clock = clock;
         rw$clock = clock;
         dv$clock = clock;
         full$clock = clock;
+        head$d = head$q;
         wa$d = wa$q;
         ww$d = ww$q;
         ra$d = ra$q;
         rw$d = rw$q;
         dv$d = dv$q;
         full$d = full$q;
-        ram$read_clock = clock;
         ram$write_clock = clock;
         l_wr = {{1{1'b0}}, wa$q};
         if (ww$q) begin
@@ -2501,9 +2508,9 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         if (~l_push & l_pop) begin
             full$d = 1'b0;
         end
-        ram$read_address = ra$q - k_one_a;
+        ram$read_address = ra$q;
         if (l_fetch) begin
-            ram$read_address = ra$q;
+            head$d = ram$read_data;
             ra$d = ra$q + k_one_a;
             if (ra$q == k_last_a) begin
                 rw$d = ~rw$q;
@@ -2511,7 +2518,7 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         end
         dv$d = l_fetch | (dv$q & ~l_pop);
         out_valid = dv$q;
-        out_data = ram$read_data;
+        out_data = head$q;
         ram$write_address = wa$q;
         ram$write_data = in_data;
         ram$write_enable = l_push;
@@ -2534,6 +2541,25 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
 endmodule // pixelproc_top$in_fifo
 
 
+module pixelproc_top$in_fifo$head(d,q,clock);
+    
+    // Module arguments
+    input wire  [259:0] d;
+    output reg  [259:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 260'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // pixelproc_top$in_fifo$head
+
+
 module pixelproc_top$in_fifo$ra(d,q,clock);
     
     // Module arguments
@@ -2553,32 +2579,27 @@ module pixelproc_top$in_fifo$ra(d,q,clock);
 endmodule // pixelproc_top$in_fifo$ra
 
 
-module pixelproc_top$in_fifo$ram(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
+module pixelproc_top$in_fifo$ram(write_clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
-    input wire  [4:0] read_address;
-    input wire  read_clock;
-    output reg  [259:0] read_data;
-    input wire  [4:0] write_address;
     input wire  write_clock;
-    input wire  [259:0] write_data;
     input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [259:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [259:0] read_data;
     
     // Update code (custom)
-    reg[259:0] mem[31:0];
+    reg [259:0] mem [0:31];
+    wire [259:0] read_word = mem[read_address];
     
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
+    always @(*) read_data = read_word;
     
     always @(posedge write_clock) begin
        if (write_enable) begin
           mem[write_address] <= write_data;
        end
     end
-                
 endmodule // pixelproc_top$in_fifo$ram
 
 
@@ -2605,13 +2626,15 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
     localparam  k_last_a = 4'hf;
     
     // Stub signals
-    reg  [3:0] ram$read_address;
-    reg  ram$read_clock;
-    wire  [75:0] ram$read_data;
-    reg  [3:0] ram$write_address;
     reg  ram$write_clock;
-    reg  [75:0] ram$write_data;
     reg  ram$write_enable;
+    reg  [3:0] ram$write_address;
+    reg  [75:0] ram$write_data;
+    reg  [3:0] ram$read_address;
+    wire  [75:0] ram$read_data;
+    reg  [75:0] head$d;
+    wire  [75:0] head$q;
+    reg  head$clock;
     reg  [3:0] wa$d;
     wire  [3:0] wa$q;
     reg  wa$clock;
@@ -2642,13 +2665,17 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
     
     // Sub module instances
     pixelproc_top$out_fifo$ram ram(
-        .read_address(ram$read_address),
-        .read_clock(ram$read_clock),
-        .read_data(ram$read_data),
-        .write_address(ram$write_address),
         .write_clock(ram$write_clock),
+        .write_enable(ram$write_enable),
+        .write_address(ram$write_address),
         .write_data(ram$write_data),
-        .write_enable(ram$write_enable)
+        .read_address(ram$read_address),
+        .read_data(ram$read_data)
+    );
+    pixelproc_top$out_fifo$head head(
+        .d(head$d),
+        .q(head$q),
+        .clock(head$clock)
     );
     pixelproc_top$out_fifo$ra wa(
         .d(wa$d),
@@ -2683,19 +2710,20 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
     
     // Update code
     always @(*) begin
+        head$clock = clock;
         wa$clock = clock;
         ww$clock = clock;
         ra$clock = clock;
         rw$clock = clock;
         dv$clock = clock;
         full$clock = clock;
+        head$d = head$q;
         wa$d = wa$q;
         ww$d = ww$q;
         ra$d = ra$q;
         rw$d = rw$q;
         dv$d = dv$q;
         full$d = full$q;
-        ram$read_clock = clock;
         ram$write_clock = clock;
         l_wr = {{1{1'b0}}, wa$q};
         if (ww$q) begin
@@ -2721,9 +2749,9 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         if (~l_push & l_pop) begin
             full$d = 1'b0;
         end
-        ram$read_address = ra$q - k_one_a;
+        ram$read_address = ra$q;
         if (l_fetch) begin
-            ram$read_address = ra$q;
+            head$d = ram$read_data;
             ra$d = ra$q + k_one_a;
             if (ra$q == k_last_a) begin
                 rw$d = ~rw$q;
@@ -2731,7 +2759,7 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         end
         dv$d = l_fetch | (dv$q & ~l_pop);
         out_valid = dv$q;
-        out_data = ram$read_data;
+        out_data = head$q;
         ram$write_address = wa$q;
         ram$write_data = in_data;
         ram$write_enable = l_push;
@@ -2754,6 +2782,25 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
 endmodule // pixelproc_top$out_fifo
 
 
+module pixelproc_top$out_fifo$head(d,q,clock);
+    
+    // Module arguments
+    input wire  [75:0] d;
+    output reg  [75:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 76'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // pixelproc_top$out_fifo$head
+
+
 module pixelproc_top$out_fifo$ra(d,q,clock);
     
     // Module arguments
@@ -2773,32 +2820,27 @@ module pixelproc_top$out_fifo$ra(d,q,clock);
 endmodule // pixelproc_top$out_fifo$ra
 
 
-module pixelproc_top$out_fifo$ram(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
+module pixelproc_top$out_fifo$ram(write_clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
-    input wire  [3:0] read_address;
-    input wire  read_clock;
-    output reg  [75:0] read_data;
-    input wire  [3:0] write_address;
     input wire  write_clock;
-    input wire  [75:0] write_data;
     input wire  write_enable;
+    input wire  [3:0] write_address;
+    input wire  [75:0] write_data;
+    input wire  [3:0] read_address;
+    output reg  [75:0] read_data;
     
     // Update code (custom)
-    reg[75:0] mem[15:0];
+    reg [75:0] mem [0:15];
+    wire [75:0] read_word = mem[read_address];
     
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
+    always @(*) read_data = read_word;
     
     always @(posedge write_clock) begin
        if (write_enable) begin
           mem[write_address] <= write_data;
        end
     end
-                
 endmodule // pixelproc_top$out_fifo$ram
 
 
