@@ -14,6 +14,7 @@ use crate::scene::{LoadedScene, SceneError};
 use crate::setup::{snap_coord, snap_intensity, HostPlane, SetupError, SnappedTri};
 use glam::{DMat4, DVec3, DVec4};
 use pixelproc_formats::{Z_GEOM_MAX, Z_GEOM_MIN};
+use rayon::prelude::*;
 use thiserror::Error;
 
 /// Guard band in units of w: clip-space |x|, |y| ≤ GUARD·w.
@@ -434,62 +435,87 @@ struct Face {
     origin: Origin,
 }
 
-/// Emits world triangle `p` lit by `shade(vertex, None)` and, per shade channel, its copy
-/// lit by `shade(vertex, Some(light))` (without that light); pushes all into `out`.
-fn emit_shaded(
+/// A world triangle's snapped pieces, and per piece its shade-channel copies.
+struct ShadedFace {
+    /// The pieces, in fan order.
+    tris: Vec<SnappedTri>,
+    /// Piece `i`'s copies are `copies[i·K .. (i + 1)·K]` (`K` shade channels, `chan` set).
+    copies: Vec<SnappedTri>,
+}
+
+/// World triangle `p` lit by `shade(vertex, None)` and, per shade channel, its copy lit by
+/// `shade(vertex, Some(light))` (without that light), clipped and snapped.
+fn shade_face(
     pj: &Projector,
     p: [DVec3; 3],
     shade: impl Fn(usize, Option<usize>) -> DVec3,
     channels: &[usize],
     f: &Face,
-    out: &mut Projected,
-) -> Result<Vec<SnappedTri>, FrontError> {
-    let err = |out: &Projected, e| FrontError::Setup {
-        index: out.tris.len(),
-        source: e,
-    };
+) -> Result<ShadedFace, SetupError> {
     let lit = |skip: Option<usize>| WorldTri {
         p,
         a: [0, 1, 2].map(|k| shade(k, skip)),
     };
-    let tris = emit(pj, &lit(None), f.tag, f.host, f.nclass).map_err(|e| err(out, e))?;
-    let mut copies = Vec::with_capacity(channels.len());
-    for (c, &l) in channels.iter().enumerate() {
-        let ct = emit(pj, &lit(Some(l)), f.tag, f.host, f.nclass).map_err(|e| err(out, e))?;
+    let tris = emit(pj, &lit(None), f.tag, f.host, f.nclass)?;
+    let mut per_chan = Vec::with_capacity(channels.len());
+    for &l in channels {
+        let ct = emit(pj, &lit(Some(l)), f.tag, f.host, f.nclass)?;
         debug_assert_eq!(ct.len(), tris.len());
-        copies.push((c, ct));
+        per_chan.push(ct);
     }
+    let mut copies = Vec::with_capacity(tris.len() * channels.len());
     for (i, st) in tris.iter().enumerate() {
-        out.tris.push(*st);
-        out.origin.push(f.origin);
-        for (c, ct) in &copies {
+        for (c, ct) in per_chan.iter().enumerate() {
             let mut t = ct[i];
             // The same clipped and snapped geometry as the polygon (the clip depends on
             // positions only); only the intensities differ.
             debug_assert_eq!((t.v, t.z), (st.v, st.z));
-            t.chan = *c as u8 + 1;
-            out.shade.push(t);
+            t.chan = c as u8 + 1;
+            copies.push(t);
         }
     }
-    Ok(tris)
+    Ok(ShadedFace { tris, copies })
+}
+
+/// Appends a face's pieces (from [`shade_face`], or its error: the error's index is that of
+/// the face's first piece in `out`) to `out`; returns its first piece's plane.
+fn append_face(
+    out: &mut Projected,
+    face: Result<ShadedFace, SetupError>,
+    origin: Origin,
+) -> Result<Option<HostPlane>, FrontError> {
+    let face = face.map_err(|e| FrontError::Setup {
+        index: out.tris.len(),
+        source: e,
+    })?;
+    out.origin.extend(std::iter::repeat_n(origin, face.tris.len()));
+    out.tris.extend_from_slice(&face.tris);
+    out.shade.extend_from_slice(&face.copies);
+    Ok(face.tris.first().map(|t| HostPlane { v: t.v, z: t.z }))
 }
 
 /// The first snapped piece of each face of each mesh (a pattern on the face takes its
 /// depth plane), `None` where the face was clipped away.
 type FacePlanes = Vec<Vec<Option<HostPlane>>>;
 
-/// Lights, clips and snaps every mesh face into `out`.
+/// Lights, clips and snaps every mesh face into `out`. Faces are independent, so they are
+/// done in parallel, then appended in mesh and face order: the same output, and the same
+/// error (the first failing face's, with its index), as one face after another.
 fn project_meshes(
     ls: &LoadedScene,
     pj: &Projector,
     channels: &[usize],
     out: &mut Projected,
 ) -> Result<FacePlanes, FrontError> {
-    let mut first_piece = Vec::new();
-    for (mi, (m, mr)) in ls.meshes.iter().zip(&ls.scene.meshes).enumerate() {
-        let tag = mr.tag.unwrap_or((mi + 1) as u16);
-        let mut pieces = Vec::with_capacity(m.triangles.len());
-        for (fi, t) in m.triangles.iter().enumerate() {
+    let meshes = ls.meshes.len().min(ls.scene.meshes.len());
+    let faces: Vec<(usize, usize)> = (0..meshes)
+        .flat_map(|mi| (0..ls.meshes[mi].triangles.len()).map(move |fi| (mi, fi)))
+        .collect();
+    let done: Vec<(Result<ShadedFace, SetupError>, Origin)> = faces
+        .par_iter()
+        .map(|&(mi, fi)| {
+            let (m, mr) = (&ls.meshes[mi], &ls.scene.meshes[mi]);
+            let t = m.triangles[fi];
             let p = t.map(|i| DVec3::from(m.positions[i as usize]));
             let fnorm = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
             let n = |k: usize| match &m.normals {
@@ -498,18 +524,24 @@ fn project_meshes(
             };
             let shade = |k: usize, skip| lambert_without(ls, p[k], n(k), mr.color, skip);
             let face = Face {
-                tag,
+                tag: mr.tag.unwrap_or((mi + 1) as u16),
                 host: None,
                 nclass: normal_class(fnorm),
                 origin: Origin::Mesh { mesh: mi, face: fi },
             };
-            let tris = emit_shaded(pj, p, shade, channels, &face, out)?;
-            if tris.is_empty() {
-                out.clipped_away += 1;
-            }
-            pieces.push(tris.first().map(|t| HostPlane { v: t.v, z: t.z }));
+            (shade_face(pj, p, shade, channels, &face), face.origin)
+        })
+        .collect();
+    let mut first_piece: FacePlanes = ls.meshes[..meshes]
+        .iter()
+        .map(|m| Vec::with_capacity(m.triangles.len()))
+        .collect();
+    for (&(mi, _), (face, origin)) in faces.iter().zip(done) {
+        let first = append_face(out, face, origin)?;
+        if first.is_none() {
+            out.clipped_away += 1;
         }
-        first_piece.push(pieces);
+        first_piece[mi].push(first);
     }
     Ok(first_piece)
 }
@@ -546,7 +578,7 @@ fn project_pattern(
                 nclass: normal_class(n),
                 origin: Origin::Pattern(k),
             };
-            emit_shaded(pj, tri, shade, channels, &face, out)?;
+            append_face(out, shade_face(pj, tri, shade, channels, &face), face.origin)?;
         }
     }
     if !placed {
