@@ -488,7 +488,8 @@ fn append_face(
         index: out.tris.len(),
         source: e,
     })?;
-    out.origin.extend(std::iter::repeat_n(origin, face.tris.len()));
+    out.origin
+        .extend(std::iter::repeat_n(origin, face.tris.len()));
     out.tris.extend_from_slice(&face.tris);
     out.shade.extend_from_slice(&face.copies);
     Ok(face.tris.first().map(|t| HostPlane { v: t.v, z: t.z }))
@@ -578,7 +579,11 @@ fn project_pattern(
                 nclass: normal_class(n),
                 origin: Origin::Pattern(k),
             };
-            append_face(out, shade_face(pj, tri, shade, channels, &face), face.origin)?;
+            append_face(
+                out,
+                shade_face(pj, tri, shade, channels, &face),
+                face.origin,
+            )?;
         }
     }
     if !placed {

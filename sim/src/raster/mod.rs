@@ -289,7 +289,9 @@ impl SpanRaster {
         let mut n = vec![0usize; (hi - lo + 1).max(0) as usize];
         for &k in self.bands.members(b) {
             if let Some(t) = &self.set[k as usize] {
-                for c in &mut n[(t.row_min.max(lo) - lo) as usize..=(t.row_max.min(hi) - lo) as usize] {
+                for c in
+                    &mut n[(t.row_min.max(lo) - lo) as usize..=(t.row_max.min(hi) - lo) as usize]
+                {
                     *c += 1;
                 }
             }

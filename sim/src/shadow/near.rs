@@ -201,7 +201,12 @@ impl VolumeTris {
     /// The rows any of the triangles may cover, clamped to `0..height`, if any.
     pub(super) fn rows(&self, height: u32) -> Option<(u32, u32)> {
         let lo = self.tris.iter().map(|t| t.row_min).min()?.max(0);
-        let hi = self.tris.iter().map(|t| t.row_max).max()?.min(height as i64 - 1);
+        let hi = self
+            .tris
+            .iter()
+            .map(|t| t.row_max)
+            .max()?
+            .min(height as i64 - 1);
         (lo <= hi).then_some((lo as u32, hi as u32))
     }
 }
