@@ -363,6 +363,49 @@ impl SpanSink for VisibleProbe {
 mod tests {
     use super::*;
 
+    /// Setup keeps input order: the triangles' setups (a degenerate one dropped, its index
+    /// kept), the number of live ones, and, among several bad triangles, the first one's
+    /// error, whichever the parallel pass meets first.
+    #[test]
+    fn setup_reports_the_first_bad_triangle_and_keeps_indices() {
+        let tri = |x: i32, z: u32| SnappedTri {
+            v: [[x, 0], [x + 2560, 0], [x, 2560]],
+            z: [z; 3],
+            ..Default::default()
+        };
+        let flat = SnappedTri {
+            v: [[0, 0], [256, 256], [512, 512]],
+            ..tri(0, 100)
+        };
+        let good = vec![tri(0, 100), flat, tri(512, 200), tri(1024, 300)];
+        let r = SpanRaster::new(&good, 64, 16).unwrap();
+        assert_eq!(r.triangles(), 3);
+        let mut prims = Vec::new();
+        struct Prims<'a>(&'a mut Vec<u32>);
+        impl SpanSink for Prims<'_> {
+            fn span(&mut self, prim: u32, _row: u32, _w: &SpanWord) {
+                if self.0.last() != Some(&prim) {
+                    self.0.push(prim);
+                }
+            }
+        }
+        r.scan_band(0, &mut Prims(&mut prims));
+        assert_eq!(
+            prims,
+            vec![0, 2, 3],
+            "input indices, the degenerate one skipped"
+        );
+        let lim = (pixelproc_formats::MAX_COORD_PX + 1) << 8;
+        let mut bad = good.clone();
+        bad[1] = tri(0, u32::MAX);
+        bad[3] = tri(lim, 100);
+        let first = TriSetup::new(&bad[1]).unwrap_err().to_string();
+        for _ in 0..20 {
+            let e = SpanRaster::new(&bad, 64, 16).err().expect("an error");
+            assert_eq!(e.to_string(), first);
+        }
+    }
+
     /// The 128-bit reference of [`round_div`].
     fn round_div_wide(n: i128, d: i128) -> i128 {
         let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
