@@ -180,6 +180,17 @@ impl ExactPlane {
     }
 }
 
+/// A span word as a shadow polygon sends it: attr SP, zero intensities and slopes (the
+/// array's shadow spans test depth only).
+pub(crate) fn shadow_word(w: SpanWord) -> SpanWord {
+    SpanWord {
+        attr: Attr::Sp,
+        il: [0; 3],
+        di: [0; 3],
+        ..w
+    }
+}
+
 /// Everything per triangle that span setup needs, computed once.
 #[derive(Clone, Debug)]
 pub struct TriSetup {
@@ -322,21 +333,8 @@ impl TriSetup {
     /// standing at row `j`. `None` if the row covers no pixel centre.
     pub(crate) fn shadow_span(&self, j: i64, width: u32, z: &RoundDivSteps) -> Option<SpanWord> {
         let (xl, xr) = self.columns(j, width)?;
-        let w = SpanWord {
-            attr: Attr::Sp,
-            il: [0; 3],
-            di: [0; 3],
-            ..self.word(xl, xr, z.value() as i64, [0; 3])
-        };
-        debug_assert_eq!(
-            Some(w),
-            self.span(j, width).map(|s| SpanWord {
-                attr: Attr::Sp,
-                il: [0; 3],
-                di: [0; 3],
-                ..s
-            })
-        );
+        let w = shadow_word(self.word(xl, xr, z.value() as i64, [0; 3]));
+        debug_assert_eq!(Some(w), self.span(j, width).map(shadow_word));
         Some(w)
     }
 

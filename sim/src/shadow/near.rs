@@ -347,12 +347,7 @@ mod tests {
                                 .tris
                                 .iter()
                                 .filter_map(|t| t.span(j, w))
-                                .map(|s| SpanWord {
-                                    attr: Attr::Sp,
-                                    il: [0; 3],
-                                    di: [0; 3],
-                                    ..s
-                                })
+                                .map(crate::setup::shadow_word)
                                 .collect();
                             assert_eq!(got, want, "case {case} band {band} row {j} volume {i}");
                             words += got.len();
