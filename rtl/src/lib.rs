@@ -29,6 +29,15 @@ pub mod span_parity;
 pub mod stream_fifo;
 pub mod verilog;
 
+/// Marsaglia's xorshift64 (13, 7, 17): the unit tests' one stream of random patterns.
+#[cfg(test)]
+pub(crate) fn xorshift64(x: &mut u64) -> u64 {
+    *x ^= *x << 13;
+    *x ^= *x >> 7;
+    *x ^= *x << 17;
+    *x
+}
+
 use thiserror::Error;
 
 /// Errors of RTL construction and export.

@@ -111,9 +111,7 @@ mod tests {
         let mut model = [0u64; 8];
         let mut x = 0x9e37_79b9_7f4a_7c15u64;
         for _ in 0..2000 {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
+            crate::xorshift64(&mut x);
             let (we, wa, wd, ra) = (x & 1 == 1, (x >> 1) & 7, (x >> 4) & 0xff, (x >> 12) & 7);
             uut.write_enable.next = we;
             uut.write_address.next = wa.to_bits();

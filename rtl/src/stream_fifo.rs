@@ -232,12 +232,7 @@ mod tests {
         let mut uut = F::default();
         uut.connect_all();
         let mut seed = 0x1234_5678_9abc_def1u64;
-        let mut rnd = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        };
+        let mut rnd = || crate::xorshift64(&mut seed);
         uut.rst.next = true;
         edge(&mut uut);
         uut.rst.next = false;

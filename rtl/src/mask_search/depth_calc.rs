@@ -546,12 +546,7 @@ mod tests {
         let mut u = DepthCalc::new();
         u.connect_all();
         let mut x = 0x2545_F491_4F6C_DD1Du64;
-        let mut rnd = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x
-        };
+        let mut rnd = || crate::xorshift64(&mut x);
         let lim = (1i64 << 47) - 1;
         let pick = |r: u64| -> i64 {
             match r % 6 {

@@ -190,12 +190,7 @@ mod tests {
         cycle!(u);
         u.rst.next = false;
         let mut rng = 0x1234_5678_9abc_def1u64;
-        let mut next = || {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            rng
-        };
+        let mut next = || crate::xorshift64(&mut rng);
         let (mut sent, mut got, mut held) = (0u64, 0u64, None::<u64>);
         for _ in 0..5000 {
             let r = next();
