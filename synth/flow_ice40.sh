@@ -15,7 +15,8 @@ pick_yosys; pick_pnr ice40
 export_core "$OUT" "$W" "$CFG"
 cp synth/ice40/pixelproc.pcf "$OUT/"
 t0=$(now)
-$YOSYS -p "read_verilog $OUT/v/pixelproc_top.v synth/ice40/pins_wrapper.v; synth_ice40 -top pixelproc_ice40_pins -json $OUT/top.json; stat" > "$OUT/synth.log" 2>&1
+$YOSYS -p "read_verilog $OUT/v/pixelproc_top.v synth/ice40/pins_wrapper.v; hierarchy -check -top pixelproc_ice40_pins; proc; check -assert; synth_ice40 -top pixelproc_ice40_pins -json $OUT/top.json; stat" > "$OUT/synth.log" 2>&1 \
+  || { echo "Yosys failed (a lint or check -assert problem in the export?): $OUT/synth.log" >&2; grep -E "ERROR|Warning" "$OUT/synth.log" | head -5 >&2; exit 1; }
 t1=$(now)
 rc=0
 (cd "$OUT" && $PNR --hx8k --package ct256 --json top.json --pcf pixelproc.pcf --pcf-allow-unconstrained \
