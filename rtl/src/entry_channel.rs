@@ -6,11 +6,9 @@
 //! the tile offset `m` and `dI`, E4 adds them to two partial sums,
 //! `m·dI = m·u21 − s·m·2^21` (`u21` = `dI` as unsigned, `s` its sign). The outputs are the
 //! sum of the E4 registers and the E4 copy of `dI`: the channel's part of the token for
-//! processor 0. The array builds three of these; each keeps its own E2 copies of `m`
-//! ([`KeepDff`]: one register per multiplier, not one for all nine).
+//! processor 0. The array builds three of these and owns `m` (shared with the depth).
 
 use crate::colour_lane::DI_W;
-use crate::keep_dff::KeepDff;
 use crate::pixel_processor::IACC_W;
 use pixelproc_formats::SPAN_IL_R;
 use rust_hdl::prelude::*;
@@ -38,9 +36,8 @@ pub struct EntryChannel {
     pub di: Signal<In, Bits<DI_W>>,
     /// The command in E1 is a SPAN (otherwise `dI` is taken as 0).
     pub span: Signal<In, Bit>,
-    /// The tile offset `m` of the command in E1 (0 unless a SPAN), registered here in
-    /// one copy per multiplier (`e2_m`, `e2_m1`, each next to its DSP block).
-    pub m1: Signal<In, Bits<MUL_W>>,
+    /// The tile offset `m` registered in E2.
+    pub m2: Signal<In, Bits<MUL_W>>,
     /// The tile offset `m` registered in E3.
     pub m3: Signal<In, Bits<MUL_W>>,
     /// `IL + m·dI`, Q22.12 two's complement: processor 0's accumulator.
@@ -49,8 +46,6 @@ pub struct EntryChannel {
     pub o_di: Signal<Out, Bits<DI_W>>,
     e2_il: DFF<Bits<IL_W>>,
     e2_di: DFF<Bits<DI_W>>,
-    e2_m: KeepDff<Bits<MUL_W>>,
-    e2_m1: KeepDff<Bits<MUL_W>>,
     e3_il: DFF<Bits<IL_W>>,
     e3_di: DFF<Bits<DI_W>>,
     e3_p0: DFF<Bits<PROD_W>>,
@@ -71,14 +66,12 @@ impl EntryChannel {
             il: Default::default(),
             di: Default::default(),
             span: Default::default(),
-            m1: Default::default(),
+            m2: Default::default(),
             m3: Default::default(),
             i: Default::default(),
             o_di: Default::default(),
             e2_il: Default::default(),
             e2_di: Default::default(),
-            e2_m: Default::default(),
-            e2_m1: Default::default(),
             e3_il: Default::default(),
             e3_di: Default::default(),
             e3_p0: Default::default(),
@@ -102,13 +95,9 @@ impl Default for EntryChannel {
 impl Logic for EntryChannel {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(
-            self, clock, e2_il, e2_di, e2_m, e2_m1, e3_il, e3_di, e3_p0, e3_p1, e4_di, e4_a, e4_b
-        );
+        dff_setup!(self, clock, e2_il, e2_di, e3_il, e3_di, e3_p0, e3_p1, e4_di, e4_a, e4_b);
         // ---- E2: no increment unless SPAN.
         self.e2_il.d.next = self.il.val();
-        self.e2_m.d.next = self.m1.val();
-        self.e2_m1.d.next = self.m1.val();
         self.e2_di.d.next = self.k_zero.val();
         if self.span.val() {
             self.e2_di.d.next = self.di.val();
@@ -117,8 +106,8 @@ impl Logic for EntryChannel {
         self.e3_il.d.next = self.e2_il.q.val();
         self.e3_di.d.next = self.e2_di.q.val();
         self.l_dihi.next = bit_cast::<MUL_W, DI_HI_W>(self.e2_di.q.val().get_bits::<DI_HI_W>(16));
-        self.e3_p0.d.next = self.e2_m.q.val() * self.e2_di.q.val().get_bits::<MUL_W>(0);
-        self.e3_p1.d.next = self.e2_m1.q.val() * self.l_dihi.val();
+        self.e3_p0.d.next = self.m2.val() * self.e2_di.q.val().get_bits::<MUL_W>(0);
+        self.e3_p1.d.next = self.m2.val() * self.l_dihi.val();
         // ---- E4: m·dI = m·u21 − s·m·2^21.
         self.e4_di.d.next = self.e3_di.q.val();
         self.l_m34.next = bit_cast::<IACC_W, MUL_W>(self.m3.val());

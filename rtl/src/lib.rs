@@ -18,7 +18,6 @@
 pub mod colour_lane;
 pub mod core_top;
 pub mod entry_channel;
-pub mod keep_dff;
 pub mod layout;
 pub mod lut_ram;
 pub mod mask_search;

@@ -56,7 +56,6 @@
 
 use crate::colour_lane::DI_W;
 use crate::entry_channel::{EntryChannel, IL_W, MUL_W, PROD_W};
-use crate::keep_dff::KeepDff;
 use crate::layout::{HeadFields, ReadoutFields, SpanFields, HEAD_W, READOUT_W, SPAN_W};
 use crate::opcodes::*;
 use crate::pixel_processor::{PixelProcessor, DI3_W, I3_W, IACC_W, REL_W, ZACC_W};
@@ -136,12 +135,7 @@ pub struct PixelProcessorArray {
     e1_rd: DFF<Bits<X_W>>,
     // E2: decoded word, tile offset m = max(0, base − XL).
     e2_head: DFF<Bits<HEAD_W>>,
-    /// The tile offset, one copy per depth multiplier (each colour channel has its own).
-    e2_m: KeepDff<Bits<MUL_W>>,
-    e2_m1: KeepDff<Bits<MUL_W>>,
-    e2_m2: KeepDff<Bits<MUL_W>>,
-    /// The tile offset of the command in E1: `max(0, base − XL)` for a SPAN, else 0.
-    l_m1: Signal<Local, Bits<MUL_W>>,
+    e2_m: DFF<Bits<MUL_W>>,
     e2_zl: DFF<Bits<ZL_W>>,
     e2_dz: DFF<Bits<DZ_W>>,
     // E3: partial products.
@@ -227,9 +221,6 @@ impl PixelProcessorArray {
             e1_rd: Default::default(),
             e2_head: Default::default(),
             e2_m: Default::default(),
-            e2_m1: Default::default(),
-            e2_m2: Default::default(),
-            l_m1: Default::default(),
             e2_zl: Default::default(),
             e2_dz: Default::default(),
             e3_head: Default::default(),
@@ -295,9 +286,8 @@ impl Logic for PixelProcessorArray {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, e1_op, e1_bg, e1_word, e1_base, e1_rd, e2_head, e2_m, e2_m1, e2_m2, e2_zl,
-            e2_dz, e3_head, e3_m, e3_zl, e3_dz, e3_pz0, e3_pz1, e3_pz2, e4_head, e4_dz, e4_za,
-            e4_zb
+            self, clock, e1_op, e1_bg, e1_word, e1_base, e1_rd, e2_head, e2_m, e2_zl, e2_dz,
+            e3_head, e3_m, e3_zl, e3_dz, e3_pz0, e3_pz1, e3_pz2, e4_head, e4_dz, e4_za, e4_zb
         );
         // ---- E1: register every input.
         self.e1_op.d.next = self.k_nop.val();
@@ -341,19 +331,16 @@ impl Logic for PixelProcessorArray {
         self.e2_zl.d.next = self.e1_word.q.val().get_value_zl();
         self.e2_dz.d.next = self.e1_word.q.val().get_value_dz();
         // Tile offset: the span started `base − XL` columns before this tile.
-        self.l_m1.next = self.k_zero16.val();
+        self.e2_m.d.next = self.k_zero16.val();
         if !self.l_d.val().get_bit(13) {
-            self.l_m1.next = bit_cast::<MUL_W, REL_W>(self.l_d.val());
+            self.e2_m.d.next = bit_cast::<MUL_W, REL_W>(self.l_d.val());
         }
         if self.e1_op.q.val() != self.k_span.val() {
             // No increments; CLEAR_LINE carries the background in the Z accumulator.
-            self.l_m1.next = self.k_zero16.val();
+            self.e2_m.d.next = self.k_zero16.val();
             self.e2_dz.d.next = self.k_zero38.val();
             self.e2_zl.d.next = bit_cast::<ZL_W, RGB_BITS>(self.e1_bg.q.val());
         }
-        self.e2_m.d.next = self.l_m1.val();
-        self.e2_m1.d.next = self.l_m1.val();
-        self.e2_m2.d.next = self.l_m1.val();
         // ---- E2..E4 of the colour channels, one block each; their results packed red
         // first for processor 0 (`bit_cast` cannot take the loop index: go through locals).
         self.l_span.next = self.e1_op.q.val() == self.k_span.val();
@@ -366,7 +353,7 @@ impl Logic for PixelProcessorArray {
             self.chans[c].il.next = self.l_il3.val().get_bits::<IL_W>(20 * c);
             self.chans[c].di.next = self.l_di3.val().get_bits::<DI_W>(21 * c);
             self.chans[c].span.next = self.l_span.val();
-            self.chans[c].m1.next = self.l_m1.val();
+            self.chans[c].m2.next = self.e2_m.q.val();
             self.chans[c].m3.next = self.e3_m.q.val();
             self.l_ch_i.next = self.chans[c].i.val();
             self.l_ch_di.next = self.chans[c].o_di.val();
@@ -384,8 +371,8 @@ impl Logic for PixelProcessorArray {
         self.l_dzmid.next = self.l_dz.val().get_bits::<MUL_W>(16);
         self.l_dzhi.next = bit_cast::<MUL_W, DZ_HI_W>(self.l_dz.val().get_bits::<DZ_HI_W>(32));
         self.e3_pz0.d.next = self.e2_m.q.val() * self.l_dz.val().get_bits::<MUL_W>(0);
-        self.e3_pz1.d.next = self.e2_m1.q.val() * self.l_dzmid.val();
-        self.e3_pz2.d.next = self.e2_m2.q.val() * self.l_dzhi.val();
+        self.e3_pz1.d.next = self.e2_m.q.val() * self.l_dzmid.val();
+        self.e3_pz2.d.next = self.e2_m.q.val() * self.l_dzhi.val();
         // ---- E4: m·dZ = m·u38 − s·m·2^38 (u38 = dZ as unsigned).
         self.e4_head.d.next = self.e3_head.q.val();
         self.e4_dz.d.next = self.e3_dz.q.val();

@@ -19,18 +19,15 @@
 //! so a token holding `ZL + max(0, col − XL)·dZ` at column `col` holds the same quantity
 //! at column `col + 1`: one adder per quantity per processor, no multiplier.
 //!
-//! **Decide, then write (two stages).** In stage A the processor compares: range test,
-//! and the depth test as 12-bit half compares (`<` and `=` of the high halves, `<` and
-//! `<=` of the low halves) of `Z` against the held `ZB` and against the depth stage B is
-//! writing, all straight from flip-flops. The halves and the parts of the decision that
-//! need no compare are registered (stage B) and applied at the next edge: stage B
-//! combines the halves (`a < b` iff `a_hi < b_hi ∨ (a_hi = b_hi ∧ a_lo < b_lo)`), picks
-//! the set that matches the `ZB` the token must see, and writes `ZB`, RGB, `NCLASS`, the
-//! parity flags. That `ZB` is the one after the token directly ahead: its depth if it
-//! wrote (a registered flag), `Z_FAR` after CLEAR_LINE or RESET, else the `ZB` stage A
-//! compared with (the bypass), so back-to-back spans at one processor are exact. No
-//! carry chain longer than 12 bits ends in a decision, and the compares drive a few
-//! flip-flops instead of the enables of the state registers.
+//! **Decide, then write (two stages).** In stage A the processor also *decides*: range
+//! test, `Z < ZB` / `Z <= ZB`, intensity clamp. The decision is registered (stage B,
+//! 64 flip-flops) and applied at the next edge: `ZB`, RGB, `NCLASS`, the parity flags.
+//! The depth compare therefore drives one flip-flop instead of the enables of 56 state
+//! flip-flops. A token directly behind another one sees the `ZB` its predecessor is about
+//! to write: stage A compares against `zb_next`, the value `ZB` takes at the coming edge
+//! (the bypass), so back-to-back spans at one processor are exact. The bypass sits behind
+//! the compare, not in front of it: `Z` is compared with the held `ZB`, the depth being
+//! written and `Z_FAR` in parallel, and the registered stage-B state selects the result.
 //!
 //! **OP span** (`op = SPAN`, `attr = OP`): if `XL <= col <= XR` and `Z < ZB` (`Z <= ZB`
 //! for a decal span), `ZB := Z`, `RGB := clamp(I >> 12, 0, 255)` per channel,
@@ -86,16 +83,13 @@ const ATTR_W: usize = SPAN_ATTR.width;
 const NCLASS_W: usize = SPAN_NCLASS.width;
 /// Width of a depth register.
 const ZB_W: usize = Z_BITS as usize;
-/// Width of one half of the split depth compare.
-const ZH_W: usize = ZB_W / 2;
 /// Width of the three packed intensity accumulators of a token.
 pub const I3_W: usize = 3 * IACC_W;
 /// Width of the three packed `dI` of a token.
 pub const DI3_W: usize = 3 * DI_W;
 // A kernel can only take literal bit positions: the sign bits 37 (`dZ`) and 13 (range),
 // the depth slice at 12 and the channel strides 34 and 21 below are these widths.
-const _: () =
-    assert!(DZ_W == 38 && DI_W == 21 && REL_W == 14 && IACC_W == 34 && ZACC_W == 44 && ZH_W == 12);
+const _: () = assert!(DZ_W == 38 && DI_W == 21 && REL_W == 14 && IACC_W == 34 && ZACC_W == 44);
 
 /// One pixel processor. `shadows = false` builds it without the parity block: DSF, FSF,
 /// COUNT and MASK then read 0 and shadow commands do nothing.
@@ -145,27 +139,8 @@ pub struct PixelProcessor {
     b_op: DFF<Bits<OP_BITS>>,
     b_attr: DFF<Bits<ATTR_W>>,
     b_covered: DFF<Bit>,
-    /// Half compares of stage A of `Z` against the held ZB (`h`) and against the depth
-    /// stage B was writing (`n`): high halves `<` and `=`, low halves `<` and `<=`.
-    b_h_lt_hi: DFF<Bit>,
-    b_h_eq_hi: DFF<Bit>,
-    b_h_lt_lo: DFF<Bit>,
-    b_h_le_lo: DFF<Bit>,
-    b_n_lt_hi: DFF<Bit>,
-    b_n_eq_hi: DFF<Bit>,
-    b_n_lt_lo: DFF<Bit>,
-    b_n_le_lo: DFF<Bit>,
-    /// `Z < Z_FAR`.
-    b_lt_far: DFF<Bit>,
-    /// The token ahead was CLEAR_LINE or RESET (ZB is Z_FAR now).
-    b_prev_far: DFF<Bit>,
-    /// The token ahead wrote ZB (its depth is ZB now).
-    b_prev_write: DFF<Bit>,
-    /// `z[43:36] = 0`, the decal flag, and the write candidate (an OP span of channel 0
-    /// covering this column): the parts of the decision that do not need the compare.
-    b_hi_ok: DFF<Bit>,
-    b_decal: DFF<Bit>,
-    b_wr_cand: DFF<Bit>,
+    b_zlt: DFF<Bit>,
+    b_write: DFF<Bit>,
     b_z: DFF<Bits<ZB_W>>,
     b_rgb: DFF<Bits<RGB_BITS>>,
     b_nclass: DFF<Bits<NCLASS_W>>,
@@ -200,19 +175,18 @@ pub struct PixelProcessor {
     right_of_xl: Signal<Local, Bit>,
     covered: Signal<Local, Bit>,
     zv: Signal<Local, Bits<ZB_W>>,
-    zv_hi: Signal<Local, Bits<ZH_W>>,
-    zv_lo: Signal<Local, Bits<ZH_W>>,
-    /// Stage B: `Z < ZB`, `Z <= ZB` from the held ZB's and the new depth's halves.
+    z_hi_ok: Signal<Local, Bit>,
+    z_lt: Signal<Local, Bit>,
+    z_pass: Signal<Local, Bit>,
+    zb_next: Signal<Local, Bits<ZB_W>>,
+    /// `Z < ZB`, `Z <= ZB` against the held ZB and the value being written; `Z < Z_FAR`.
     lt_held: Signal<Local, Bit>,
     le_held: Signal<Local, Bit>,
     lt_new: Signal<Local, Bit>,
     le_new: Signal<Local, Bit>,
-    z_lt: Signal<Local, Bit>,
-    z_le: Signal<Local, Bit>,
-    z_pass: Signal<Local, Bit>,
-    /// Stage B: this token writes ZB, RGB, NCLASS at the coming edge.
-    write: Signal<Local, Bit>,
-    zb_next: Signal<Local, Bits<ZB_W>>,
+    lt_far: Signal<Local, Bit>,
+    /// Stage B holds CLEAR_LINE or RESET (ZB becomes Z_FAR at the coming edge).
+    sel_far: Signal<Local, Bit>,
     l_i: Signal<Local, Bits<I3_W>>,
     l_rgb: Signal<Local, Bits<RGB_BITS>>,
     l_lane_i: Signal<Local, Bits<IACC_W>>,
@@ -257,20 +231,8 @@ impl PixelProcessor {
             b_op: Default::default(),
             b_attr: Default::default(),
             b_covered: Default::default(),
-            b_h_lt_hi: Default::default(),
-            b_h_eq_hi: Default::default(),
-            b_h_lt_lo: Default::default(),
-            b_h_le_lo: Default::default(),
-            b_n_lt_hi: Default::default(),
-            b_n_eq_hi: Default::default(),
-            b_n_lt_lo: Default::default(),
-            b_n_le_lo: Default::default(),
-            b_lt_far: Default::default(),
-            b_prev_far: Default::default(),
-            b_prev_write: Default::default(),
-            b_hi_ok: Default::default(),
-            b_decal: Default::default(),
-            b_wr_cand: Default::default(),
+            b_zlt: Default::default(),
+            b_write: Default::default(),
             b_z: Default::default(),
             b_rgb: Default::default(),
             b_nclass: Default::default(),
@@ -311,17 +273,16 @@ impl PixelProcessor {
             right_of_xl: Default::default(),
             covered: Default::default(),
             zv: Default::default(),
-            zv_hi: Default::default(),
-            zv_lo: Default::default(),
+            z_hi_ok: Default::default(),
+            z_lt: Default::default(),
+            z_pass: Default::default(),
+            zb_next: Default::default(),
             lt_held: Default::default(),
             le_held: Default::default(),
             lt_new: Default::default(),
             le_new: Default::default(),
-            z_lt: Default::default(),
-            z_le: Default::default(),
-            z_pass: Default::default(),
-            write: Default::default(),
-            zb_next: Default::default(),
+            lt_far: Default::default(),
+            sel_far: Default::default(),
             l_i: Default::default(),
             l_rgb: Default::default(),
             l_lane_i: Default::default(),
@@ -370,42 +331,9 @@ impl Logic for PixelProcessor {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self,
-            clock,
-            tok_head,
-            tok_z,
-            tok_dz,
-            tok_i,
-            tok_di,
-            b_op,
-            b_attr,
-            b_covered,
-            b_h_lt_hi,
-            b_h_eq_hi,
-            b_h_lt_lo,
-            b_h_le_lo,
-            b_n_lt_hi,
-            b_n_eq_hi,
-            b_n_lt_lo,
-            b_n_le_lo,
-            b_lt_far,
-            b_prev_far,
-            b_prev_write,
-            b_hi_ok,
-            b_decal,
-            b_wr_cand,
-            b_z,
-            b_rgb,
-            b_nclass,
-            zb_r,
-            rgb_r,
-            nclass_r,
-            cap_r,
-            rdsel_r,
-            b_won_upd,
-            b_sh_write,
-            won_r,
-            sh_r
+            self, clock, tok_head, tok_z, tok_dz, tok_i, tok_di, b_op, b_attr, b_covered, b_zlt,
+            b_write, b_z, b_rgb, b_nclass, zb_r, rgb_r, nclass_r, cap_r, rdsel_r, b_won_upd,
+            b_sh_write, won_r, sh_r
         );
         // ---- Stage A: the token register, loaded every clock.
         self.tok_head.d.next = self.t_head.val();
@@ -454,45 +382,17 @@ impl Logic for PixelProcessor {
         if self.right_of_xl.val() {
             self.o_z.next = self.tok_z.q.val() + self.dz_x.val();
         }
-        // ---- Stage B: finish the depth test from the half compares registered at the last
-        // edge, then apply it. The ZB this token must see is the one after the token ahead
-        // of it: that token's depth if it wrote, Z_FAR after CLEAR_LINE or RESET, else the
-        // ZB that stage A compared with (the token ahead was the only one that could change
-        // it). `a < b` is `a_hi < b_hi ∨ (a_hi = b_hi ∧ a_lo < b_lo)`, `<=` likewise.
-        self.lt_held.next =
-            self.b_h_lt_hi.q.val() | (self.b_h_eq_hi.q.val() & self.b_h_lt_lo.q.val());
-        self.le_held.next =
-            self.b_h_lt_hi.q.val() | (self.b_h_eq_hi.q.val() & self.b_h_le_lo.q.val());
-        self.lt_new.next =
-            self.b_n_lt_hi.q.val() | (self.b_n_eq_hi.q.val() & self.b_n_lt_lo.q.val());
-        self.le_new.next =
-            self.b_n_lt_hi.q.val() | (self.b_n_eq_hi.q.val() & self.b_n_le_lo.q.val());
-        self.z_lt.next = self.lt_held.val();
-        self.z_le.next = self.le_held.val();
-        if self.b_prev_write.q.val() {
-            self.z_lt.next = self.lt_new.val();
-            self.z_le.next = self.le_new.val();
-        }
-        if self.b_prev_far.q.val() {
-            // (`Z <= Z_FAR` holds for every 24-bit Z.)
-            self.z_lt.next = self.b_lt_far.q.val();
-            self.z_le.next = true;
-        }
-        self.z_pass.next = self.z_lt.val();
-        if self.b_decal.q.val() {
-            self.z_pass.next = self.z_le.val();
-        }
-        self.write.next = self.b_wr_cand.q.val() & self.z_pass.val();
-        self.b_prev_write.d.next = self.write.val();
+        // ---- Stage B: apply the decision registered at the last edge. `zb_next` is the
+        // value ZB takes at the coming edge.
         // Shade channel: WON after a polygon span, SH from a channel-1 span where WON.
         if self.b_won_upd.q.val() & self.k_shade.val() {
-            self.won_r.d.next = self.write.val();
+            self.won_r.d.next = self.b_write.q.val();
         }
         if self.b_sh_write.q.val() & self.won_r.q.val() & self.k_shade.val() {
             self.sh_r.d.next = self.b_rgb.q.val();
         }
         self.zb_next.next = self.zb_r.q.val();
-        if self.write.val() {
+        if self.b_write.q.val() {
             self.zb_next.next = self.b_z.q.val();
             self.rgb_r.d.next = self.b_rgb.q.val();
             self.nclass_r.d.next = self.b_nclass.q.val();
@@ -508,7 +408,7 @@ impl Logic for PixelProcessor {
             self.parity[i].op.next = self.b_op.q.val();
             self.parity[i].attr.next = self.b_attr.q.val();
             self.parity[i].covered.next = self.b_covered.q.val();
-            self.parity[i].z_lt.next = self.z_lt.val() & self.b_hi_ok.q.val();
+            self.parity[i].z_lt.next = self.b_zlt.q.val();
             self.parity[i].light.next = self.b_rgb.q.val().get_bits::<3>(0);
             self.dsf_now.next = self.parity[i].dsf.val();
             self.fsf_now.next = self.parity[i].fsf.val();
@@ -544,35 +444,45 @@ impl Logic for PixelProcessor {
             self.cap_r.d.next = self.k_cap_reset.val();
         }
         self.zb_r.d.next = self.zb_next.val();
-        // ---- Stage A, decision: the depth test, golden `((z >> 12) as u32) < ZB` (or `<=`
-        // for decals), as 12-bit half compares against the held ZB and against the depth
-        // stage B is writing, all straight from flip-flops, registered; stage B combines
-        // and selects (the bypass). No carry chain longer than 12 bits ends in a decision.
+        // ---- Stage A, decision: depth test against the next-state ZB (bypass), golden
+        // `((z >> 12) as u32) < ZB` (or `<=` for decals); intensity clamp.
         self.zv.next = self.tok_z.q.val().get_bits::<ZB_W>(12);
-        self.zv_hi.next = self.zv.val().get_bits::<ZH_W>(12);
-        self.zv_lo.next = self.zv.val().get_bits::<ZH_W>(0);
-        self.b_h_lt_hi.d.next = self.zv_hi.val() < self.zb_r.q.val().get_bits::<ZH_W>(12);
-        self.b_h_eq_hi.d.next = self.zv_hi.val() == self.zb_r.q.val().get_bits::<ZH_W>(12);
-        self.b_h_lt_lo.d.next = self.zv_lo.val() < self.zb_r.q.val().get_bits::<ZH_W>(0);
-        self.b_h_le_lo.d.next = self.zv_lo.val() <= self.zb_r.q.val().get_bits::<ZH_W>(0);
-        self.b_n_lt_hi.d.next = self.zv_hi.val() < self.b_z.q.val().get_bits::<ZH_W>(12);
-        self.b_n_eq_hi.d.next = self.zv_hi.val() == self.b_z.q.val().get_bits::<ZH_W>(12);
-        self.b_n_lt_lo.d.next = self.zv_lo.val() < self.b_z.q.val().get_bits::<ZH_W>(0);
-        self.b_n_le_lo.d.next = self.zv_lo.val() <= self.b_z.q.val().get_bits::<ZH_W>(0);
-        self.b_lt_far.d.next = self.zv.val() < self.k_zfar.val();
-        self.b_prev_far.d.next = (self.b_op.q.val() == self.k_clear_line.val())
+        self.z_hi_ok.next = self.tok_z.q.val().get_bits::<CH_W>(36) == self.k_zero8.val();
+        // The compares run in parallel against the three values `zb_next` can take, all
+        // straight from flip-flops (or constant), and the registered stage-B state picks
+        // one: no multiplexer in front of the carry chains.
+        self.lt_held.next = self.zv.val() < self.zb_r.q.val();
+        self.le_held.next = self.zv.val() <= self.zb_r.q.val();
+        self.lt_new.next = self.zv.val() < self.b_z.q.val();
+        self.le_new.next = self.zv.val() <= self.b_z.q.val();
+        self.lt_far.next = self.zv.val() < self.k_zfar.val();
+        self.sel_far.next = (self.b_op.q.val() == self.k_clear_line.val())
             | (self.b_op.q.val() == self.k_reset.val());
-        self.b_hi_ok.d.next = self.tok_z.q.val().get_bits::<CH_W>(36) == self.k_zero8.val();
-        self.b_decal.d.next = self.tok_head.q.val().get_value_decal();
+        self.z_lt.next = self.lt_held.val();
+        self.z_pass.next = self.le_held.val();
+        if self.b_write.q.val() {
+            self.z_lt.next = self.lt_new.val();
+            self.z_pass.next = self.le_new.val();
+        }
+        if self.sel_far.val() {
+            // (`Z <= Z_FAR` holds for every 24-bit Z.)
+            self.z_lt.next = self.lt_far.val();
+            self.z_pass.next = true;
+        }
+        if !self.tok_head.q.val().get_value_decal() {
+            self.z_pass.next = self.z_lt.val();
+        }
         self.b_op.d.next = self.tok_head.q.val().get_value_op();
         self.b_attr.d.next = self.tok_head.q.val().get_value_attr();
         self.b_covered.d.next = self.covered.val();
+        self.b_zlt.d.next = self.z_lt.val() & self.z_hi_ok.val();
         self.is_op_span.next = (self.tok_head.q.val().get_value_op() == self.k_span.val())
             & (self.tok_head.q.val().get_value_attr() == self.k_attr_op.val());
-        self.b_wr_cand.d.next = self.is_op_span.val()
+        self.b_write.d.next = self.is_op_span.val()
             & (self.tok_head.q.val().get_value_chan() == self.k_chan0.val())
             & self.covered.val()
-            & (self.tok_z.q.val().get_bits::<CH_W>(36) == self.k_zero8.val());
+            & self.z_pass.val()
+            & self.z_hi_ok.val();
         self.b_won_upd.d.next = self.is_op_span.val()
             & (self.tok_head.q.val().get_value_chan() == self.k_chan0.val())
             & self.covered.val();

@@ -637,12 +637,6 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [15:0] e2_m$d;
     wire  [15:0] e2_m$q;
     reg  e2_m$clock;
-    reg  [15:0] e2_m1$d;
-    wire  [15:0] e2_m1$q;
-    reg  e2_m1$clock;
-    reg  [15:0] e2_m2$d;
-    wire  [15:0] e2_m2$q;
-    reg  e2_m2$clock;
     reg  [35:0] e2_zl$d;
     wire  [35:0] e2_zl$q;
     reg  e2_zl$clock;
@@ -689,7 +683,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [19:0] chans$0$il;
     reg  [20:0] chans$0$di;
     reg  chans$0$span;
-    reg  [15:0] chans$0$m1;
+    reg  [15:0] chans$0$m2;
     reg  [15:0] chans$0$m3;
     wire  [33:0] chans$0$i;
     wire  [20:0] chans$0$o_di;
@@ -697,7 +691,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [19:0] chans$1$il;
     reg  [20:0] chans$1$di;
     reg  chans$1$span;
-    reg  [15:0] chans$1$m1;
+    reg  [15:0] chans$1$m2;
     reg  [15:0] chans$1$m3;
     wire  [33:0] chans$1$i;
     wire  [20:0] chans$1$o_di;
@@ -705,13 +699,12 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [19:0] chans$2$il;
     reg  [20:0] chans$2$di;
     reg  chans$2$span;
-    reg  [15:0] chans$2$m1;
+    reg  [15:0] chans$2$m2;
     reg  [15:0] chans$2$m3;
     wire  [33:0] chans$2$i;
     wire  [20:0] chans$2$o_di;
     
     // Local signals
-    reg  [15:0] l_m1;
     reg  [98:0] l_grp$0;
     reg  [98:0] l_rd;
     reg  [13:0] l_xl;
@@ -882,20 +875,10 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .q(e2_head$q),
         .clock(e2_head$clock)
     );
-    pixelproc_top$array$chans$e2_m e2_m(
+    pixelproc_top$array$e2_m e2_m(
         .d(e2_m$d),
         .q(e2_m$q),
         .clock(e2_m$clock)
-    );
-    pixelproc_top$array$chans$e2_m e2_m1(
-        .d(e2_m1$d),
-        .q(e2_m1$q),
-        .clock(e2_m1$clock)
-    );
-    pixelproc_top$array$chans$e2_m e2_m2(
-        .d(e2_m2$d),
-        .q(e2_m2$q),
-        .clock(e2_m2$clock)
     );
     pixelproc_top$array$e2_zl e2_zl(
         .d(e2_zl$d),
@@ -912,7 +895,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .q(e3_head$q),
         .clock(e3_head$clock)
     );
-    pixelproc_top$array$e3_m e3_m(
+    pixelproc_top$array$e2_m e3_m(
         .d(e3_m$d),
         .q(e3_m$q),
         .clock(e3_m$clock)
@@ -972,7 +955,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .il(chans$0$il),
         .di(chans$0$di),
         .span(chans$0$span),
-        .m1(chans$0$m1),
+        .m2(chans$0$m2),
         .m3(chans$0$m3),
         .i(chans$0$i),
         .o_di(chans$0$o_di)
@@ -982,7 +965,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .il(chans$1$il),
         .di(chans$1$di),
         .span(chans$1$span),
-        .m1(chans$1$m1),
+        .m2(chans$1$m2),
         .m3(chans$1$m3),
         .i(chans$1$i),
         .o_di(chans$1$o_di)
@@ -992,7 +975,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .il(chans$2$il),
         .di(chans$2$di),
         .span(chans$2$span),
-        .m1(chans$2$m1),
+        .m2(chans$2$m2),
         .m3(chans$2$m3),
         .i(chans$2$i),
         .o_di(chans$2$o_di)
@@ -1007,8 +990,6 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         e1_rd$clock = clock;
         e2_head$clock = clock;
         e2_m$clock = clock;
-        e2_m1$clock = clock;
-        e2_m2$clock = clock;
         e2_zl$clock = clock;
         e2_dz$clock = clock;
         e3_head$clock = clock;
@@ -1029,8 +1010,6 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         e1_rd$d = e1_rd$q;
         e2_head$d = e2_head$q;
         e2_m$d = e2_m$q;
-        e2_m1$d = e2_m1$q;
-        e2_m2$d = e2_m2$q;
         e2_zl$d = e2_zl$q;
         e2_dz$d = e2_dz$q;
         e3_head$d = e3_head$q;
@@ -1070,18 +1049,15 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         e2_head$d = l_head;
         e2_zl$d = e1_word$q[(32'h1a)+:(36)];
         e2_dz$d = e1_word$q[(32'h3e)+:(38)];
-        l_m1 = k_zero16;
+        e2_m$d = k_zero16;
         if (~l_d[32'hd]) begin
-            l_m1 = {{2{1'b0}}, l_d};
+            e2_m$d = {{2{1'b0}}, l_d};
         end
         if (e1_op$q != k_span) begin
-            l_m1 = k_zero16;
+            e2_m$d = k_zero16;
             e2_dz$d = k_zero38;
             e2_zl$d = {{12{1'b0}}, e1_bg$q};
         end
-        e2_m$d = l_m1;
-        e2_m1$d = l_m1;
-        e2_m2$d = l_m1;
         l_span = e1_op$q == k_span;
         l_il3 = e1_word$q[(32'h64)+:(60)];
         l_di3 = e1_word$q[(32'ha0)+:(63)];
@@ -1091,7 +1067,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         chans$0$il = l_il3[(32'h14 * 0)+:(20)];
         chans$0$di = l_di3[(32'h15 * 0)+:(21)];
         chans$0$span = l_span;
-        chans$0$m1 = l_m1;
+        chans$0$m2 = e2_m$q;
         chans$0$m3 = e3_m$q;
         l_ch_i = chans$0$i;
         l_ch_di = chans$0$o_di;
@@ -1101,7 +1077,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         chans$1$il = l_il3[(32'h14 * 1)+:(20)];
         chans$1$di = l_di3[(32'h15 * 1)+:(21)];
         chans$1$span = l_span;
-        chans$1$m1 = l_m1;
+        chans$1$m2 = e2_m$q;
         chans$1$m3 = e3_m$q;
         l_ch_i = chans$1$i;
         l_ch_di = chans$1$o_di;
@@ -1111,7 +1087,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         chans$2$il = l_il3[(32'h14 * 2)+:(20)];
         chans$2$di = l_di3[(32'h15 * 2)+:(21)];
         chans$2$span = l_span;
-        chans$2$m1 = l_m1;
+        chans$2$m2 = e2_m$q;
         chans$2$m3 = e3_m$q;
         l_ch_i = chans$2$i;
         l_ch_di = chans$2$o_di;
@@ -1125,8 +1101,8 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         l_dzmid = l_dz[(32'h10)+:(16)];
         l_dzhi = {{10{1'b0}}, l_dz[(32'h20)+:(6)]};
         e3_pz0$d = e2_m$q * l_dz[(32'h0)+:(16)];
-        e3_pz1$d = e2_m1$q * l_dzmid;
-        e3_pz2$d = e2_m2$q * l_dzhi;
+        e3_pz1$d = e2_m$q * l_dzmid;
+        e3_pz2$d = e2_m$q * l_dzhi;
         e4_head$d = e3_head$q;
         e4_dz$d = e3_dz$q;
         l_m44 = {{28{1'b0}}, e3_m$q};
@@ -1218,14 +1194,14 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
 endmodule // pixelproc_top$array
 
 
-module pixelproc_top$array$chans(clock,il,di,span,m1,m3,i,o_di);
+module pixelproc_top$array$chans(clock,il,di,span,m2,m3,i,o_di);
     
     // Module arguments
     input wire  clock;
     input wire  [19:0] il;
     input wire  [20:0] di;
     input wire  span;
-    input wire  [15:0] m1;
+    input wire  [15:0] m2;
     input wire  [15:0] m3;
     output reg  [33:0] i;
     output reg  [20:0] o_di;
@@ -1240,12 +1216,6 @@ module pixelproc_top$array$chans(clock,il,di,span,m1,m3,i,o_di);
     reg  [20:0] e2_di$d;
     wire  [20:0] e2_di$q;
     reg  e2_di$clock;
-    reg  [15:0] e2_m$d;
-    wire  [15:0] e2_m$q;
-    reg  e2_m$clock;
-    reg  [15:0] e2_m1$d;
-    wire  [15:0] e2_m1$q;
-    reg  e2_m1$clock;
     reg  [19:0] e3_il$d;
     wire  [19:0] e3_il$q;
     reg  e3_il$clock;
@@ -1282,16 +1252,6 @@ module pixelproc_top$array$chans(clock,il,di,span,m1,m3,i,o_di);
         .d(e2_di$d),
         .q(e2_di$q),
         .clock(e2_di$clock)
-    );
-    pixelproc_top$array$chans$e2_m e2_m(
-        .d(e2_m$d),
-        .q(e2_m$q),
-        .clock(e2_m$clock)
-    );
-    pixelproc_top$array$chans$e2_m e2_m1(
-        .d(e2_m1$d),
-        .q(e2_m1$q),
-        .clock(e2_m1$clock)
     );
     pixelproc_top$array$chans$e2_il e3_il(
         .d(e3_il$d),
@@ -1333,8 +1293,6 @@ module pixelproc_top$array$chans(clock,il,di,span,m1,m3,i,o_di);
     always @(*) begin
         e2_il$clock = clock;
         e2_di$clock = clock;
-        e2_m$clock = clock;
-        e2_m1$clock = clock;
         e3_il$clock = clock;
         e3_di$clock = clock;
         e3_p0$clock = clock;
@@ -1344,8 +1302,6 @@ module pixelproc_top$array$chans(clock,il,di,span,m1,m3,i,o_di);
         e4_b$clock = clock;
         e2_il$d = e2_il$q;
         e2_di$d = e2_di$q;
-        e2_m$d = e2_m$q;
-        e2_m1$d = e2_m1$q;
         e3_il$d = e3_il$q;
         e3_di$d = e3_di$q;
         e3_p0$d = e3_p0$q;
@@ -1354,8 +1310,6 @@ module pixelproc_top$array$chans(clock,il,di,span,m1,m3,i,o_di);
         e4_a$d = e4_a$q;
         e4_b$d = e4_b$q;
         e2_il$d = il;
-        e2_m$d = m1;
-        e2_m1$d = m1;
         e2_di$d = k_zero;
         if (span) begin
             e2_di$d = di;
@@ -1363,8 +1317,8 @@ module pixelproc_top$array$chans(clock,il,di,span,m1,m3,i,o_di);
         e3_il$d = e2_il$q;
         e3_di$d = e2_di$q;
         l_dihi = {{11{1'b0}}, e2_di$q[(32'h10)+:(5)]};
-        e3_p0$d = e2_m$q * e2_di$q[(32'h0)+:(16)];
-        e3_p1$d = e2_m1$q * l_dihi;
+        e3_p0$d = m2 * e2_di$q[(32'h0)+:(16)];
+        e3_p1$d = m2 * l_dihi;
         e4_di$d = e3_di$q;
         l_m34 = {{18{1'b0}}, m3};
         e4_a$d = {{14{1'b0}}, e3_il$q} + {{2{1'b0}}, e3_p0$q};
@@ -1415,25 +1369,6 @@ module pixelproc_top$array$chans$e2_il(d,q,clock);
     end
           
 endmodule // pixelproc_top$array$chans$e2_il
-
-
-module pixelproc_top$array$chans$e2_m(d,q,clock);
-    
-    // Module arguments
-    input wire  [15:0] d;
-    output reg  [15:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 16'h0;
-    end
-    
-    (* keep *)
-    always @(posedge clock) begin
-       q <= d;
-    end
-endmodule // pixelproc_top$array$chans$e2_m
 
 
 module pixelproc_top$array$chans$e3_p0(d,q,clock);
@@ -1588,6 +1523,25 @@ module pixelproc_top$array$e2_head(d,q,clock);
 endmodule // pixelproc_top$array$e2_head
 
 
+module pixelproc_top$array$e2_m(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // pixelproc_top$array$e2_m
+
+
 module pixelproc_top$array$e2_zl(d,q,clock);
     
     // Module arguments
@@ -1605,25 +1559,6 @@ module pixelproc_top$array$e2_zl(d,q,clock);
     end
           
 endmodule // pixelproc_top$array$e2_zl
-
-
-module pixelproc_top$array$e3_m(d,q,clock);
-    
-    // Module arguments
-    input wire  [15:0] d;
-    output reg  [15:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 16'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // pixelproc_top$array$e3_m
 
 
 module pixelproc_top$array$e4_za(d,q,clock);
@@ -1730,48 +1665,12 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
     reg  b_covered$d;
     wire  b_covered$q;
     reg  b_covered$clock;
-    reg  b_h_lt_hi$d;
-    wire  b_h_lt_hi$q;
-    reg  b_h_lt_hi$clock;
-    reg  b_h_eq_hi$d;
-    wire  b_h_eq_hi$q;
-    reg  b_h_eq_hi$clock;
-    reg  b_h_lt_lo$d;
-    wire  b_h_lt_lo$q;
-    reg  b_h_lt_lo$clock;
-    reg  b_h_le_lo$d;
-    wire  b_h_le_lo$q;
-    reg  b_h_le_lo$clock;
-    reg  b_n_lt_hi$d;
-    wire  b_n_lt_hi$q;
-    reg  b_n_lt_hi$clock;
-    reg  b_n_eq_hi$d;
-    wire  b_n_eq_hi$q;
-    reg  b_n_eq_hi$clock;
-    reg  b_n_lt_lo$d;
-    wire  b_n_lt_lo$q;
-    reg  b_n_lt_lo$clock;
-    reg  b_n_le_lo$d;
-    wire  b_n_le_lo$q;
-    reg  b_n_le_lo$clock;
-    reg  b_lt_far$d;
-    wire  b_lt_far$q;
-    reg  b_lt_far$clock;
-    reg  b_prev_far$d;
-    wire  b_prev_far$q;
-    reg  b_prev_far$clock;
-    reg  b_prev_write$d;
-    wire  b_prev_write$q;
-    reg  b_prev_write$clock;
-    reg  b_hi_ok$d;
-    wire  b_hi_ok$q;
-    reg  b_hi_ok$clock;
-    reg  b_decal$d;
-    wire  b_decal$q;
-    reg  b_decal$clock;
-    reg  b_wr_cand$d;
-    wire  b_wr_cand$q;
-    reg  b_wr_cand$clock;
+    reg  b_zlt$d;
+    wire  b_zlt$q;
+    reg  b_zlt$clock;
+    reg  b_write$d;
+    wire  b_write$q;
+    reg  b_write$clock;
     reg  [23:0] b_z$d;
     wire  [23:0] b_z$q;
     reg  b_z$clock;
@@ -1818,17 +1717,16 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
     reg  right_of_xl;
     reg  covered;
     reg  [23:0] zv;
-    reg  [11:0] zv_hi;
-    reg  [11:0] zv_lo;
+    reg  z_hi_ok;
+    reg  z_lt;
+    reg  z_pass;
+    reg  [23:0] zb_next;
     reg  lt_held;
     reg  le_held;
     reg  lt_new;
     reg  le_new;
-    reg  z_lt;
-    reg  z_le;
-    reg  z_pass;
-    reg  write;
-    reg  [23:0] zb_next;
+    reg  lt_far;
+    reg  sel_far;
     reg  [101:0] l_i;
     reg  [23:0] l_rgb;
     reg  [33:0] l_lane_i;
@@ -1913,75 +1811,15 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         .q(b_covered$q),
         .clock(b_covered$clock)
     );
-    pixelproc_top$array$procs$b_covered b_h_lt_hi(
-        .d(b_h_lt_hi$d),
-        .q(b_h_lt_hi$q),
-        .clock(b_h_lt_hi$clock)
+    pixelproc_top$array$procs$b_covered b_zlt(
+        .d(b_zlt$d),
+        .q(b_zlt$q),
+        .clock(b_zlt$clock)
     );
-    pixelproc_top$array$procs$b_covered b_h_eq_hi(
-        .d(b_h_eq_hi$d),
-        .q(b_h_eq_hi$q),
-        .clock(b_h_eq_hi$clock)
-    );
-    pixelproc_top$array$procs$b_covered b_h_lt_lo(
-        .d(b_h_lt_lo$d),
-        .q(b_h_lt_lo$q),
-        .clock(b_h_lt_lo$clock)
-    );
-    pixelproc_top$array$procs$b_covered b_h_le_lo(
-        .d(b_h_le_lo$d),
-        .q(b_h_le_lo$q),
-        .clock(b_h_le_lo$clock)
-    );
-    pixelproc_top$array$procs$b_covered b_n_lt_hi(
-        .d(b_n_lt_hi$d),
-        .q(b_n_lt_hi$q),
-        .clock(b_n_lt_hi$clock)
-    );
-    pixelproc_top$array$procs$b_covered b_n_eq_hi(
-        .d(b_n_eq_hi$d),
-        .q(b_n_eq_hi$q),
-        .clock(b_n_eq_hi$clock)
-    );
-    pixelproc_top$array$procs$b_covered b_n_lt_lo(
-        .d(b_n_lt_lo$d),
-        .q(b_n_lt_lo$q),
-        .clock(b_n_lt_lo$clock)
-    );
-    pixelproc_top$array$procs$b_covered b_n_le_lo(
-        .d(b_n_le_lo$d),
-        .q(b_n_le_lo$q),
-        .clock(b_n_le_lo$clock)
-    );
-    pixelproc_top$array$procs$b_covered b_lt_far(
-        .d(b_lt_far$d),
-        .q(b_lt_far$q),
-        .clock(b_lt_far$clock)
-    );
-    pixelproc_top$array$procs$b_covered b_prev_far(
-        .d(b_prev_far$d),
-        .q(b_prev_far$q),
-        .clock(b_prev_far$clock)
-    );
-    pixelproc_top$array$procs$b_covered b_prev_write(
-        .d(b_prev_write$d),
-        .q(b_prev_write$q),
-        .clock(b_prev_write$clock)
-    );
-    pixelproc_top$array$procs$b_covered b_hi_ok(
-        .d(b_hi_ok$d),
-        .q(b_hi_ok$q),
-        .clock(b_hi_ok$clock)
-    );
-    pixelproc_top$array$procs$b_covered b_decal(
-        .d(b_decal$d),
-        .q(b_decal$q),
-        .clock(b_decal$clock)
-    );
-    pixelproc_top$array$procs$b_covered b_wr_cand(
-        .d(b_wr_cand$d),
-        .q(b_wr_cand$q),
-        .clock(b_wr_cand$clock)
+    pixelproc_top$array$procs$b_covered b_write(
+        .d(b_write$d),
+        .q(b_write$q),
+        .clock(b_write$clock)
     );
     pixelproc_top$array$e1_bg b_z(
         .d(b_z$d),
@@ -2054,20 +1892,8 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         b_op$clock = clock;
         b_attr$clock = clock;
         b_covered$clock = clock;
-        b_h_lt_hi$clock = clock;
-        b_h_eq_hi$clock = clock;
-        b_h_lt_lo$clock = clock;
-        b_h_le_lo$clock = clock;
-        b_n_lt_hi$clock = clock;
-        b_n_eq_hi$clock = clock;
-        b_n_lt_lo$clock = clock;
-        b_n_le_lo$clock = clock;
-        b_lt_far$clock = clock;
-        b_prev_far$clock = clock;
-        b_prev_write$clock = clock;
-        b_hi_ok$clock = clock;
-        b_decal$clock = clock;
-        b_wr_cand$clock = clock;
+        b_zlt$clock = clock;
+        b_write$clock = clock;
         b_z$clock = clock;
         b_rgb$clock = clock;
         b_nclass$clock = clock;
@@ -2088,20 +1914,8 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         b_op$d = b_op$q;
         b_attr$d = b_attr$q;
         b_covered$d = b_covered$q;
-        b_h_lt_hi$d = b_h_lt_hi$q;
-        b_h_eq_hi$d = b_h_eq_hi$q;
-        b_h_lt_lo$d = b_h_lt_lo$q;
-        b_h_le_lo$d = b_h_le_lo$q;
-        b_n_lt_hi$d = b_n_lt_hi$q;
-        b_n_eq_hi$d = b_n_eq_hi$q;
-        b_n_lt_lo$d = b_n_lt_lo$q;
-        b_n_le_lo$d = b_n_le_lo$q;
-        b_lt_far$d = b_lt_far$q;
-        b_prev_far$d = b_prev_far$q;
-        b_prev_write$d = b_prev_write$q;
-        b_hi_ok$d = b_hi_ok$q;
-        b_decal$d = b_decal$q;
-        b_wr_cand$d = b_wr_cand$q;
+        b_zlt$d = b_zlt$q;
+        b_write$d = b_write$q;
         b_z$d = b_z$q;
         b_rgb$d = b_rgb$q;
         b_nclass$d = b_nclass$q;
@@ -2160,34 +1974,14 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         if (right_of_xl) begin
             o_z = tok_z$q + dz_x;
         end
-        lt_held = b_h_lt_hi$q | (b_h_eq_hi$q & b_h_lt_lo$q);
-        le_held = b_h_lt_hi$q | (b_h_eq_hi$q & b_h_le_lo$q);
-        lt_new = b_n_lt_hi$q | (b_n_eq_hi$q & b_n_lt_lo$q);
-        le_new = b_n_lt_hi$q | (b_n_eq_hi$q & b_n_le_lo$q);
-        z_lt = lt_held;
-        z_le = le_held;
-        if (b_prev_write$q) begin
-            z_lt = lt_new;
-            z_le = le_new;
-        end
-        if (b_prev_far$q) begin
-            z_lt = b_lt_far$q;
-            z_le = 1'b1;
-        end
-        z_pass = z_lt;
-        if (b_decal$q) begin
-            z_pass = z_le;
-        end
-        write = b_wr_cand$q & z_pass;
-        b_prev_write$d = write;
         if (b_won_upd$q & k_shade) begin
-            won_r$d = write;
+            won_r$d = b_write$q;
         end
         if (b_sh_write$q & won_r$q & k_shade) begin
             sh_r$d = b_rgb$q;
         end
         zb_next = zb_r$q;
-        if (write) begin
+        if (b_write$q) begin
             zb_next = b_z$q;
             rgb_r$d = b_rgb$q;
             nclass_r$d = b_nclass$q;
@@ -2201,7 +1995,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         parity$0$op = b_op$q;
         parity$0$attr = b_attr$q;
         parity$0$covered = b_covered$q;
-        parity$0$z_lt = z_lt & b_hi_ok$q;
+        parity$0$z_lt = b_zlt$q;
         parity$0$light = b_rgb$q[(32'h0)+:(3)];
         dsf_now = parity$0$dsf;
         fsf_now = parity$0$fsf;
@@ -2235,25 +2029,32 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         end
         zb_r$d = zb_next;
         zv = tok_z$q[(32'hc)+:(24)];
-        zv_hi = zv[(32'hc)+:(12)];
-        zv_lo = zv[(32'h0)+:(12)];
-        b_h_lt_hi$d = zv_hi < zb_r$q[(32'hc)+:(12)];
-        b_h_eq_hi$d = zv_hi == zb_r$q[(32'hc)+:(12)];
-        b_h_lt_lo$d = zv_lo < zb_r$q[(32'h0)+:(12)];
-        b_h_le_lo$d = zv_lo <= zb_r$q[(32'h0)+:(12)];
-        b_n_lt_hi$d = zv_hi < b_z$q[(32'hc)+:(12)];
-        b_n_eq_hi$d = zv_hi == b_z$q[(32'hc)+:(12)];
-        b_n_lt_lo$d = zv_lo < b_z$q[(32'h0)+:(12)];
-        b_n_le_lo$d = zv_lo <= b_z$q[(32'h0)+:(12)];
-        b_lt_far$d = zv < k_zfar;
-        b_prev_far$d = (b_op$q == k_clear_line) | (b_op$q == k_reset);
-        b_hi_ok$d = tok_z$q[(32'h24)+:(8)] == k_zero8;
-        b_decal$d = tok_head$q[(32'h5)+:(1)];
+        z_hi_ok = tok_z$q[(32'h24)+:(8)] == k_zero8;
+        lt_held = zv < zb_r$q;
+        le_held = zv <= zb_r$q;
+        lt_new = zv < b_z$q;
+        le_new = zv <= b_z$q;
+        lt_far = zv < k_zfar;
+        sel_far = (b_op$q == k_clear_line) | (b_op$q == k_reset);
+        z_lt = lt_held;
+        z_pass = le_held;
+        if (b_write$q) begin
+            z_lt = lt_new;
+            z_pass = le_new;
+        end
+        if (sel_far) begin
+            z_lt = lt_far;
+            z_pass = 1'b1;
+        end
+        if (~tok_head$q[(32'h5)+:(1)]) begin
+            z_pass = z_lt;
+        end
         b_op$d = tok_head$q[(32'h0)+:(3)];
         b_attr$d = tok_head$q[(32'h3)+:(2)];
         b_covered$d = covered;
+        b_zlt$d = z_lt & z_hi_ok;
         is_op_span = (tok_head$q[(32'h0)+:(3)] == k_span) & (tok_head$q[(32'h3)+:(2)] == k_attr_op);
-        b_wr_cand$d = is_op_span & (tok_head$q[(32'h2a)+:(4)] == k_chan0) & covered & (tok_z$q[(32'h24)+:(8)] == k_zero8);
+        b_write$d = is_op_span & (tok_head$q[(32'h2a)+:(4)] == k_chan0) & covered & z_pass & z_hi_ok;
         b_won_upd$d = is_op_span & (tok_head$q[(32'h2a)+:(4)] == k_chan0) & covered;
         b_sh_write$d = is_op_span & (tok_head$q[(32'h2a)+:(4)] == k_chan1) & covered;
         b_z$d = zv;
@@ -3993,12 +3794,12 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(s3_meta$q),
         .clock(s3_meta$clock)
     );
-    pixelproc_top$array$e3_m s3_f(
+    pixelproc_top$array$e2_m s3_f(
         .d(s3_f$d),
         .q(s3_f$q),
         .clock(s3_f$clock)
     );
-    pixelproc_top$array$e3_m s3_g(
+    pixelproc_top$array$e2_m s3_g(
         .d(s3_g$d),
         .q(s3_g$q),
         .clock(s3_g$clock)
