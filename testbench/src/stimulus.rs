@@ -285,5 +285,16 @@ pub fn corner_cases(n: u16) -> Vec<Command> {
     v.push(Command::ClearFlags);
     v.push(Command::AccumulateShadow);
     v.push(Command::ClearLine { bg: 0xabcdef });
+    // Directly after CLEAR_LINE (ZB = Z_FAR at the coming edge): a decal at Z = Z_FAR
+    // passes (`Z <= ZB`), a plain span at Z_FAR does not.
+    let zfar = (pixelproc_formats::Z_FAR as u64) << 12;
+    v.push(op(0, 2, zfar, 0, 77 << 12, 0, true));
+    v.push(op(3, 5, zfar, 0, 66 << 12, 0, false));
+    // Back to back at one depth: a span that writes, then a decal at its depth (passes
+    // against the depth being written), then a plain span at it (does not).
+    v.push(op(4, 7, 2000 << 12, 0, 11 << 12, 0, false));
+    v.push(op(4, 7, 2000 << 12, 0, 22 << 12, 0, true));
+    v.push(op(4, 7, 2000 << 12, 0, 33 << 12, 0, false));
+    v.push(Command::ClearLine { bg: 0x010203 });
     v
 }
