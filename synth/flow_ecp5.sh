@@ -18,8 +18,13 @@ pick_yosys; pick_pnr ecp5
 export_core "$OUT" "$W" "$CFG"
 cp synth/ecp5/pixelproc.lpf "$OUT/"
 t0=$(now)
-$YOSYS -p "read_verilog $OUT/v/pixelproc_top.v; hierarchy -check -top pixelproc_top; proc; check -assert; synth_ecp5 -top pixelproc_top -json $OUT/top.json; stat" > "$OUT/synth.log" 2>&1 \
-  || { echo "Yosys failed (a lint or check -assert problem in the export?): $OUT/synth.log" >&2; grep -E "ERROR|Warning" "$OUT/synth.log" | head -5 >&2; exit 1; }
+# The export is checked in a Yosys run of its own (undeclared or undriven wires, loops),
+# so that the synthesis run below, and the placement it leads to, are what they were
+# without the check.
+$YOSYS -p "read_verilog $OUT/v/pixelproc_top.v; hierarchy -check -top pixelproc_top; proc; check -assert" > "$OUT/check.log" 2>&1 \
+  || { echo "the exported Verilog fails Yosys's check -assert: $OUT/check.log" >&2; grep -E "ERROR|Warning" "$OUT/check.log" | head -5 >&2; exit 1; }
+$YOSYS -p "read_verilog $OUT/v/pixelproc_top.v; synth_ecp5 -top pixelproc_top -json $OUT/top.json; stat" > "$OUT/synth.log" 2>&1 \
+  || { echo "Yosys synthesis failed: $OUT/synth.log" >&2; grep -E "ERROR" "$OUT/synth.log" | head -5 >&2; exit 1; }
 t1=$(now)
 # Relative paths inside OUT: the PyPI build of nextpnr only sees the current directory.
 (cd "$OUT" && $PNR --85k --speed 6 --package CABGA381 --json top.json --lpf pixelproc.lpf --lpf-allow-unconstrained --out-of-context \

@@ -27,7 +27,8 @@ for W in "$@"; do
   else
     rm -f "$OUT/stat.txt" "$OUT/hash"
     t0=$(now)
-    $YOSYS -p "read_verilog $OUT/v/pixelproc_top.v; hierarchy -check -top pixelproc_top; proc; check -assert; synth_ecp5 -top pixelproc_top; tee -o $OUT/stat.txt stat" > "$OUT/synth.log" 2>&1
+    $YOSYS -p "read_verilog $OUT/v/pixelproc_top.v; hierarchy -check -top pixelproc_top; proc; check -assert" > "$OUT/check.log" 2>&1 || { echo "the exported Verilog fails Yosys check -assert: $OUT/check.log" >&2; exit 1; }
+    $YOSYS -p "read_verilog $OUT/v/pixelproc_top.v; synth_ecp5 -top pixelproc_top; tee -o $OUT/stat.txt stat" > "$OUT/synth.log" 2>&1
     t1=$(now)
     secs "$t0" "$t1" > "$OUT/time"
     echo "$h" > "$OUT/hash"

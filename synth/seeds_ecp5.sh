@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# Placement-seed sweep of the ECP5 flow: one export and one Yosys synth_ecp5, then
+# nextpnr-ecp5 once per seed (same device, constraint and options as synth/flow_ecp5.sh).
+# Writes docs/fpga_results/ecp5_n{W}[_noshadow]_seeds.md: Fmax and critical path per
+# seed, and the minimum, median and maximum.
+#   synth/seeds_ecp5.sh WIDTH shadow|noshadow SEED...     e.g. synth/seeds_ecp5.sh 8 noshadow 1 2 3 4
+# Why: at N = 8 the worst path is the placer's choice among several of similar length,
+# and one seed's Fmax moves by ±15 % with the seed alone (docs/fpga.md); compare changes
+# on a sweep, not on one seed.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+. synth/flow_common.sh
+usage="usage: synth/seeds_ecp5.sh WIDTH shadow|noshadow SEED... (e.g. 8 noshadow 1 2 3 4)"
+[ $# -ge 3 ] || { echo "$usage" >&2; exit 2; }
+W=$1; CFG=$2; shift 2
+case "$W" in ''|*[!0-9]*|0*) echo "WIDTH must be a positive integer without leading zeros, got '$W'" >&2; exit 2 ;; esac
+case "$CFG" in shadow) sfx="" ;; noshadow) sfx="_noshadow" ;; *) echo "second argument: shadow or noshadow, got '$CFG'" >&2; exit 2 ;; esac
+for S in "$@"; do
+  case "$S" in ''|*[!0-9]*) echo "SEED must be a non-negative integer, got '$S'" >&2; exit 2 ;; esac
+done
+pick_yosys; pick_pnr ecp5
+OUT=target/flow/seeds_ecp5_n$W$sfx
+RES=docs/fpga_results/ecp5_n$W${sfx}_seeds.md
+rm -rf "$OUT"; mkdir -p "$OUT" docs/fpga_results
+export_core "$OUT" "$W" "$CFG"
+cp synth/ecp5/pixelproc.lpf "$OUT/"
+t0=$(now)
+# The export is checked in a Yosys run of its own (undeclared or undriven wires, loops),
+# so that the synthesis run below, and the placement it leads to, are what they were
+# without the check.
+$YOSYS -p "read_verilog $OUT/v/pixelproc_top.v; hierarchy -check -top pixelproc_top; proc; check -assert" > "$OUT/check.log" 2>&1 \
+  || { echo "the exported Verilog fails Yosys's check -assert: $OUT/check.log" >&2; grep -E "ERROR|Warning" "$OUT/check.log" | head -5 >&2; exit 1; }
+$YOSYS -p "read_verilog $OUT/v/pixelproc_top.v; synth_ecp5 -top pixelproc_top -json $OUT/top.json; stat" > "$OUT/synth.log" 2>&1 \
+  || { echo "Yosys synthesis failed: $OUT/synth.log" >&2; grep -E "ERROR" "$OUT/synth.log" | head -5 >&2; exit 1; }
+t1=$(now)
+echo "synthesis: $(secs "$t0" "$t1")"
+args=()
+for S in "$@"; do
+  ts=$(now)
+  (cd "$OUT" && $PNR --85k --speed 6 --package CABGA381 --json top.json --lpf pixelproc.lpf --lpf-allow-unconstrained --out-of-context \
+    --seed "$S" --timing-allow-fail --report "report_$S.json" > "pnr_$S.log" 2>&1)
+  grep -q "constrain.*clock.*150" "$OUT/pnr_$S.log" || { echo "the LPF clock constraint was not applied (see $OUT/pnr_$S.log)" >&2; exit 1; }
+  te=$(now)
+  echo "seed $S: $(secs "$ts" "$te")"
+  args+=("$S=$OUT/report_$S.json=$(secs "$ts" "$te")")
+done
+python3 synth/seeds_report.py "$RES" "ECP5 LFE5U-85F: pixelproc_top, N = $W, ${CFG/noshadow/no shadows}, placement seeds" \
+  "synth/seeds_ecp5.sh $W $CFG $*" "$($YOSYS -V | head -1); $($PNR --version 2>&1 | head -1)" "$(secs "$t0" "$t1")" "${args[@]}"
+cat "$RES"

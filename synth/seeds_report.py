@@ -1,0 +1,59 @@
+#!/usr/bin/env python3
+"""Summarises a placement-seed sweep (synth/seeds_ecp5.sh) into a markdown results file.
+
+    seeds_report.py OUT.md TITLE COMMAND TOOLS SYNTH_TIME SEED=REPORT.json=PNR_TIME...
+
+One row per seed: the Fmax of the clock, the critical path in words (from pnr_report.py),
+the place-and-route time; then the minimum, median and maximum Fmax.
+"""
+import json
+import os
+import statistics
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pnr_report import path_words  # noqa: E402
+
+
+def main():
+    out, title, command, tools, synth_time = sys.argv[1:6]
+    rows = []
+    for arg in sys.argv[6:]:
+        seed, path, pnr_time = arg.split("=", 2)
+        rep = json.load(open(path))
+        fmax = rep.get("fmax", {})
+        if not fmax:
+            sys.exit(f"{path}: no Fmax in the nextpnr report")
+        clk, f = next(iter(fmax.items()))
+        cps = rep.get("critical_paths", [])
+        words = path_words(cps[0]) if cps else "(no path reported)"
+        # The nets list makes the table unreadable: keep the words up to it.
+        words = words.split(" Nets on the way:")[0]
+        rows.append((int(seed), clk, f.get("achieved", 0.0), f.get("constraint", 0.0), words, pnr_time))
+    fs = [r[2] for r in rows]
+    lines = [
+        f"# {title}",
+        "",
+        "Written by `synth/seeds_ecp5.sh` (see `docs/fpga.md`); do not edit by hand.",
+        "",
+        "| item | value |",
+        "|---|---|",
+        "| device | LFE5U-85F-6 CABGA381, out of context |",
+        f"| constraint | synth/ecp5/pixelproc.lpf: {rows[0][3]:.2f} MHz on `{rows[0][1]}` |",
+        f"| command | {command} |",
+        f"| tools | {tools} |",
+        f"| synthesis time (once) | {synth_time} |",
+        "",
+        f"**Fmax over {len(fs)} seeds: minimum {min(fs):.2f}, median {statistics.median(fs):.2f}, "
+        f"maximum {max(fs):.2f} MHz** (one netlist; only the placement seed differs).",
+        "",
+        "| seed | Fmax | met | critical path | place and route time |",
+        "|---:|---:|---|---|---|",
+    ]
+    for seed, _clk, ach, con, words, t in sorted(rows):
+        lines.append(f"| {seed} | {ach:.2f} MHz | {'yes' if ach >= con else 'no'} | {words} | {t} |")
+    open(out, "w").write("\n".join(lines) + "\n")
+
+
+if __name__ == "__main__":
+    main()
