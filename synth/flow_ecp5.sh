@@ -18,19 +18,11 @@ pick_yosys; pick_pnr ecp5
 export_core "$OUT" "$W" "$CFG"
 cp synth/ecp5/pixelproc.lpf "$OUT/"
 t0=$(now)
-# The export is checked in a Yosys run of its own (undeclared or undriven wires, loops),
-# so that the synthesis run below, and the placement it leads to, are what they were
-# without the check.
-$YOSYS -p "read_verilog $OUT/v/pixelproc_top.v; hierarchy -check -top pixelproc_top; proc; check -assert" > "$OUT/check.log" 2>&1 \
-  || { echo "the exported Verilog fails Yosys's check -assert: $OUT/check.log" >&2; grep -E "ERROR|Warning" "$OUT/check.log" | head -5 >&2; exit 1; }
-$YOSYS -p "read_verilog $OUT/v/pixelproc_top.v; synth_ecp5 -top pixelproc_top -json $OUT/top.json; stat" > "$OUT/synth.log" 2>&1 \
-  || { echo "Yosys synthesis failed: $OUT/synth.log" >&2; grep -E "ERROR" "$OUT/synth.log" | head -5 >&2; exit 1; }
+check_export "$OUT" pixelproc_top "$OUT/v/pixelproc_top.v"
+synth_ecp5_core "$OUT"
 t1=$(now)
-# Relative paths inside OUT: the PyPI build of nextpnr only sees the current directory.
-(cd "$OUT" && $PNR --85k --speed 6 --package CABGA381 --json top.json --lpf pixelproc.lpf --lpf-allow-unconstrained --out-of-context \
-  --seed "$SEED" --timing-allow-fail --report report.json > pnr.log 2>&1)
+pnr_ecp5 "$OUT" "$SEED" report.json pnr.log
 t2=$(now)
-grep -q "constrain.*clock.*150" "$OUT/pnr.log" || { echo "the LPF clock constraint was not applied (see $OUT/pnr.log)" >&2; exit 1; }
 python3 synth/pnr_report.py "$OUT/report.json" "$RES" "ECP5 LFE5U-85F: pixelproc_top, N = $W, ${CFG/noshadow/no shadows}" \
   "device=LFE5U-85F-6 CABGA381, out of context (348 port pins vs 205 user I/O; on-chip in a real design)" \
   "configuration=N = $W, ${CFG}, input FIFO 32 beats, output FIFO 16 pixels" \

@@ -15,11 +15,7 @@ pick_yosys; pick_pnr ice40
 export_core "$OUT" "$W" "$CFG"
 cp synth/ice40/pixelproc.pcf "$OUT/"
 t0=$(now)
-# The export is checked in a Yosys run of its own (undeclared or undriven wires, loops),
-# so that the synthesis run below, and the placement it leads to, are what they were
-# without the check.
-$YOSYS -p "read_verilog $OUT/v/pixelproc_top.v synth/ice40/pins_wrapper.v; hierarchy -check -top pixelproc_ice40_pins; proc; check -assert" > "$OUT/check.log" 2>&1 \
-  || { echo "the exported Verilog fails Yosys's check -assert: $OUT/check.log" >&2; grep -E "ERROR|Warning" "$OUT/check.log" | head -5 >&2; exit 1; }
+check_export "$OUT" pixelproc_ice40_pins "$OUT/v/pixelproc_top.v" synth/ice40/pins_wrapper.v
 $YOSYS -p "read_verilog $OUT/v/pixelproc_top.v synth/ice40/pins_wrapper.v; synth_ice40 -top pixelproc_ice40_pins -json $OUT/top.json; stat" > "$OUT/synth.log" 2>&1 \
   || { echo "Yosys synthesis failed: $OUT/synth.log" >&2; grep -E "ERROR" "$OUT/synth.log" | head -5 >&2; exit 1; }
 t1=$(now)

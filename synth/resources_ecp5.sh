@@ -27,7 +27,7 @@ for W in "$@"; do
   else
     rm -f "$OUT/stat.txt" "$OUT/hash"
     t0=$(now)
-    $YOSYS -p "read_verilog $OUT/v/pixelproc_top.v; hierarchy -check -top pixelproc_top; proc; check -assert" > "$OUT/check.log" 2>&1 || { echo "the exported Verilog fails Yosys check -assert: $OUT/check.log" >&2; exit 1; }
+    check_export "$OUT" pixelproc_top "$OUT/v/pixelproc_top.v"
     $YOSYS -p "read_verilog $OUT/v/pixelproc_top.v; synth_ecp5 -top pixelproc_top; tee -o $OUT/stat.txt stat" > "$OUT/synth.log" 2>&1
     t1=$(now)
     secs "$t0" "$t1" > "$OUT/time"

@@ -25,21 +25,14 @@ rm -rf "$OUT"; mkdir -p "$OUT" docs/fpga_results
 export_core "$OUT" "$W" "$CFG"
 cp synth/ecp5/pixelproc.lpf "$OUT/"
 t0=$(now)
-# The export is checked in a Yosys run of its own (undeclared or undriven wires, loops),
-# so that the synthesis run below, and the placement it leads to, are what they were
-# without the check.
-$YOSYS -p "read_verilog $OUT/v/pixelproc_top.v; hierarchy -check -top pixelproc_top; proc; check -assert" > "$OUT/check.log" 2>&1 \
-  || { echo "the exported Verilog fails Yosys's check -assert: $OUT/check.log" >&2; grep -E "ERROR|Warning" "$OUT/check.log" | head -5 >&2; exit 1; }
-$YOSYS -p "read_verilog $OUT/v/pixelproc_top.v; synth_ecp5 -top pixelproc_top -json $OUT/top.json; stat" > "$OUT/synth.log" 2>&1 \
-  || { echo "Yosys synthesis failed: $OUT/synth.log" >&2; grep -E "ERROR" "$OUT/synth.log" | head -5 >&2; exit 1; }
+check_export "$OUT" pixelproc_top "$OUT/v/pixelproc_top.v"
+synth_ecp5_core "$OUT"
 t1=$(now)
 echo "synthesis: $(secs "$t0" "$t1")"
 args=()
 for S in "$@"; do
   ts=$(now)
-  (cd "$OUT" && $PNR --85k --speed 6 --package CABGA381 --json top.json --lpf pixelproc.lpf --lpf-allow-unconstrained --out-of-context \
-    --seed "$S" --timing-allow-fail --report "report_$S.json" > "pnr_$S.log" 2>&1)
-  grep -q "constrain.*clock.*150" "$OUT/pnr_$S.log" || { echo "the LPF clock constraint was not applied (see $OUT/pnr_$S.log)" >&2; exit 1; }
+  pnr_ecp5 "$OUT" "$S" "report_$S.json" "pnr_$S.log"
   te=$(now)
   echo "seed $S: $(secs "$ts" "$te")"
   args+=("$S=$OUT/report_$S.json=$(secs "$ts" "$te")")

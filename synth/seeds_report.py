@@ -44,7 +44,7 @@ def main():
         f"| tools | {tools} |",
         f"| synthesis time (once) | {synth_time} |",
         "",
-        f"**Fmax over {len(fs)} seeds: minimum {min(fs):.2f}, median {statistics.median(fs):.2f}, "
+        f"**Fmax over {len(fs)} seed{'s' if len(fs) != 1 else ''}: minimum {min(fs):.2f}, median {statistics.median(fs):.2f}, "
         f"maximum {max(fs):.2f} MHz** (one netlist; only the placement seed differs).",
         "",
         "| seed | Fmax | met | critical path | place and route time |",
