@@ -42,7 +42,9 @@ use crate::setup::{SetupError, SnappedTri};
 use pixelproc_formats::abuffer::MaskSize;
 use pixelproc_formats::MAX_SCREEN;
 use rayon::prelude::*;
+use std::cell::RefCell;
 use thiserror::Error;
+use thread_local::ThreadLocal;
 
 mod fragment;
 mod pixel;
@@ -137,7 +139,34 @@ impl AbufferStats {
     }
 }
 
-/// A rendered A-buffer frame.
+/// Which per-pixel outputs besides the image [`render_abuffer_with`] makes; the image and
+/// the statistics are the same whichever are asked for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct AbufferAovs {
+    /// [`AbufferFrame::coverage`].
+    pub coverage: bool,
+    /// [`AbufferFrame::fragments`].
+    pub fragments: bool,
+    /// [`AbufferFrame::visible`].
+    pub visible: bool,
+}
+
+impl AbufferAovs {
+    /// Every output.
+    pub const ALL: AbufferAovs = AbufferAovs {
+        coverage: true,
+        fragments: true,
+        visible: true,
+    };
+    /// The image only.
+    pub const NONE: AbufferAovs = AbufferAovs {
+        coverage: false,
+        fragments: false,
+        visible: false,
+    };
+}
+
+/// A rendered A-buffer frame. An output that was not asked for ([`AbufferAovs`]) is empty.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct AbufferFrame {
     /// Width in pixels.
@@ -198,8 +227,8 @@ pub fn multi_fragment_pixels(
     Ok(per_row.into_iter().flatten().collect())
 }
 
-/// Renders triangles (scene order) with the A-buffer. Rows run in parallel with identical
-/// results.
+/// Renders triangles (scene order) with the A-buffer, every output. Rows run in parallel
+/// with identical results.
 pub fn render_abuffer(
     tris: &[SnappedTri],
     width: u32,
@@ -207,39 +236,61 @@ pub fn render_abuffer(
     bg: [u8; 3],
     params: &AbufferParams,
 ) -> Result<AbufferFrame, AbufferError> {
+    render_abuffer_with(tris, width, height, bg, params, AbufferAovs::ALL)
+}
+
+/// The rows of a `w`-wide buffer, or `h` empty rows when the buffer is not made.
+fn rows_of<T>(v: &mut [T], w: usize, h: usize) -> Vec<&mut [T]> {
+    if v.is_empty() {
+        (0..h).map(|_| <&mut [T]>::default()).collect()
+    } else {
+        v.chunks_mut(w).collect()
+    }
+}
+
+/// [`render_abuffer`] making only the per-pixel outputs in `aovs` (the others are empty).
+pub fn render_abuffer_with(
+    tris: &[SnappedTri],
+    width: u32,
+    height: u32,
+    bg: [u8; 3],
+    params: &AbufferParams,
+    aovs: AbufferAovs,
+) -> Result<AbufferFrame, AbufferError> {
     let size = params.size;
     let (setups, bands) = frag_setups(tris, width, height, size)?;
     let sel = DepthSelector::new(size);
     let (w, h) = (width as usize, height as usize);
+    let len = |want: bool| if want { w * h } else { 0 };
     let mut rgb = vec![0u8; w * h * 3];
-    let mut coverage = vec![0u16; w * h];
-    let mut fragments = vec![0u16; w * h];
-    let mut visible = vec![-1i32; w * h];
+    let mut coverage = vec![0u16; len(aovs.coverage)];
+    let mut fragments = vec![0u16; len(aovs.fragments)];
+    let mut visible = vec![-1i32; len(aovs.visible)];
+    // One scratch per worker thread for the whole frame (rayon's `map_init` would make a
+    // new one for every piece of work it splits off, growing its buffers again each time).
+    let scratch: ThreadLocal<RefCell<RowScratch>> = ThreadLocal::new();
     let stats = rgb
         .par_chunks_mut(w * 3)
-        .zip(coverage.par_chunks_mut(w))
-        .zip(fragments.par_chunks_mut(w))
-        .zip(visible.par_chunks_mut(w))
+        .zip(rows_of(&mut coverage, w, h))
+        .zip(rows_of(&mut fragments, w, h))
+        .zip(rows_of(&mut visible, w, h))
         .enumerate()
-        .map_init(
-            RowScratch::default,
-            |scratch, (j, (((rgb_row, cov_row), frag_row), vis_row))| {
-                let band = bands.members(bands.of_row(j as i64));
-                render_row(
-                    j as i64,
-                    width,
-                    (&setups, band),
-                    &sel,
-                    params,
-                    bg,
-                    rgb_row,
-                    cov_row,
-                    frag_row,
-                    vis_row,
-                    scratch,
-                )
-            },
-        )
+        .map(|(j, (((rgb_row, cov_row), frag_row), vis_row))| {
+            let band = bands.members(bands.of_row(j as i64));
+            render_row(
+                j as i64,
+                width,
+                (&setups, band),
+                &sel,
+                params,
+                bg,
+                rgb_row,
+                cov_row,
+                frag_row,
+                vis_row,
+                &mut scratch.get_or_default().borrow_mut(),
+            )
+        })
         .reduce(AbufferStats::default, |mut a, b| {
             a.add(&b);
             a
@@ -278,7 +329,7 @@ fn compare_variants(
     }
 }
 
-/// Renders one row; returns its statistics.
+/// Renders one row; returns its statistics. An output row that is empty is not made.
 #[allow(clippy::too_many_arguments)]
 fn render_row(
     j: i64,
@@ -307,7 +358,9 @@ fn render_row(
             continue;
         }
         st.fragments += frags.len() as u64;
-        frag_row[iu] = frags.len() as u16;
+        if let Some(f) = frag_row.get_mut(iu) {
+            *f = frags.len() as u16;
+        }
         if frags.len() == 1 && frags[0].mask == full {
             // Fast path: one triangle covers the whole pixel.
             let f = &frags[0];
@@ -318,15 +371,23 @@ fn render_row(
                 bg,
                 size,
             ));
-            cov_row[iu] = size.bits() as u16;
-            vis_row[iu] = f.prim as i32;
+            if let Some(c) = cov_row.get_mut(iu) {
+                *c = size.bits() as u16;
+            }
+            if let Some(v) = vis_row.get_mut(iu) {
+                *v = f.prim as i32;
+            }
             st.fast_pixels += 1;
             continue;
         }
         let out = pixel.process(frags, sel, params.depth, params.interpenetrating, bg, size);
         rgb_row[3 * iu..3 * iu + 3].copy_from_slice(&out.rgb);
-        cov_row[iu] = out.covered.count_ones() as u16;
-        vis_row[iu] = pixel::dominant_bits(frags, pixel.visible(), out.free);
+        if let Some(c) = cov_row.get_mut(iu) {
+            *c = out.covered.count_ones() as u16;
+        }
+        if let Some(v) = vis_row.get_mut(iu) {
+            *v = pixel::dominant_bits(frags, pixel.visible(), out.free);
+        }
         st.merges += out.merges as u64;
         st.depth_evals += out.evals as u64;
         st.search_steps += out.steps as u64;
@@ -430,6 +491,57 @@ mod tests {
         // 8 bits of 1 on background 0: 0.5 → 1.
         let o = run(&[frag(0xFF, 0, 1, 0, 0)], 0);
         assert_eq!(o.rgb, [1; 3]);
+    }
+
+    /// Each per-pixel output asked for alone is the one of the full render, an output
+    /// not asked for is empty, and the image and statistics never change.
+    #[test]
+    fn outputs_asked_for_are_the_full_renders() {
+        let mut rng = crate::rng::Lcg64(0x0ab0_0f00);
+        let (w, h) = (41u32, 23u32);
+        let tris: Vec<SnappedTri> = (0..90)
+            .map(|k| {
+                let mut p = || {
+                    [
+                        (rng.range(-3.0, w as f64 + 3.0) * 256.0) as i32,
+                        (rng.range(-3.0, h as f64 + 3.0) * 256.0) as i32,
+                    ]
+                };
+                let v = [p(), p(), p()];
+                let z = [0; 3].map(|_| (rng.unit() * 1_000_000.0) as u32 + 1);
+                SnappedTri {
+                    v,
+                    z,
+                    c: [[(rng.unit() * 255.0 * 4096.0) as u32; 3]; 3],
+                    tag: (k % 7) as u16,
+                    ..Default::default()
+                }
+            })
+            .collect();
+        let p = AbufferParams::default();
+        let all = render_abuffer(&tris, w, h, [3, 4, 5], &p).unwrap();
+        assert_eq!(all.coverage.len(), (w * h) as usize);
+        assert!(all.stats.multi_pixels > 100, "{:?}", all.stats);
+        let only = |aovs| render_abuffer_with(&tris, w, h, [3, 4, 5], &p, aovs).unwrap();
+        let none = only(AbufferAovs::NONE);
+        assert_eq!((&none.rgb, &none.stats), (&all.rgb, &all.stats));
+        assert!(none.coverage.is_empty() && none.fragments.is_empty() && none.visible.is_empty());
+        let cov = only(AbufferAovs {
+            coverage: true,
+            ..AbufferAovs::NONE
+        });
+        assert_eq!((&cov.rgb, &cov.coverage), (&all.rgb, &all.coverage));
+        assert!(cov.fragments.is_empty() && cov.visible.is_empty());
+        let frag = only(AbufferAovs {
+            fragments: true,
+            ..AbufferAovs::NONE
+        });
+        assert_eq!(frag.fragments, all.fragments);
+        let vis = only(AbufferAovs {
+            visible: true,
+            ..AbufferAovs::NONE
+        });
+        assert_eq!((&vis.visible, &vis.stats), (&all.visible, &all.stats));
     }
 
     #[test]

@@ -160,7 +160,10 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
                 fraction = f;
                 (std::mem::take(&mut out.rgb), arr, Some(out))
             } else {
-                let mut out = timed(&mut timings, stage, || run_aa(&projected, w, h, bg, &fx.aa))?;
+                let coverage = matches!(shape, Plan::Antialias { coverage: true, .. });
+                let mut out = timed(&mut timings, stage, || {
+                    run_aa(&projected, w, h, bg, &fx.aa, coverage)
+                })?;
                 if let (
                     Some(ArrayOut {
                         frame,
@@ -405,25 +408,31 @@ fn postfx_shadowed(
     ))
 }
 
-/// The anti-aliasing stage.
+/// The anti-aliasing stage; the A-buffer's coverage image only when `coverage` (the plan
+/// asks for it). No other per-pixel output of a method is made.
 fn run_aa(
     projected: &Projected,
     w: u32,
     h: u32,
     bg: [u8; 3],
     method: &AaMethod,
+    coverage: bool,
 ) -> Result<AaOut, RenderError> {
     let tris = &projected.tris;
     Ok(if let AaMethod::Abuffer(p) = method {
-        let a = abuffer::render_abuffer(tris, w, h, bg, p)?;
+        let aovs = abuffer::AbufferAovs {
+            coverage,
+            ..abuffer::AbufferAovs::NONE
+        };
+        let a = abuffer::render_abuffer_with(tris, w, h, bg, p, aovs)?;
         let full = p.size.bits();
         AaOut {
-            coverage: Some(
+            coverage: coverage.then(|| {
                 a.coverage
                     .par_iter()
                     .map(|&c| (c as u32 * 255 / full) as u8)
-                    .collect(),
-            ),
+                    .collect()
+            }),
             rgb: a.rgb,
             report: AaReport::Abuffer(a.stats),
         }

@@ -178,8 +178,9 @@ pub fn render_aa(
 
 /// [`render_aa`], with `visible` false when the caller does not need the visible-triangle
 /// AOV: a method may then skip work that only that AOV needs (the post-process skips a
-/// second scan of every span word) and leave [`AaFrame::visible`] `None`. The image and
-/// the counters are the same either way.
+/// second scan of every span word, multi-scanning the weights per triangle of each
+/// pixel, the A-buffer its visible-surface choice per pixel) and leave
+/// [`AaFrame::visible`] `None`. The image and the counters are the same either way.
 pub fn render_aa_with(
     tris: &[SnappedTri],
     width: u32,
@@ -193,19 +194,23 @@ pub fn render_aa_with(
     let t0 = Instant::now();
     let mut f = match method {
         AaMethod::None => render_none(tris, width, height, bg)?,
-        AaMethod::Multiscan(p) => multiscan::render(tris, width, height, bg, p)?,
+        AaMethod::Multiscan(p) => multiscan::render_with(tris, width, height, bg, p, visible)?,
         AaMethod::Corner(p) => corner::render_with(tris, width, height, bg, p, visible)?,
         AaMethod::PostFx(p) => {
             postfx::render_with(tris, width, height, bg, p, None, visible).map(|(f, _)| f)?
         }
         AaMethod::Ssaa { k } => ssaa::render_with(tris, width, height, bg, *k, visible)?,
         AaMethod::Abuffer(p) => {
-            let a = crate::abuffer::render_abuffer(tris, width, height, bg, p)?;
+            let aovs = crate::abuffer::AbufferAovs {
+                visible,
+                ..crate::abuffer::AbufferAovs::NONE
+            };
+            let a = crate::abuffer::render_abuffer_with(tris, width, height, bg, p, aovs)?;
             AaFrame {
                 width,
                 height,
                 rgb: a.rgb,
-                visible: Some(a.visible),
+                visible: visible.then_some(a.visible),
                 stats: AaStats {
                     depth_evals: a.stats.depth_evals,
                     samples_written: a.stats.fragments,

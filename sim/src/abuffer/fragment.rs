@@ -125,25 +125,32 @@ impl FragSetup {
         }
     }
 
-    /// Steppers of the depth and colour planes along row `j` from pixel `i0`: the values
-    /// [`FragSetup::fragment`] computes, pixel after pixel, with additions only.
-    fn row_steps(&self, i0: i64, j: i64) -> [RoundDivSteps; 4] {
+    /// The stepper of plane `p` (step `s`, `frac` fractional bits) along row `j` from
+    /// pixel `i0`: the values [`FragSetup::fragment`] computes, pixel after pixel, with
+    /// additions only.
+    #[inline]
+    fn row_step(p: &ExactPlane, frac: u32, s: &RoundDivStep, i0: i64, j: i64) -> RoundDivSteps {
         let one = SUBPIXEL_ONE as i128;
         let (x, y) = (i0 as i128 * one + one / 2, j as i128 * one + one / 2);
-        let at = |p: &ExactPlane, frac: u32, s: &RoundDivStep| {
-            let num = (p.v0 * p.area2 + p.nx * (x - p.x0) + p.ny * (y - p.y0)) << frac;
-            RoundDivSteps::start(num, s)
-        };
-        [
-            at(&self.z, PLANE_FRAC, &self.steps[0]),
-            at(&self.c[0], 0, &self.steps[1]),
-            at(&self.c[1], 0, &self.steps[2]),
-            at(&self.c[2], 0, &self.steps[3]),
-        ]
+        let num = (p.v0 * p.area2 + p.nx * (x - p.x0) + p.ny * (y - p.y0)) << frac;
+        RoundDivSteps::start(num, s)
+    }
+
+    /// The depth plane's stepper along row `j` from pixel `i0` ([`FragSetup::row_step`]).
+    #[inline]
+    fn depth_steps(&self, i0: i64, j: i64) -> RoundDivSteps {
+        Self::row_step(&self.z, PLANE_FRAC, &self.steps[0], i0, j)
+    }
+
+    /// The colour planes' steppers along row `j` from pixel `i0` ([`FragSetup::row_step`]);
+    /// a flat triangle never needs them.
+    #[inline]
+    fn colour_steps(&self, i0: i64, j: i64) -> [RoundDivSteps; 3] {
+        [0, 1, 2].map(|k| Self::row_step(&self.c[k], 0, &self.steps[k + 1], i0, j))
     }
 
     /// The fragment whose depth and colour planes the steppers are at (see
-    /// [`FragSetup::row_steps`]).
+    /// [`FragSetup::depth_steps`], [`FragSetup::colour_steps`]).
     #[inline]
     fn fragment_from<Z: PlaneStepper, C: PlaneStepper>(
         &self,
@@ -271,18 +278,20 @@ impl RowFrags {
         for (k, rm) in &self.masks {
             let t = &setups[*k as usize];
             let (a, b) = rm.cov.touched;
-            let st = t.row_steps(a, j);
+            let z = t.depth_steps(a, j);
             let steps = (b - a + 1) as u64;
-            let [z, c0, c1, c2] = st;
             match (z.narrow(steps), t.flat) {
                 (Some(z), Some(rgb)) => emit(frags, end, t, rm, (z, rgb.map(Constant)), full),
                 (None, Some(rgb)) => emit(frags, end, t, rm, (z, rgb.map(Constant)), full),
-                (z64, None) => match (z64, [c0, c1, c2].map(|c| c.narrow(steps))) {
-                    (Some(z), [Some(r), Some(g), Some(bl)]) => {
-                        emit(frags, end, t, rm, (z, [r, g, bl]), full)
+                (z64, None) => {
+                    let [c0, c1, c2] = t.colour_steps(a, j);
+                    match (z64, [c0, c1, c2].map(|c| c.narrow(steps))) {
+                        (Some(z), [Some(r), Some(g), Some(bl)]) => {
+                            emit(frags, end, t, rm, (z, [r, g, bl]), full)
+                        }
+                        _ => emit(frags, end, t, rm, (z, [c0, c1, c2]), full),
                     }
-                    _ => emit(frags, end, t, rm, (z, [c0, c1, c2]), full),
-                },
+                }
             }
         }
     }

@@ -55,7 +55,7 @@ pub fn round_div(n: i128, d: i128) -> i128 {
 
 /// `⌊n / d⌋` for `d > 0`, in 64-bit arithmetic when both fit.
 #[inline]
-fn floor_div_wide(n: i128, d: i128) -> i128 {
+pub(crate) fn floor_div_wide(n: i128, d: i128) -> i128 {
     if i64::try_from(n).is_ok() && i64::try_from(d).is_ok() {
         (n as i64).div_euclid(d as i64) as i128
     } else {

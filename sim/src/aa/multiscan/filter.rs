@@ -3,6 +3,7 @@
 //! and the per-pixel accumulator that sums weighted colours and per-triangle weights.
 
 use super::{Filter, GAUSS_SIGMA};
+use smallvec::SmallVec;
 
 /// Integer filter tables: `f[m][k]` for `m = 0..=n`, `k = 0..=64`, and the total weight
 /// of a fully covered pixel.
@@ -68,21 +69,37 @@ pub(super) fn tables(filter: Filter, n: u32) -> Tables {
 #[derive(Clone, Default)]
 pub(super) struct PixAcc {
     pub(super) c: [u64; 3],
-    pub(super) w: Vec<(i32, i64)>,
+    /// Weight per triangle (−1: background), in order of first contribution; held in
+    /// the accumulator itself up to a few triangles (most pixels see one to three).
+    pub(super) w: SmallVec<[(i32, i64); 3]>,
 }
 
 impl PixAcc {
     #[allow(clippy::needless_range_loop)]
-    pub(super) fn add(&mut self, w: i64, col: [i64; 3], tri: i32) {
+    /// Adds colour `col` with weight `w`, and (`track`) the weight to triangle `tri`'s.
+    #[inline]
+    pub(super) fn add(&mut self, w: i64, col: [i64; 3], tri: i32, track: bool) {
         if w == 0 {
             return;
         }
         for ch in 0..3 {
             self.c[ch] += (w * col[ch]) as u64;
         }
+        if !track {
+            return;
+        }
         match self.w.iter_mut().find(|e| e.0 == tri) {
             Some(e) => e.1 += w,
             None => self.w.push((tri, w)),
         }
+    }
+
+    /// The visible triangle: the largest weight, the lowest index (background −1 first)
+    /// on a tie; −1 when nothing was added.
+    pub(super) fn dominant(&self) -> i32 {
+        self.w
+            .iter()
+            .min_by_key(|e| (std::cmp::Reverse(e.1), e.0))
+            .map_or(-1, |e| e.0)
     }
 }

@@ -73,7 +73,7 @@ use rayon::prelude::*;
 
 use super::{AaError, AaFrame, AaStats};
 use crate::raster::rows::Bands;
-use crate::raster::RoundDivSteps;
+use crate::raster::{floor_div_wide, PlaneStepper, RoundDivSteps, RoundDivSteps64};
 use crate::setup::SnappedTri;
 
 mod filter;
@@ -139,6 +139,8 @@ struct MsFrame<'a> {
     tab: Option<Tables>,
     /// `mt` binned by the pixel rows whose sub-scanlines they can reach.
     bands: Bands,
+    /// Find the visible triangle of every pixel (the AOV), else only the colours.
+    visible: bool,
 }
 
 /// Output of one band of pixel rows besides its pixels: depth evaluations and pieces of
@@ -172,7 +174,8 @@ impl<'a> MsFrame<'a> {
 
     /// Renders the pixel rows of band `b`: each sub-scanline reaching them is walked once
     /// and added to the (one or two) rows it reaches.
-    /// Its RGB8 and visible triangles go to `rgb` and `vis` (the band's rows).
+    /// Its RGB8 and visible triangles go to `rgb` and `vis` (the band's rows; `vis` is
+    /// empty without the AOV).
     fn render_band(
         &self,
         b: usize,
@@ -231,7 +234,16 @@ impl<'a> MsFrame<'a> {
                         evals += e;
                         npieces += pieces.len() as u64;
                         let r = row(ja);
-                        accumulate_box(&mut acc[r], pieces, act, crow, ynum, 2, self.bgc);
+                        accumulate_box(
+                            &mut acc[r],
+                            pieces,
+                            act,
+                            crow,
+                            ynum,
+                            2,
+                            self.bgc,
+                            self.visible,
+                        );
                         continue;
                     }
                     // Row ja from below (owned), row ja − 1 from above (owned only by the
@@ -245,11 +257,29 @@ impl<'a> MsFrame<'a> {
                         evals += e;
                         npieces += pieces.len() as u64;
                         let r = row(ja);
-                        accumulate_box(&mut acc[r], pieces, act, crow, ynum, 1, self.bgc);
+                        accumulate_box(
+                            &mut acc[r],
+                            pieces,
+                            act,
+                            crow,
+                            ynum,
+                            1,
+                            self.bgc,
+                            self.visible,
+                        );
                         if above && !cand.iter().any(|t| t.sides_differ(ynum)) {
                             // Both sides see the same spans: the same pieces.
                             let r = row(ja - 1);
-                            accumulate_box(&mut acc[r], pieces, act, crow, ynum, 1, self.bgc);
+                            accumulate_box(
+                                &mut acc[r],
+                                pieces,
+                                act,
+                                crow,
+                                ynum,
+                                1,
+                                self.bgc,
+                                self.visible,
+                            );
                             continue;
                         }
                     }
@@ -261,7 +291,16 @@ impl<'a> MsFrame<'a> {
                             npieces += pieces.len() as u64;
                         }
                         let r = row(ja - 1);
-                        accumulate_box(&mut acc[r], pieces, act, crow, ynum, 1, self.bgc);
+                        accumulate_box(
+                            &mut acc[r],
+                            pieces,
+                            act,
+                            crow,
+                            ynum,
+                            1,
+                            self.bgc,
+                            self.visible,
+                        );
                     }
                 }
             }
@@ -282,9 +321,9 @@ impl<'a> MsFrame<'a> {
                             pieces,
                             act,
                             crow,
-                            ynum,
-                            fm,
+                            (ynum, fm),
                             self.bgc,
+                            self.visible,
                         );
                     };
                     if (j0..=j1).contains(&ja) {
@@ -302,12 +341,13 @@ impl<'a> MsFrame<'a> {
             None => 2 * p.subscanlines as u64 * ONE16 as u64 * 4096,
             Some(t) => t.total as u64 * 4096,
         };
-        for ((a, px), v) in acc.iter_mut().zip(rgb.chunks_mut(3)).zip(vis.iter_mut()) {
+        for (a, px) in acc.iter().zip(rgb.chunks_mut(3)) {
             for (o, &c) in px.iter_mut().zip(&a.c) {
                 *o = (c / div).min(255) as u8;
             }
-            a.w.sort_by_key(|e| (std::cmp::Reverse(e.1), e.0));
-            *v = a.w.first().map_or(-1, |e| e.0);
+        }
+        for (a, v) in acc.iter().zip(vis.iter_mut()) {
+            *v = a.dominant();
         }
         (evals, npieces)
     }
@@ -336,7 +376,30 @@ struct PieceColour<'a, 't> {
     src: ColourSource<'a, 't>,
     ynum: i64,
     /// Steppers at the middle `mid`, when set up.
-    steps: Option<([RoundDivSteps; 3], i64)>,
+    steps: Option<(ColourSteps, i64)>,
+}
+
+/// The three colour planes stepped one pixel at a time along a piece, in 64-bit
+/// arithmetic where [`RoundDivSteps::narrow`] proves the steps fit.
+enum ColourSteps {
+    Wide([RoundDivSteps; 3]),
+    Narrow([RoundDivSteps64; 3]),
+}
+
+impl ColourSteps {
+    /// The current values; then moves one pixel on.
+    #[inline]
+    fn next(&mut self) -> [i128; 3] {
+        fn take<S: PlaneStepper>(st: &mut [S; 3]) -> [i128; 3] {
+            let v = st.map(|s| s.value());
+            st.iter_mut().for_each(|s| s.advance());
+            v
+        }
+        match self {
+            ColourSteps::Wide(st) => take(st),
+            ColourSteps::Narrow(st) => take(st),
+        }
+    }
 }
 
 /// Where a piece's colours come from.
@@ -380,7 +443,7 @@ impl ColourRow {
                 return None;
             }
             let n = (2 * (p.k.checked_add(p.s.checked_mul(x0 as i128)?)?)).checked_add(p.d)?;
-            let q = n.div_euclid(d2);
+            let q = floor_div_wide(n, d2);
             if q.abs() >= LIM {
                 return None;
             }
@@ -445,25 +508,24 @@ impl<'a, 't> PieceColour<'a, 't> {
         let clamp = |v: i128| (v as i64).clamp(0, COLOUR_MAX);
         if let Some((st, m)) = &mut self.steps {
             if *m == mid {
-                let v = [0, 1, 2].map(|k| clamp(st[k].value()));
-                for s in st.iter_mut() {
-                    s.advance();
-                }
                 *m += ONE16;
-                return v;
+                return st.next().map(clamp);
             }
         }
         if x1 - x0 == ONE16 && end - x1 >= 2 * ONE16 {
-            // More whole parts follow: step from here.
+            // More whole parts follow: step from here, in 64 bits where the steps that
+            // can follow (one per whole part up to `end`) stay inside them.
             let c = Self::planes(a, self.ynum);
-            let mut st = [0, 1, 2].map(|k| {
+            let st = [0, 1, 2].map(|k| {
                 let p = &c[k];
                 RoundDivSteps::start(p.k + p.s * mid as i128, &a.t.cstep[k])
             });
-            let v = [0, 1, 2].map(|k| clamp(st[k].value()));
-            for s in st.iter_mut() {
-                s.advance();
-            }
+            let steps = ((end - mid) / ONE16 + 1) as u64;
+            let mut st = match st.map(|s| s.narrow(steps)) {
+                [Some(r), Some(g), Some(b)] => ColourSteps::Narrow([r, g, b]),
+                _ => ColourSteps::Wide(st),
+            };
+            let v = st.next().map(clamp);
             self.steps = Some((st, mid + ONE16));
             return v;
         }
@@ -474,7 +536,9 @@ impl<'a, 't> PieceColour<'a, 't> {
     }
 }
 
-/// Box filter: adds each piece, split at pixel boundaries, with line weight `wl`.
+/// Box filter: adds each piece, split at pixel boundaries, with line weight `wl`; the
+/// weights per triangle too when `track` (the visible-triangle AOV).
+#[allow(clippy::too_many_arguments)]
 fn accumulate_box(
     acc: &mut [PixAcc],
     pieces: &[Piece],
@@ -483,6 +547,7 @@ fn accumulate_box(
     ynum: i64,
     wl: i64,
     bgc: [i64; 3],
+    track: bool,
 ) {
     for pc in pieces {
         let mut pcol = PieceColour::new(act, crow, pc, ynum, bgc);
@@ -491,7 +556,7 @@ fn accumulate_box(
             let i = x0.div_euclid(ONE16);
             let x1 = pc.x1.min((i + 1) * ONE16);
             let col = pcol.at(x0, x1, pc.x1);
-            acc[i as usize].add(wl * (x1 - x0), col, pc.tri);
+            acc[i as usize].add(wl * (x1 - x0), col, pc.tri, track);
             x0 = x1;
         }
     }
@@ -499,15 +564,15 @@ fn accumulate_box(
 
 /// Axisymmetric filter: adds each piece, split at pixel centres (square R_i spans centres
 /// i .. i+1), to the two pixels of its square with the table weights `fm`. `acc` is the
-/// pixel row.
+/// pixel row; the weights per triangle are added too when `track`.
 fn accumulate_filtered(
     acc: &mut [PixAcc],
     pieces: &[Piece],
     act: &[Active],
     crow: &mut [Option<Option<ColourRow>>],
-    ynum: i64,
-    fm: &[i64; 65],
+    (ynum, fm): (i64, &[i64; 65]),
     bgc: [i64; 3],
+    track: bool,
 ) {
     for pc in pieces {
         let mut pcol = PieceColour::new(act, crow, pc, ynum, bgc);
@@ -520,10 +585,10 @@ fn accumulate_filtered(
             let q = |x: i64| ((x - cx + 512) >> 10).clamp(0, 64) as usize;
             let (k1, k2) = (q(x0), q(x1));
             if i >= 0 {
-                acc[i as usize].add(fm[k2] - fm[k1], col, pc.tri);
+                acc[i as usize].add(fm[k2] - fm[k1], col, pc.tri, track);
             }
             if i + 1 < acc.len() as i64 {
-                acc[(i + 1) as usize].add(fm[64 - k1] - fm[64 - k2], col, pc.tri);
+                acc[(i + 1) as usize].add(fm[64 - k1] - fm[64 - k2], col, pc.tri, track);
             }
             x0 = x1;
         }
@@ -537,6 +602,19 @@ pub fn render(
     height: u32,
     bg: [u8; 3],
     p: &MultiscanParams,
+) -> Result<AaFrame, AaError> {
+    render_with(tris, width, height, bg, p, true)
+}
+
+/// [`render`]; with `visible` false the per-pixel weights of each triangle are not kept
+/// and [`AaFrame::visible`] is `None` (the image and the counters are the same).
+pub fn render_with(
+    tris: &[SnappedTri],
+    width: u32,
+    height: u32,
+    bg: [u8; 3],
+    p: &MultiscanParams,
+    visible: bool,
 ) -> Result<AaFrame, AaError> {
     let n = p.subscanlines;
     if !(1..=16).contains(&n) {
@@ -570,23 +648,32 @@ pub fn render(
         height,
         bgc: bg.map(|v| ((v as i64) << 12) + 2048),
         tab: (p.filter != Filter::Box).then(|| tables(p.filter, n)),
+        visible,
     };
     let w = width as usize;
     let mut rgb = vec![0u8; 3 * w * height as usize];
-    let mut visible = vec![-1i32; w * height as usize];
+    let mut vis = vec![-1i32; if visible { w * height as usize } else { 0 }];
     // The bands are `f.bands.band()` rows each (the last one possibly fewer), written in
     // place.
     let band = f.bands.band() as usize;
     let rows: Vec<BandOut> = if rgb.is_empty() {
         Vec::new() // an empty screen: nothing to walk
     } else {
-        rgb.par_chunks_mut(3 * w * band)
-            .zip(visible.par_chunks_mut(w * band))
-            .enumerate()
-            .map_init(BandScratch::default, |rs, (b, (r, v))| {
-                f.render_band(b, rs, r, v)
-            })
-            .collect()
+        let bands = rgb.par_chunks_mut(3 * w * band).enumerate();
+        if visible {
+            bands
+                .zip(vis.par_chunks_mut(w * band))
+                .map_init(BandScratch::default, |rs, ((b, r), v)| {
+                    f.render_band(b, rs, r, v)
+                })
+                .collect()
+        } else {
+            bands
+                .map_init(BandScratch::default, |rs, (b, r)| {
+                    f.render_band(b, rs, r, &mut [])
+                })
+                .collect()
+        }
     };
     let mut stats = AaStats::default();
     for (e, np) in rows {
@@ -599,7 +686,7 @@ pub fn render(
         width,
         height,
         rgb,
-        visible: Some(visible),
+        visible: visible.then_some(vis),
         stats,
     })
 }
@@ -620,6 +707,44 @@ mod tests {
         for (w, h) in [(0, 5), (5, 0)] {
             let f = render(&[], w, h, [0; 3], &p).unwrap();
             assert!(f.rgb.is_empty() && f.stats.depth_evals == 0);
+        }
+    }
+
+    /// Without the visible-triangle AOV the image and every counter are those of the
+    /// full render, for the box and the axisymmetric filters.
+    #[test]
+    fn the_image_does_not_depend_on_the_visible_aov() {
+        let mut rng = crate::rng::Lcg64(0x0a0f_f0a0);
+        let (w, h) = (37u32, 29u32);
+        let tris: Vec<SnappedTri> = (0..80)
+            .map(|k| {
+                let mut p = || {
+                    [
+                        (rng.range(-3.0, w as f64 + 3.0) * 256.0) as i32,
+                        (rng.range(-3.0, h as f64 + 3.0) * 256.0) as i32,
+                    ]
+                };
+                let v = [p(), p(), p()];
+                let z = [0; 3].map(|_| (rng.unit() * 1_000_000.0) as u32 + 1);
+                let c = [0; 3].map(|_| [0; 3].map(|_| (rng.unit() * 255.0 * 4096.0) as u32));
+                SnappedTri {
+                    v,
+                    z,
+                    c,
+                    tag: k,
+                    ..Default::default()
+                }
+            })
+            .collect();
+        for (n, filter) in [(4, Filter::Box), (3, Filter::Gauss), (2, Filter::Cone)] {
+            let p = MultiscanParams::new(n, filter);
+            let all = render(&tris, w, h, [9, 80, 200], &p).unwrap();
+            let img = render_with(&tris, w, h, [9, 80, 200], &p, false).unwrap();
+            assert_eq!(img.rgb, all.rgb, "{filter:?}");
+            assert_eq!(img.stats, all.stats, "{filter:?}");
+            assert!(img.visible.is_none());
+            let vis = all.visible.unwrap();
+            assert!(vis.iter().filter(|&&t| t >= 0).count() > 200, "{filter:?}");
         }
     }
 

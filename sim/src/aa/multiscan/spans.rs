@@ -16,9 +16,26 @@ pub(super) struct RowPlane {
 }
 
 impl RowPlane {
+    /// `round_div((k + s·x16) · 2^frac, d)`.
     #[inline]
     pub(super) fn at(&self, x16: i64, frac: u32) -> i64 {
-        round_div((self.k + self.s * x16 as i128) << frac, self.d) as i64
+        let n = self.k + self.s * x16 as i128;
+        // The same quotient from two 64-bit divisions where they fit: with
+        // `n = q·d + r`, `0 ≤ r < d`, `⌊(2n·2^f + d) / 2d⌋ = q·2^f + ⌊(2r·2^f + d) / 2d⌋`
+        // (`q·d·2^(f+1)` is a multiple of `2d`); `n` in `i64` and `0 < d < 2^(61 − f)` keep
+        // every intermediate inside `i64`, and so does the result while `|q| < 2^(61 − f)`. Otherwise the 128-bit division.
+        if let (true, Ok(n)) = (
+            frac <= 24 && 0 < self.d && self.d < 1i128 << (61 - frac),
+            i64::try_from(n),
+        ) {
+            let d = self.d as i64;
+            let q = n.div_euclid(d);
+            if q.unsigned_abs() < 1 << (61 - frac) {
+                let r = n - q * d;
+                return (q << frac) + ((r << (frac + 1)) + d).div_euclid(2 * d);
+            }
+        }
+        round_div(n << frac, self.d) as i64
     }
 }
 
@@ -197,5 +214,43 @@ impl MsTri {
         let y = 256 * ynum;
         (self.ylo == y || self.yhi == y)
             && (self.interval(ynum, true).is_some() || self.interval(ynum, false).is_some())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The 64-bit path of [`RowPlane::at`] gives the 128-bit rounded quotient, on planes
+    /// inside and outside its bounds (small and huge denominators, negative numerators,
+    /// every shift the renderer uses).
+    #[test]
+    fn row_plane_at_equals_the_wide_division() {
+        let mut rng = crate::rng::Lcg64(0x5eed_0a7e);
+        let mut draw = |bits: u32| -> i128 {
+            let v = ((rng.step() as i128) << 64 | rng.step() as i128) & ((1i128 << bits) - 1);
+            if rng.step() & 1 == 0 {
+                -v
+            } else {
+                v
+            }
+        };
+        for case in 0..200_000 {
+            let kb = [30, 50, 61, 63, 70][case % 5];
+            let db = [8, 30, 40, 41, 42, 50][(case / 5) % 6];
+            let p = RowPlane {
+                k: draw(kb),
+                s: draw(kb.min(40)),
+                d: match draw(db) {
+                    0 => 1,
+                    d => d,
+                },
+            };
+            let x = (draw(28) as i64).clamp(-(1 << 27), 1 << 28);
+            for frac in [0, 12, 20] {
+                let want = round_div((p.k + p.s * x as i128) << frac, p.d) as i64;
+                assert_eq!(p.at(x, frac), want, "{p:?} at {x}, frac {frac}");
+            }
+        }
     }
 }
