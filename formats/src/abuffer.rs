@@ -200,10 +200,12 @@ pub struct SubOffset {
 
 impl SubOffset {
     /// The 8-bit ROM entry: `[3:0]` dx, `[7:4]` dy, each 4-bit two's complement.
+    #[inline]
     pub fn pack(self) -> u8 {
         ((self.dx as u8) & 0xF) | (((self.dy as u8) & 0xF) << 4)
     }
     /// Inverse of [`SubOffset::pack`].
+    #[inline]
     pub fn unpack(w: u8) -> SubOffset {
         let s = |v: u8| (((v & 0xF) << 4) as i8) >> 4;
         SubOffset {
@@ -280,28 +282,34 @@ impl Corner {
         Corner::BottomRight,
     ];
     /// The 2-bit code.
+    #[inline]
     pub fn code(self) -> u8 {
         self as u8
     }
     /// Decodes a 2-bit code.
+    #[inline]
     pub fn from_code(c: u8) -> Corner {
         Corner::ALL[(c & 3) as usize]
     }
     /// True for the right-hand corners.
+    #[inline]
     pub fn right(self) -> bool {
         self.code() & 1 == 1
     }
     /// True for the bottom corners.
+    #[inline]
     pub fn bottom(self) -> bool {
         self.code() & 2 == 2
     }
     /// The diagonally opposite corner (where a max search starts when the min search
     /// starts here).
+    #[inline]
     pub fn opposite(self) -> Corner {
         Corner::from_code(self.code() ^ 3)
     }
     /// The corner where a plane with slopes `(sx, sy)` is smallest: left if `sx ≥ 0`, top if
     /// `sy ≥ 0` (a zero slope picks left / top).
+    #[inline]
     pub fn of_min(sx: i64, sy: i64) -> Corner {
         Corner::from_code((sx < 0) as u8 | ((sy < 0) as u8) << 1)
     }
@@ -363,6 +371,7 @@ impl FragPlane {
 }
 
 /// Saturates a value to the [`PLANE_BITS`] range.
+#[inline]
 pub fn saturate_plane(v: i128) -> i64 {
     v.clamp(-(PLANE_MAX as i128), PLANE_MAX as i128) as i64
 }

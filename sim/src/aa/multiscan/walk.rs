@@ -231,9 +231,13 @@ impl Walker<'_, '_, '_> {
     /// `c` (the earliest over `next`, the first listed on a tie), if any passes it.
     pub(super) fn first_pass(&mut self, c: usize, next: &[usize], x: i64, ex: i64) -> Option<i64> {
         let mut best: Option<i64> = None;
-        let c_end = self.z(c, ex);
+        // `c`'s depth at `ex`, evaluated only when the bounds alone do not settle it
+        // (`c_end` is at most `c`'s greatest depth on the line).
+        let mut c_end: Option<i64> = None;
+        let c_max = self.zrange[c].1;
         for &q in next {
-            if self.zrange[q].0 >= c_end {
+            let q_min = self.zrange[q].0;
+            if q_min >= c_max || q_min >= *c_end.get_or_insert_with(|| self.z(c, ex)) {
                 // q is nowhere on the line nearer than c is at `ex`, so not there: it does
                 // not pass. The four evaluations below are counted, not computed.
                 self.evals += 4;
@@ -261,9 +265,13 @@ impl Walker<'_, '_, '_> {
         for (ni, &q) in next.iter().enumerate() {
             best = match best {
                 None => Some(ni),
-                Some(b) if self.zrange[q].0 > self.z(next[b], x) => {
-                    // q is behind the best at x wherever it is on the line: `front`
-                    // would find it farther. Its two evaluations are counted.
+                Some(b)
+                    if self.zrange[q].0 > self.zrange[next[b]].1
+                        || self.zrange[q].0 > self.z(next[b], x) =>
+                {
+                    // q is behind the best at x wherever it is on the line (behind the
+                    // best's farthest depth, or behind its depth at x): `front` would
+                    // find it farther. Its two evaluations are counted.
                     self.evals += 2;
                     Some(b)
                 }
