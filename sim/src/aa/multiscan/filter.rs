@@ -65,41 +65,80 @@ pub(super) fn tables(filter: Filter, n: u32) -> Tables {
     Tables { f, total }
 }
 
-/// Per-pixel accumulator of one output row.
-#[derive(Clone, Default)]
-pub(super) struct PixAcc {
-    pub(super) c: [u64; 3],
-    /// Weight per triangle (−1: background), in order of first contribution; held in
-    /// the accumulator itself up to a few triangles (most pixels see one to three).
-    pub(super) w: SmallVec<[(i32, i64); 3]>,
+/// Weights per triangle of one pixel (−1: background), in order of first contribution;
+/// held inline up to a few triangles (most pixels see one to three).
+pub(super) type Weights = SmallVec<[(i32, i64); 3]>;
+
+/// Pixel memory of a band's rows, row after row: the colour sums, and the weights per
+/// triangle only while the visible-triangle AOV is made (else `w` is empty), so that the
+/// sums alone are what every sub-scanline touches.
+#[derive(Default)]
+pub(super) struct PixMem {
+    pub(super) c: Vec<[u64; 3]>,
+    pub(super) w: Vec<Weights>,
 }
 
-impl PixAcc {
-    #[allow(clippy::needless_range_loop)]
-    /// Adds colour `col` with weight `w`, and (`track`) the weight to triangle `tri`'s.
+impl PixMem {
+    /// Clears `len` pixels, with weights when `track`.
+    pub(super) fn reset(&mut self, len: usize, track: bool) {
+        self.c.clear();
+        self.c.resize(len, [0; 3]);
+        self.w.iter_mut().for_each(|w| w.clear());
+        self.w
+            .resize_with(if track { len } else { 0 }, Weights::default);
+    }
+
+    /// The pixels `r` (one row).
+    pub(super) fn row(&mut self, r: std::ops::Range<usize>) -> PixRow<'_> {
+        let w = if self.w.is_empty() {
+            &mut []
+        } else {
+            &mut self.w[r.clone()]
+        };
+        PixRow {
+            c: &mut self.c[r],
+            w,
+        }
+    }
+}
+
+/// One row of [`PixMem`].
+pub(super) struct PixRow<'a> {
+    c: &'a mut [[u64; 3]],
+    w: &'a mut [Weights],
+}
+
+impl PixRow<'_> {
+    /// Pixels in the row.
     #[inline]
-    pub(super) fn add(&mut self, w: i64, col: [i64; 3], tri: i32, track: bool) {
+    pub(super) fn len(&self) -> usize {
+        self.c.len()
+    }
+
+    /// Adds colour `col` with weight `w` to pixel `i`, and the weight to triangle `tri`'s
+    /// when weights are kept.
+    #[inline]
+    pub(super) fn add(&mut self, i: usize, w: i64, col: [i64; 3], tri: i32) {
         if w == 0 {
             return;
         }
+        let c = &mut self.c[i];
         for ch in 0..3 {
-            self.c[ch] += (w * col[ch]) as u64;
+            c[ch] += (w * col[ch]) as u64;
         }
-        if !track {
-            return;
-        }
-        match self.w.iter_mut().find(|e| e.0 == tri) {
-            Some(e) => e.1 += w,
-            None => self.w.push((tri, w)),
+        if let Some(ws) = self.w.get_mut(i) {
+            match ws.iter_mut().find(|e| e.0 == tri) {
+                Some(e) => e.1 += w,
+                None => ws.push((tri, w)),
+            }
         }
     }
+}
 
-    /// The visible triangle: the largest weight, the lowest index (background −1 first)
-    /// on a tie; −1 when nothing was added.
-    pub(super) fn dominant(&self) -> i32 {
-        self.w
-            .iter()
-            .min_by_key(|e| (std::cmp::Reverse(e.1), e.0))
-            .map_or(-1, |e| e.0)
-    }
+/// The visible triangle of a pixel: the largest weight, the lowest index (background −1
+/// first) on a tie; −1 when nothing was added.
+pub(super) fn dominant(w: &Weights) -> i32 {
+    w.iter()
+        .min_by_key(|e| (std::cmp::Reverse(e.1), e.0))
+        .map_or(-1, |e| e.0)
 }

@@ -79,7 +79,7 @@ use crate::setup::SnappedTri;
 mod filter;
 mod spans;
 mod walk;
-use filter::{tables, PixAcc, Tables};
+use filter::{dominant, tables, PixMem, PixRow, Tables};
 use spans::{prepare, MsTri, RowPlane};
 use walk::{walk, Active, Piece, WalkScratch};
 
@@ -196,11 +196,7 @@ impl<'a> MsFrame<'a> {
             cand,
             crow,
         } = rs;
-        acc.resize_with(nr * w, PixAcc::default);
-        for a in acc.iter_mut() {
-            a.c = [0; 3];
-            a.w.clear();
-        }
+        acc.reset(nr * w, self.visible);
         let (mut evals, mut npieces) = (0u64, 0u64);
         // Triangles touching the rows' y range (a superset of those any sub-scanline of
         // the band hits; each sub-scanline tests them exactly).
@@ -234,16 +230,7 @@ impl<'a> MsFrame<'a> {
                         evals += e;
                         npieces += pieces.len() as u64;
                         let r = row(ja);
-                        accumulate_box(
-                            &mut acc[r],
-                            pieces,
-                            act,
-                            crow,
-                            ynum,
-                            2,
-                            self.bgc,
-                            self.visible,
-                        );
+                        accumulate_box(acc.row(r), pieces, act, crow, ynum, 2, self.bgc);
                         continue;
                     }
                     // Row ja from below (owned), row ja − 1 from above (owned only by the
@@ -257,29 +244,11 @@ impl<'a> MsFrame<'a> {
                         evals += e;
                         npieces += pieces.len() as u64;
                         let r = row(ja);
-                        accumulate_box(
-                            &mut acc[r],
-                            pieces,
-                            act,
-                            crow,
-                            ynum,
-                            1,
-                            self.bgc,
-                            self.visible,
-                        );
+                        accumulate_box(acc.row(r), pieces, act, crow, ynum, 1, self.bgc);
                         if above && !cand.iter().any(|t| t.sides_differ(ynum)) {
                             // Both sides see the same spans: the same pieces.
                             let r = row(ja - 1);
-                            accumulate_box(
-                                &mut acc[r],
-                                pieces,
-                                act,
-                                crow,
-                                ynum,
-                                1,
-                                self.bgc,
-                                self.visible,
-                            );
+                            accumulate_box(acc.row(r), pieces, act, crow, ynum, 1, self.bgc);
                             continue;
                         }
                     }
@@ -291,16 +260,7 @@ impl<'a> MsFrame<'a> {
                             npieces += pieces.len() as u64;
                         }
                         let r = row(ja - 1);
-                        accumulate_box(
-                            &mut acc[r],
-                            pieces,
-                            act,
-                            crow,
-                            ynum,
-                            1,
-                            self.bgc,
-                            self.visible,
-                        );
+                        accumulate_box(acc.row(r), pieces, act, crow, ynum, 1, self.bgc);
                     }
                 }
             }
@@ -317,13 +277,12 @@ impl<'a> MsFrame<'a> {
                     let mut add = |j: i64, k: i64| {
                         let fm = &tab.f[k as usize];
                         accumulate_filtered(
-                            &mut acc[row(j)],
+                            acc.row(row(j)),
                             pieces,
                             act,
                             crow,
                             (ynum, fm),
                             self.bgc,
-                            self.visible,
                         );
                     };
                     if (j0..=j1).contains(&ja) {
@@ -341,13 +300,13 @@ impl<'a> MsFrame<'a> {
             None => 2 * p.subscanlines as u64 * ONE16 as u64 * 4096,
             Some(t) => t.total as u64 * 4096,
         };
-        for (a, px) in acc.iter().zip(rgb.chunks_mut(3)) {
-            for (o, &c) in px.iter_mut().zip(&a.c) {
+        for (a, px) in acc.c.iter().zip(rgb.chunks_mut(3)) {
+            for (o, &c) in px.iter_mut().zip(a) {
                 *o = (c / div).min(255) as u8;
             }
         }
-        for (a, v) in acc.iter().zip(vis.iter_mut()) {
-            *v = a.dominant();
+        for (a, v) in acc.w.iter().zip(vis.iter_mut()) {
+            *v = dominant(a);
         }
         (evals, npieces)
     }
@@ -357,7 +316,7 @@ impl<'a> MsFrame<'a> {
 #[derive(Default)]
 struct BandScratch<'a> {
     /// Pixel memory of the band's rows, row after row.
-    acc: Vec<PixAcc>,
+    acc: PixMem,
     pieces: Vec<Piece>,
     walk: WalkScratch,
     /// The triangles hit by the current sub-scanline.
@@ -536,18 +495,16 @@ impl<'a, 't> PieceColour<'a, 't> {
     }
 }
 
-/// Box filter: adds each piece, split at pixel boundaries, with line weight `wl`; the
-/// weights per triangle too when `track` (the visible-triangle AOV).
-#[allow(clippy::too_many_arguments)]
+/// Box filter: adds each piece, split at pixel boundaries, with line weight `wl`, to the
+/// pixel row `acc`.
 fn accumulate_box(
-    acc: &mut [PixAcc],
+    mut acc: PixRow,
     pieces: &[Piece],
     act: &[Active],
     crow: &mut [Option<Option<ColourRow>>],
     ynum: i64,
     wl: i64,
     bgc: [i64; 3],
-    track: bool,
 ) {
     for pc in pieces {
         let mut pcol = PieceColour::new(act, crow, pc, ynum, bgc);
@@ -556,7 +513,7 @@ fn accumulate_box(
             let i = x0.div_euclid(ONE16);
             let x1 = pc.x1.min((i + 1) * ONE16);
             let col = pcol.at(x0, x1, pc.x1);
-            acc[i as usize].add(wl * (x1 - x0), col, pc.tri, track);
+            acc.add(i as usize, wl * (x1 - x0), col, pc.tri);
             x0 = x1;
         }
     }
@@ -564,15 +521,14 @@ fn accumulate_box(
 
 /// Axisymmetric filter: adds each piece, split at pixel centres (square R_i spans centres
 /// i .. i+1), to the two pixels of its square with the table weights `fm`. `acc` is the
-/// pixel row; the weights per triangle are added too when `track`.
+/// pixel row.
 fn accumulate_filtered(
-    acc: &mut [PixAcc],
+    mut acc: PixRow,
     pieces: &[Piece],
     act: &[Active],
     crow: &mut [Option<Option<ColourRow>>],
     (ynum, fm): (i64, &[i64; 65]),
     bgc: [i64; 3],
-    track: bool,
 ) {
     for pc in pieces {
         let mut pcol = PieceColour::new(act, crow, pc, ynum, bgc);
@@ -585,10 +541,10 @@ fn accumulate_filtered(
             let q = |x: i64| ((x - cx + 512) >> 10).clamp(0, 64) as usize;
             let (k1, k2) = (q(x0), q(x1));
             if i >= 0 {
-                acc[i as usize].add(fm[k2] - fm[k1], col, pc.tri, track);
+                acc.add(i as usize, fm[k2] - fm[k1], col, pc.tri);
             }
             if i + 1 < acc.len() as i64 {
-                acc[(i + 1) as usize].add(fm[64 - k1] - fm[64 - k2], col, pc.tri, track);
+                acc.add((i + 1) as usize, fm[64 - k1] - fm[64 - k2], col, pc.tri);
             }
             x0 = x1;
         }
