@@ -20,10 +20,11 @@ impl RowPlane {
     #[inline]
     pub(super) fn at(&self, x16: i64, frac: u32) -> i64 {
         let n = self.k + self.s * x16 as i128;
-        // The same quotient from two 64-bit divisions where they fit: with
-        // `n = q·d + r`, `0 ≤ r < d`, `⌊(2n·2^f + d) / 2d⌋ = q·2^f + ⌊(2r·2^f + d) / 2d⌋`
-        // (`q·d·2^(f+1)` is a multiple of `2d`); `n` in `i64` and `0 < d < 2^(61 − f)` keep
-        // every intermediate inside `i64`, and so does the result while `|q| < 2^(61 − f)`. Otherwise the 128-bit division.
+        // The same quotient from two 64-bit divisions where they fit: with `n = q·d + r`,
+        // `0 ≤ r < d`: `⌊(2n·2^f + d) / 2d⌋ = q·2^f + ⌊(2r·2^f + d) / 2d⌋` (`q·d·2^(f+1)`
+        // is a multiple of `2d`). `n` in `i64` and `0 < d < 2^(61 − f)` keep every
+        // intermediate inside `i64`, and so does the result while `|q| < 2^(61 − f)`.
+        // Otherwise the 128-bit division.
         if let (true, Ok(n)) = (
             frac <= 24 && 0 < self.d && self.d < 1i128 << (61 - frac),
             i64::try_from(n),
