@@ -497,27 +497,8 @@ mod tests {
     /// not asked for is empty, and the image and statistics never change.
     #[test]
     fn outputs_asked_for_are_the_full_renders() {
-        let mut rng = crate::rng::Lcg64(0x0ab0_0f00);
         let (w, h) = (41u32, 23u32);
-        let tris: Vec<SnappedTri> = (0..90)
-            .map(|k| {
-                let mut p = || {
-                    [
-                        (rng.range(-3.0, w as f64 + 3.0) * 256.0) as i32,
-                        (rng.range(-3.0, h as f64 + 3.0) * 256.0) as i32,
-                    ]
-                };
-                let v = [p(), p(), p()];
-                let z = [0; 3].map(|_| (rng.unit() * 1_000_000.0) as u32 + 1);
-                SnappedTri {
-                    v,
-                    z,
-                    c: [[(rng.unit() * 255.0 * 4096.0) as u32; 3]; 3],
-                    tag: (k % 7) as u16,
-                    ..Default::default()
-                }
-            })
-            .collect();
+        let tris = crate::rng::random_tris(0x0ab0_0f00, 90, w, h);
         let p = AbufferParams::default();
         let all = render_abuffer(&tris, w, h, [3, 4, 5], &p).unwrap();
         assert_eq!(all.coverage.len(), (w * h) as usize);

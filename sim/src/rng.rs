@@ -78,3 +78,41 @@ mod tests {
         }
     }
 }
+
+/// `count` random snapped triangles over a `w × h` screen (vertices up to 3 px outside
+/// it, depths in `1..=10^6`, tags `k % 7`), every other one flat-coloured: the shared
+/// input of the unit tests that compare two ways of rendering the same frame.
+#[cfg(test)]
+pub(crate) fn random_tris(
+    seed: u64,
+    count: usize,
+    w: u32,
+    h: u32,
+) -> Vec<crate::setup::SnappedTri> {
+    let mut rng = Lcg64(seed);
+    (0..count)
+        .map(|k| {
+            let mut p = || {
+                [
+                    (rng.range(-3.0, w as f64 + 3.0) * 256.0) as i32,
+                    (rng.range(-3.0, h as f64 + 3.0) * 256.0) as i32,
+                ]
+            };
+            let v = [p(), p(), p()];
+            let z = [0; 3].map(|_| (rng.unit() * 1_000_000.0) as u32 + 1);
+            let mut colour = || [0; 3].map(|_| (rng.unit() * 255.0 * 4096.0) as u32);
+            let c = if k % 2 == 0 {
+                [colour(); 3]
+            } else {
+                [colour(), colour(), colour()]
+            };
+            crate::setup::SnappedTri {
+                v,
+                z,
+                c,
+                tag: (k % 7) as u16,
+                ..Default::default()
+            }
+        })
+        .collect()
+}

@@ -670,28 +670,8 @@ mod tests {
     /// full render, for the box and the axisymmetric filters.
     #[test]
     fn the_image_does_not_depend_on_the_visible_aov() {
-        let mut rng = crate::rng::Lcg64(0x0a0f_f0a0);
         let (w, h) = (37u32, 29u32);
-        let tris: Vec<SnappedTri> = (0..80)
-            .map(|k| {
-                let mut p = || {
-                    [
-                        (rng.range(-3.0, w as f64 + 3.0) * 256.0) as i32,
-                        (rng.range(-3.0, h as f64 + 3.0) * 256.0) as i32,
-                    ]
-                };
-                let v = [p(), p(), p()];
-                let z = [0; 3].map(|_| (rng.unit() * 1_000_000.0) as u32 + 1);
-                let c = [0; 3].map(|_| [0; 3].map(|_| (rng.unit() * 255.0 * 4096.0) as u32));
-                SnappedTri {
-                    v,
-                    z,
-                    c,
-                    tag: k,
-                    ..Default::default()
-                }
-            })
-            .collect();
+        let tris = crate::rng::random_tris(0x0a0f_f0a0, 80, w, h);
         for (n, filter) in [(4, Filter::Box), (3, Filter::Gauss), (2, Filter::Cone)] {
             let p = MultiscanParams::new(n, filter);
             let all = render(&tris, w, h, [9, 80, 200], &p).unwrap();
