@@ -49,36 +49,6 @@ impl Lcg64 {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn xorshift_first_output_follows_the_recurrence() {
-        // Seed 1: 1 ^ (1 << 25) = 0x2000001, the shifts right leave it unchanged.
-        let mut r = XorShift64Star(1);
-        let x1: u64 = {
-            let mut x: u64 = 1;
-            x ^= x >> 12;
-            x ^= x << 25;
-            x ^= x >> 27;
-            x
-        };
-        assert_eq!(x1, 0x0200_0001);
-        assert_eq!(r.next_u64(), x1.wrapping_mul(0x2545_F491_4F6C_DD1D));
-    }
-
-    #[test]
-    fn units_stay_in_range() {
-        let mut a = XorShift64Star(7);
-        let mut b = Lcg64(7);
-        for _ in 0..10_000 {
-            let (u, v) = (a.unit(), b.unit());
-            assert!((0.0..1.0).contains(&u) && (0.0..1.0).contains(&v));
-        }
-    }
-}
-
 /// `count` random snapped triangles over a `w × h` screen (vertices up to 3 px outside
 /// it, depths in `1..=10^6`, tags `k % 7`), every other one flat-coloured: the shared
 /// input of the unit tests that compare two ways of rendering the same frame.
@@ -115,4 +85,34 @@ pub(crate) fn random_tris(
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn xorshift_first_output_follows_the_recurrence() {
+        // Seed 1: 1 ^ (1 << 25) = 0x2000001, the shifts right leave it unchanged.
+        let mut r = XorShift64Star(1);
+        let x1: u64 = {
+            let mut x: u64 = 1;
+            x ^= x >> 12;
+            x ^= x << 25;
+            x ^= x >> 27;
+            x
+        };
+        assert_eq!(x1, 0x0200_0001);
+        assert_eq!(r.next_u64(), x1.wrapping_mul(0x2545_F491_4F6C_DD1D));
+    }
+
+    #[test]
+    fn units_stay_in_range() {
+        let mut a = XorShift64Star(7);
+        let mut b = Lcg64(7);
+        for _ in 0..10_000 {
+            let (u, v) = (a.unit(), b.unit());
+            assert!((0.0..1.0).contains(&u) && (0.0..1.0).contains(&v));
+        }
+    }
 }
