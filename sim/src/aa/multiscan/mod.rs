@@ -365,8 +365,11 @@ impl ColourSteps {
 enum ColourSource<'a, 't> {
     /// The same colour for every part: the background, or a flat triangle's colour.
     Fixed([i64; 3]),
-    /// A shaded triangle, with its colour planes on the line in 64-bit form where they fit.
-    Shaded(&'a Active<'t>, Option<ColourRow>),
+    /// A shaded triangle whose colour planes on the line fit the 64-bit form, with the
+    /// triangle's 64-bit step by one pixel where it has one.
+    Row(&'a ColourRow, Option<&'t [(i64, i64); 3]>),
+    /// A shaded triangle whose colour planes on the line do not fit 64 bits.
+    Wide(&'a Active<'t>),
 }
 
 /// A shaded triangle's colour planes on one sub-scanline in 64-bit arithmetic, from one
@@ -420,13 +423,64 @@ impl ColourRow {
         let dx = x - self.x0;
         [0, 1, 2].map(|ch| self.q[ch] + (self.r[ch] + self.s2[ch] * dx).div_euclid(self.d2[ch]))
     }
+
+    /// The values at `x`, `x + 2^16`, … (inside the interval it was set up for), stepped
+    /// with additions: `step` is `(⌊2s·2^16 / 2d⌋, 2s·2^16 mod 2d)` per channel
+    /// ([`MsTri::cstep64`](spans::MsTri)).
+    #[inline]
+    fn run(&self, x: i64, step: &[(i64, i64); 3]) -> ColourRun {
+        let dx = x - self.x0;
+        let mut run = ColourRun {
+            q: [0; 3],
+            r: [0; 3],
+            dq: step.map(|s| s.0),
+            dr: step.map(|s| s.1),
+            d2: self.d2,
+        };
+        for ch in 0..3 {
+            let n = self.r[ch] + self.s2[ch] * dx;
+            let q = n.div_euclid(self.d2[ch]);
+            run.q[ch] = self.q[ch] + q;
+            run.r[ch] = n - q * self.d2[ch];
+        }
+        run
+    }
+}
+
+/// A [`ColourRow`] stepped one pixel (`2^16`) at a time: `q + ⌊r / d2⌋` with
+/// `0 ≤ r < d2`, the numerator growing by `dq·d2 + dr` per step (`0 ≤ dr < d2`). Every
+/// value stays inside the interval its row was set up for, where [`ColourRow::new`] keeps
+/// numerators below 2^62, so the sums `r + dr < 2·d2` fit.
+struct ColourRun {
+    q: [i64; 3],
+    r: [i64; 3],
+    dq: [i64; 3],
+    dr: [i64; 3],
+    d2: [i64; 3],
+}
+
+impl ColourRun {
+    /// The current values, clamped to the colour range; then moves one pixel on.
+    #[inline]
+    fn next(&mut self) -> [i64; 3] {
+        let v = self.q.map(|q| q.clamp(0, COLOUR_MAX));
+        for ch in 0..3 {
+            self.q[ch] += self.dq[ch];
+            self.r[ch] += self.dr[ch];
+            if self.r[ch] >= self.d2[ch] {
+                self.r[ch] -= self.d2[ch];
+                self.q[ch] += 1;
+            }
+        }
+        v
+    }
 }
 
 impl<'a, 't> PieceColour<'a, 't> {
     /// The colours of piece `pc` on the sub-scanline `ynum`.
     fn new(
         act: &'a [Active<'t>],
-        crow: &mut [Option<Option<ColourRow>>],
+        crow: &'a mut [Option<Option<ColourRow>>],
         pc: &Piece,
         ynum: i64,
         bgc: [i64; 3],
@@ -435,11 +489,12 @@ impl<'a, 't> PieceColour<'a, 't> {
             None => ColourSource::Fixed(bgc),
             Some(a) => match a.t.flat {
                 Some(c) => ColourSource::Fixed(c),
-                None => ColourSource::Shaded(
-                    a,
-                    *crow[pc.slot]
-                        .get_or_insert_with(|| ColourRow::new(&Self::planes(a, ynum), a.xl, a.xr)),
-                ),
+                None => match crow[pc.slot]
+                    .get_or_insert_with(|| ColourRow::new(&Self::planes(a, ynum), a.xl, a.xr))
+                {
+                    Some(row) => ColourSource::Row(row, a.t.cstep64.as_ref()),
+                    None => ColourSource::Wide(a),
+                },
             },
         };
         PieceColour {
@@ -456,14 +511,42 @@ impl<'a, 't> PieceColour<'a, 't> {
         [r[1].row(ynum), r[2].row(ynum), r[3].row(ynum)]
     }
 
+    /// The colours of `count` whole pixels from `x0` on (parts `[x0 + k·2^16,
+    /// x0 + (k + 1)·2^16)`, `k = 0..count`), handed to `f(k, colour)`; `end` is the piece's
+    /// end. The same values as [`PieceColour::at`] gives each part.
+    #[inline]
+    fn whole(&mut self, x0: i64, count: i64, end: i64, mut f: impl FnMut(i64, [i64; 3])) {
+        match self.src {
+            ColourSource::Fixed(c) => (0..count).for_each(|k| f(k, c)),
+            ColourSource::Row(row, Some(step)) => {
+                let mut run = row.run(x0 + ONE16 / 2, step);
+                (0..count).for_each(|k| f(k, run.next()));
+            }
+            ColourSource::Row(row, None) => (0..count).for_each(|k| {
+                f(
+                    k,
+                    row.at(x0 + k * ONE16 + ONE16 / 2)
+                        .map(|v| v.clamp(0, COLOUR_MAX)),
+                )
+            }),
+            ColourSource::Wide(_) => {
+                for k in 0..count {
+                    let p0 = x0 + k * ONE16;
+                    f(k, self.at(p0, p0 + ONE16, end));
+                }
+            }
+        }
+    }
+
     /// The colour of the part `[x0, x1)`; `end` is the piece's end (how far steps go).
     #[inline]
     fn at(&mut self, x0: i64, x1: i64, end: i64) -> [i64; 3] {
-        let (a, fast) = match &self.src {
-            ColourSource::Fixed(c) => return *c,
-            ColourSource::Shaded(a, fast) => (*a, fast),
-        };
         let mid = (x0 + x1).div_euclid(2);
+        let a = match self.src {
+            ColourSource::Fixed(c) => return c,
+            ColourSource::Row(row, _) => return row.at(mid).map(|v| v.clamp(0, COLOUR_MAX)),
+            ColourSource::Wide(a) => a,
+        };
         let clamp = |v: i128| (v as i64).clamp(0, COLOUR_MAX);
         if let Some((st, m)) = &mut self.steps {
             if *m == mid {
@@ -488,10 +571,7 @@ impl<'a, 't> PieceColour<'a, 't> {
             self.steps = Some((st, mid + ONE16));
             return v;
         }
-        match fast {
-            Some(f) => f.at(mid).map(|v| v.clamp(0, COLOUR_MAX)),
-            None => Self::planes(a, self.ynum).map(|p| p.at(mid, 0).clamp(0, COLOUR_MAX)),
-        }
+        Self::planes(a, self.ynum).map(|p| p.at(mid, 0).clamp(0, COLOUR_MAX))
     }
 }
 
@@ -508,13 +588,26 @@ fn accumulate_box(
 ) {
     for pc in pieces {
         let mut pcol = PieceColour::new(act, crow, pc, ynum, bgc);
-        let mut x0 = pc.x0;
-        while x0 < pc.x1 {
-            let i = x0.div_euclid(ONE16);
-            let x1 = pc.x1.min((i + 1) * ONE16);
-            let col = pcol.at(x0, x1, pc.x1);
-            acc.add(i as usize, wl * (x1 - x0), col, pc.tri);
-            x0 = x1;
+        let (x0, x1, tri) = (pc.x0, pc.x1, pc.tri);
+        // A part in the first pixel unless it is whole, the whole pixels, a part in the
+        // last pixel.
+        let i0 = x0.div_euclid(ONE16);
+        let mut first = i0;
+        if x0 != i0 * ONE16 || x1 < (i0 + 1) * ONE16 {
+            let b0 = x1.min((i0 + 1) * ONE16);
+            acc.add(i0 as usize, wl * (b0 - x0), pcol.at(x0, b0, x1), tri);
+            if b0 == x1 {
+                continue;
+            }
+            first = i0 + 1;
+        }
+        let i1 = x1.div_euclid(ONE16);
+        pcol.whole(first * ONE16, i1 - first, x1, |k, col| {
+            acc.add((first + k) as usize, wl * ONE16, col, tri)
+        });
+        let b1 = i1 * ONE16;
+        if b1 < x1 {
+            acc.add(i1 as usize, wl * (x1 - b1), pcol.at(b1, x1, x1), tri);
         }
     }
 }
@@ -744,6 +837,69 @@ mod tests {
             built > 1000 && refused > 300,
             "built {built}, refused {refused}"
         );
+    }
+
+    /// A colour run from a triangle's 64-bit steps gives each whole pixel's colour as
+    /// [`ColourRow::at`] (so [`RowPlane::at`]) does.
+    #[test]
+    fn colour_run_steps_equal_the_row() {
+        let (w, h) = (64u32, 40u32);
+        let tris = crate::rng::random_tris(0x0c01_0e55, 60, w, h);
+        let mut runs = 0;
+        for (k, t) in tris.iter().enumerate() {
+            let Some(mt) = prepare(k, t, 8) else { continue };
+            let Some(step) = mt.cstep64 else { continue };
+            for ynum in (mt.ylo / 256..=mt.yhi / 256).step_by(3) {
+                let Some((xl, xr)) = mt.interval(ynum, false) else {
+                    continue;
+                };
+                let planes = [1, 2, 3].map(|c| mt.rows[c].row(ynum));
+                let Some(row) = ColourRow::new(&planes, xl, xr) else {
+                    continue;
+                };
+                // Whole pixels inside the interval, from the first boundary on.
+                let first = xl.div_euclid(ONE16) + 1;
+                let mut run = row.run(first * ONE16 + ONE16 / 2, &step);
+                let mut i = first;
+                while (i + 1) * ONE16 <= xr {
+                    let mid = i * ONE16 + ONE16 / 2;
+                    let want = planes.map(|p| p.at(mid, 0).clamp(0, COLOUR_MAX));
+                    assert_eq!(run.next(), want, "triangle {k}, line {ynum}, pixel {i}");
+                    i += 1;
+                    runs += 1;
+                }
+            }
+        }
+        assert!(runs > 2000, "{runs} steps");
+        // Small denominators, where remainders meet the denominator exactly.
+        let mut rng = crate::rng::Lcg64(0x5a11_d0e5);
+        let mut exact = 0;
+        for _ in 0..2000 {
+            let mut small = |m: u64| (rng.step() % (2 * m + 1)) as i128 - m as i128;
+            let planes = [0; 3].map(|_| RowPlane {
+                k: small(1 << 40),
+                s: small(1 << 10),
+                d: small(40).abs().max(1),
+            });
+            let x0 = small(1 << 20) as i64;
+            let x1 = x0 + 40 * ONE16;
+            let Some(row) = ColourRow::new(&planes, x0, x1) else {
+                continue;
+            };
+            let step = planes.map(|p| {
+                let (s2, d2) = (2 * p.s * ONE16 as i128, 2 * p.d);
+                let q = s2.div_euclid(d2);
+                (q as i64, (s2 - q * d2) as i64)
+            });
+            let mut run = row.run(x0 + ONE16 / 2, &step);
+            for i in 0..39 {
+                let mid = x0 + i * ONE16 + ONE16 / 2;
+                let want = planes.map(|p| p.at(mid, 0).clamp(0, COLOUR_MAX));
+                exact += run.r.iter().filter(|&&r| r == 0).count();
+                assert_eq!(run.next(), want, "{planes:?} from {x0}, pixel {i}");
+            }
+        }
+        assert!(exact > 1000, "{exact} exact quotients");
     }
 
     #[test]
