@@ -15,7 +15,8 @@
 //! [`SearchUnit`] is the per-step golden model of the RTL block: `start(mask, corner)`, then
 //! `step()` once per clock, each step reporting the search mask, the AND result, the zero
 //! flag and the move. [`DepthSelect`] puts the variants behind one interface and counts
-//! their depth evaluations.
+//! their depth evaluations; [`DepthSelector`] gets the unit's results without the per-step
+//! outputs ([`SearchTables::first_hit`], and a cache for full masks).
 
 use pixelproc_formats::abuffer::{
     offset_rom_table, search_mask_table, Corner, FragPlane, MaskSize, RomWord, SearchFamily,
@@ -59,6 +60,27 @@ impl SearchTables {
     #[inline]
     pub fn lines(&self) -> u32 {
         self.masks[0].len() as u32
+    }
+    /// The result of a whole search, [`SearchUnit::run`], as one loop over the search
+    /// lines: the first line whose AND result is non-zero is the hit, and the steps are its
+    /// number plus one (every line, no hit, for an empty mask).
+    #[inline]
+    pub fn first_hit(&self, mask: u64, corner: Corner) -> SearchResult {
+        let mask = mask & self.size.full();
+        let lines = &self.masks[corner.code() as usize];
+        for (k, &sm) in lines.iter().enumerate() {
+            let and_result = mask & sm;
+            if and_result != 0 {
+                return SearchResult {
+                    steps: k as u32 + 1,
+                    hit: Some((and_result, self.offset_rom(and_result))),
+                };
+            }
+        }
+        SearchResult {
+            steps: lines.len() as u32,
+            hit: None,
+        }
     }
     /// The raw offset ROM: entry `b` is the packed [`SubOffset`] of bit `b`.
     pub fn rom(&self) -> &[u8] {
@@ -176,6 +198,8 @@ impl<'t> SearchUnit<'t> {
     }
 
     /// Runs a whole search with [`SearchUnit::start`] and [`SearchUnit::step`].
+    ///
+    /// [`SearchTables::first_hit`] computes the same result without the per-step outputs.
     #[inline]
     pub fn run(&mut self, mask: u64, corner: Corner) -> SearchResult {
         self.start(mask, corner);
@@ -301,6 +325,37 @@ pub struct DepthSelector {
     /// unit's result depends on the mask and the corner only, and full masks (a
     /// triangle covering the whole pixel) are the most common, so they are run once here.
     full: Vec<[SearchResult; 4]>,
+    /// The same searches of a full mask as the ordering depth they give without a max:
+    /// [`FullPick`] per table and start corner.
+    full_pick: Vec<[FullPick; 4]>,
+}
+
+/// The nearest-depth pick of a full mask from one start corner of one table: the offsets
+/// of the one or two end subpixels (the same twice for one) and the counts, so that the
+/// pick is `zc + min(sx·dx + sy·dy)` over the two.
+#[derive(Clone, Copy, Debug)]
+struct FullPick {
+    ends: [(i64, i64); 2],
+    evals: u32,
+    steps: u32,
+}
+
+impl FullPick {
+    fn of(r: &SearchResult) -> FullPick {
+        let (ends, evals) = match r.hit {
+            Some((_, w)) => {
+                let d = |o: SubOffset| (o.dx as i64, o.dy as i64);
+                let e2 = if w.pair { w.end2 } else { w.end1 };
+                ([d(w.end1), d(e2)], 1 + w.pair as u32)
+            }
+            None => ([(0, 0); 2], 0),
+        };
+        FullPick {
+            ends,
+            evals,
+            steps: r.steps,
+        }
+    }
 }
 
 impl DepthSelector {
@@ -310,21 +365,31 @@ impl DepthSelector {
             .iter()
             .map(|&f| SearchTables::new(size, f))
             .collect();
-        let full = tables
+        let full: Vec<[SearchResult; 4]> = tables
             .iter()
             .map(|t| Corner::ALL.map(|c| SearchUnit::new(t).run(size.full(), c)))
             .collect();
-        DepthSelector { size, tables, full }
+        let full_pick: Vec<[FullPick; 4]> = full
+            .iter()
+            .map(|rs: &[SearchResult; 4]| rs.map(|r| FullPick::of(&r)))
+            .collect();
+        DepthSelector {
+            size,
+            tables,
+            full,
+            full_pick,
+        }
     }
 
-    /// [`SearchUnit::run`] on table `ti`, from the cache for a full mask.
+    /// [`SearchUnit::run`] on table `ti`, from the cache for a full mask, else as
+    /// [`SearchTables::first_hit`].
     #[inline]
     fn search(&self, ti: usize, mask: u64, corner: Corner) -> SearchResult {
         let full = self.size.full();
         if mask & full == full {
             self.full[ti][corner.code() as usize]
         } else {
-            SearchUnit::new(&self.tables[ti]).run(mask, corner)
+            self.tables[ti].first_hit(mask, corner)
         }
     }
 
@@ -376,6 +441,18 @@ impl DepthSelector {
                     slope_class(plane.sx, plane.sy)
                 };
                 let corner = Corner::of_min(plane.sx, plane.sy);
+                let full = self.size.full();
+                if !want_max && mask & full == full {
+                    // The search below on the cached full-mask result, folded.
+                    let f = &self.full_pick[ti][corner.code() as usize];
+                    let z = |(dx, dy): (i64, i64)| plane.zc + plane.sx * dx + plane.sy * dy;
+                    return DepthPick {
+                        zmin: z(f.ends[0]).min(z(f.ends[1])),
+                        zmax: None,
+                        evals: f.evals,
+                        steps: f.steps,
+                    };
+                }
                 let mut pick = DepthPick {
                     zmin: plane.zc,
                     zmax: None,
@@ -527,6 +604,76 @@ mod tests {
             70
         );
         assert_eq!(sel.select(DepthSelect::Slope, mask, &p, false).zmin, 70);
+    }
+
+    /// A full mask's pick from the folded cache is the general search's, on every
+    /// family, corner and size, with random planes.
+    #[test]
+    fn full_mask_picks_are_the_searches() {
+        let mut x = 0x00f0_11ca_c4e5u64;
+        for (n, m) in [(4, 4), (8, 8), (3, 5), (2, 2), (8, 1), (1, 1)] {
+            let size = MaskSize::new(n, m).unwrap();
+            let sel = DepthSelector::new(size);
+            for _ in 0..4000 {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                let p = FragPlane {
+                    zc: (x % 1_000_000) as i64 - 500_000,
+                    sx: (x >> 20) as i64 % 4000 - 2000,
+                    sy: (x >> 40) as i64 % 4000 - 2000,
+                };
+                for v in [DepthSelect::Search, DepthSelect::Slope] {
+                    let got = sel.select(v, size.full(), &p, false);
+                    let ti = if v == DepthSelect::Search {
+                        DIAGONAL
+                    } else {
+                        slope_class(p.sx, p.sy)
+                    };
+                    let r = SearchUnit::new(&sel.tables[ti])
+                        .run(size.full(), Corner::of_min(p.sx, p.sy));
+                    let (z1, z2, e) = depth_calc(&p, r.hit.unwrap().1);
+                    let want = DepthPick {
+                        zmin: z2.map_or(z1, |z2| z1.min(z2)),
+                        zmax: None,
+                        evals: e,
+                        steps: r.steps,
+                    };
+                    assert_eq!(got, want, "{size} {v:?} {p:?}");
+                }
+            }
+        }
+    }
+
+    /// The one-loop search is the stepped unit's on every 4×4 mask (every family and
+    /// corner) and on random masks of other sizes.
+    #[test]
+    fn first_hit_is_the_units_run() {
+        let mut x = 0x0f17_57a1_c0de_5eedu64;
+        for (n, m) in [(4, 4), (8, 8), (3, 5), (2, 2), (8, 1)] {
+            let size = MaskSize::new(n, m).unwrap();
+            for &family in &SLOPE_FAMILIES {
+                let t = SearchTables::new(size, family);
+                for corner in Corner::ALL {
+                    let mut check = |mask: u64| {
+                        let want = SearchUnit::new(&t).run(mask, corner);
+                        assert_eq!(t.first_hit(mask, corner), want, "{size} {mask:x}");
+                    };
+                    if size.bits() <= 16 {
+                        (0..=size.full()).for_each(&mut check);
+                    } else {
+                        for _ in 0..20_000 {
+                            x ^= x << 13;
+                            x ^= x >> 7;
+                            x ^= x << 17;
+                            // Sparse masks too (long searches), and bits past the grid.
+                            check(x & (x >> 17) & (x >> 31));
+                            check(x);
+                        }
+                    }
+                }
+            }
+        }
     }
 
     #[test]

@@ -190,7 +190,13 @@ pub(crate) fn resolve_bits(
             }
         }
     }
-    sum.map(|s| ((2 * s + denom) / (2 * denom)).min(255) as u8)
+    // A grid of 2^k subpixels (4×4, 8×8, ...) divides by a power of two: a shift.
+    if denom.is_power_of_two() {
+        let shift = (2 * denom).trailing_zeros();
+        sum.map(|s| ((2 * s + denom) >> shift).min(255) as u8)
+    } else {
+        sum.map(|s| ((2 * s + denom) / (2 * denom)).min(255) as u8)
+    }
 }
 
 /// The visible-surface AOV of a pixel: the triangle with the most visible subpixels
@@ -383,14 +389,17 @@ impl PixelScratch {
             };
         }
         self.picks.clear();
-        let (mut evals, mut steps) = (0, 0);
+        let (mut evals, mut steps, mut decal) = (0, 0, false);
         for f in frags {
             let p = sel.select(variant, f.mask, &f.plane, interpenetrating);
             evals += p.evals;
             steps += p.steps;
+            decal |= f.decal;
             self.picks.push(p);
         }
-        coplanar_common_depth(frags, &mut self.picks);
+        if decal {
+            coplanar_common_depth(frags, &mut self.picks);
+        }
         let picks = &self.picks;
         // Merge: components of overlapping same-tag ranges, by a sweep in (tag, start)
         // order; a group's range is the union of its members' (they overlap), so two
@@ -402,13 +411,21 @@ impl PixelScratch {
                 .zip(picks)
                 .map(|(f, p)| merge_range(f, p, size, interpenetrating)),
         );
+        self.comp.clear();
+        self.comp.resize(n, 0);
+        self.merge_sweep(frags);
+        self.finish(frags, bg, size, covered, evals, steps)
+    }
+
+    /// The merge sweep in (tag, start) order: sets `comp` (first member of each
+    /// fragment's component) from `ranges`.
+    fn merge_sweep(&mut self, frags: &[Fragment]) {
+        let n = frags.len();
         let ranges = &self.ranges;
         self.by_range.clear();
         self.by_range
             .extend((0..n).map(|k| sweep_key(frags[k].tag, ranges[k].0, k)));
         self.by_range.sort_unstable();
-        self.comp.clear();
-        self.comp.resize(n, 0);
         let member = |key: u128| (key & ((1 << 48) - 1)) as usize;
         let mut k = 0;
         while k < n {
@@ -431,6 +448,21 @@ impl PixelScratch {
             }
             k = e;
         }
+    }
+
+    /// Groups, packing and resolve of [`PixelScratch::process`] once `picks` and `comp`
+    /// are set.
+    fn finish(
+        &mut self,
+        frags: &[Fragment],
+        bg: [u8; 3],
+        size: MaskSize,
+        covered: u64,
+        evals: u32,
+        steps: u32,
+    ) -> PixelSummary {
+        let n = frags.len();
+        let picks = &self.picks;
         // Groups in order of first member.
         let tie = |k: usize| {
             let prim = frags[k].prim as i64;
@@ -556,6 +588,34 @@ mod tests {
             });
         }
         out
+    }
+
+    /// The resolve's shift on power-of-two grids is the rounded division, on random
+    /// pixels of every grid kind (the division itself on the others).
+    #[test]
+    fn resolve_shift_is_the_division() {
+        let mut rng = Rng(0x0005_1f7d);
+        for (n, m) in [(4, 4), (8, 8), (2, 2), (3, 5), (8, 1)] {
+            let size = MaskSize::new(n, m).unwrap();
+            for _ in 0..3000 {
+                let frags = random_pixel(&mut rng, size);
+                let visible: Vec<u64> = frags
+                    .iter()
+                    .map(|f| f.mask & rng.next_u64() & size.full())
+                    .collect();
+                let free = rng.next_u64() & size.full();
+                let bg = [0; 3].map(|_| rng.next_u64() as u8);
+                let denom = (size.bits() as u64) << I_FRAC;
+                let mut sum = bg.map(|b| free.count_ones() as u64 * ((b as u64) << I_FRAC));
+                for (f, v) in frags.iter().zip(&visible) {
+                    for (s, &c) in sum.iter_mut().zip(&f.rgb_q12) {
+                        *s += v.count_ones() as u64 * c as u64;
+                    }
+                }
+                let want = sum.map(|s| ((2 * s + denom) / (2 * denom)).min(255) as u8);
+                assert_eq!(resolve_bits(&frags, &visible, free, bg, size), want);
+            }
+        }
     }
 
     /// The scratch path gives what the literal merge and pack of [`process_pixel`] give,
