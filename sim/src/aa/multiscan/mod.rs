@@ -361,6 +361,15 @@ impl ColourSteps {
     }
 }
 
+/// A colour clamped to the range a piece takes (`0..=COLOUR_MAX` per channel).
+#[inline]
+fn clamp_colour(mut c: [i64; 3]) -> [i64; 3] {
+    for v in &mut c {
+        *v = (*v).clamp(0, COLOUR_MAX);
+    }
+    c
+}
+
 /// Where a piece's colours come from.
 enum ColourSource<'a, 't> {
     /// The same colour for every part: the background, or a flat triangle's colour.
@@ -421,7 +430,11 @@ impl ColourRow {
     #[inline]
     fn at(&self, x: i64) -> [i64; 3] {
         let dx = x - self.x0;
-        [0, 1, 2].map(|ch| self.q[ch] + (self.r[ch] + self.s2[ch] * dx).div_euclid(self.d2[ch]))
+        let mut v = [0; 3];
+        for (ch, v) in v.iter_mut().enumerate() {
+            *v = self.q[ch] + (self.r[ch] + self.s2[ch] * dx).div_euclid(self.d2[ch]);
+        }
+        v
     }
 
     /// The values at `x`, `x + 2^16`, … (inside the interval it was set up for), stepped
@@ -463,7 +476,7 @@ impl ColourRun {
     /// The current values, clamped to the colour range; then moves one pixel on.
     #[inline]
     fn next(&mut self) -> [i64; 3] {
-        let v = self.q.map(|q| q.clamp(0, COLOUR_MAX));
+        let v = clamp_colour(self.q);
         for ch in 0..3 {
             self.q[ch] += self.dq[ch];
             self.r[ch] += self.dr[ch];
@@ -522,13 +535,9 @@ impl<'a, 't> PieceColour<'a, 't> {
                 let mut run = row.run(x0 + ONE16 / 2, step);
                 (0..count).for_each(|k| f(k, run.next()));
             }
-            ColourSource::Row(row, None) => (0..count).for_each(|k| {
-                f(
-                    k,
-                    row.at(x0 + k * ONE16 + ONE16 / 2)
-                        .map(|v| v.clamp(0, COLOUR_MAX)),
-                )
-            }),
+            ColourSource::Row(row, None) => {
+                (0..count).for_each(|k| f(k, clamp_colour(row.at(x0 + k * ONE16 + ONE16 / 2))))
+            }
             ColourSource::Wide(_) => {
                 for k in 0..count {
                     let p0 = x0 + k * ONE16;
@@ -544,7 +553,7 @@ impl<'a, 't> PieceColour<'a, 't> {
         let mid = (x0 + x1).div_euclid(2);
         let a = match self.src {
             ColourSource::Fixed(c) => return c,
-            ColourSource::Row(row, _) => return row.at(mid).map(|v| v.clamp(0, COLOUR_MAX)),
+            ColourSource::Row(row, _) => return clamp_colour(row.at(mid)),
             ColourSource::Wide(a) => a,
         };
         let clamp = |v: i128| (v as i64).clamp(0, COLOUR_MAX);
