@@ -205,6 +205,25 @@ impl RoundDivStep {
             neg,
         }
     }
+
+    /// A 64-bit stepper taking this step from quotient `q` and remainder `r`
+    /// (`0 ≤ r < 2d`, the units of [`RoundDivSteps`]), if the step fits 64 bits
+    /// (`d > 0`, `2d < 2^62`, so `r` plus the remainder step fits). The caller bounds how
+    /// far the quotient goes.
+    #[inline]
+    pub(crate) fn narrow_from(&self, q: i64, r: i64) -> Option<RoundDivSteps64> {
+        const LIM: i128 = 1 << 62;
+        debug_assert!(0 <= r as i128 && (r as i128) < self.den);
+        (!self.neg && self.den < LIM && self.dq.unsigned_abs() < LIM as u128).then_some(
+            RoundDivSteps64 {
+                q,
+                r,
+                dq: self.dq as i64,
+                dr: self.dr as i64,
+                den: self.den as i64,
+            },
+        )
+    }
 }
 
 /// The consumer of span scan conversion: one call per span word. For every pixel, the

@@ -73,7 +73,7 @@ use rayon::prelude::*;
 
 use super::{AaError, AaFrame, AaStats};
 use crate::raster::rows::Bands;
-use crate::raster::{floor_div_wide, PlaneStepper, RoundDivSteps, RoundDivSteps64};
+use crate::raster::{floor_div_wide, PlaneStepper, RoundDivStep, RoundDivSteps, RoundDivSteps64};
 use crate::setup::SnappedTri;
 
 mod filter;
@@ -375,8 +375,8 @@ enum ColourSource<'a, 't> {
     /// The same colour for every part: the background, or a flat triangle's colour.
     Fixed([i64; 3]),
     /// A shaded triangle whose colour planes on the line fit the 64-bit form, with the
-    /// triangle's 64-bit step by one pixel where it has one.
-    Row(&'a ColourRow, Option<&'t [(i64, i64); 3]>),
+    /// triangle's steps by one pixel.
+    Row(&'a ColourRow, &'t [RoundDivStep; 3]),
     /// A shaded triangle whose colour planes on the line do not fit 64 bits.
     Wide(&'a Active<'t>),
 }
@@ -437,55 +437,20 @@ impl ColourRow {
         v
     }
 
-    /// The values at `x`, `x + 2^16`, … (inside the interval it was set up for), stepped
-    /// with additions: `step` is `(⌊2s·2^16 / 2d⌋, 2s·2^16 mod 2d)` per channel
-    /// ([`MsTri::cstep64`](spans::MsTri)).
+    /// Steppers of the values at `x`, `x + 2^16`, … (inside the interval it was set up
+    /// for), from one division per channel: `steps` are the triangle's steps by one pixel
+    /// ([`MsTri::cstep`](spans::MsTri), `2s·2^16` over `2d`, the same numerator and
+    /// denominator as here). `None` where a step does not fit 64 bits. Every value stays
+    /// inside the interval, where [`ColourRow::new`] keeps the numerators below 2^62.
     #[inline]
-    fn run(&self, x: i64, step: &[(i64, i64); 3]) -> ColourRun {
+    fn run(&self, x: i64, steps: &[RoundDivStep; 3]) -> Option<[RoundDivSteps64; 3]> {
         let dx = x - self.x0;
-        let mut run = ColourRun {
-            q: [0; 3],
-            r: [0; 3],
-            dq: step.map(|s| s.0),
-            dr: step.map(|s| s.1),
-            d2: self.d2,
-        };
-        for ch in 0..3 {
+        let at = |ch: usize| {
             let n = self.r[ch] + self.s2[ch] * dx;
             let q = n.div_euclid(self.d2[ch]);
-            run.q[ch] = self.q[ch] + q;
-            run.r[ch] = n - q * self.d2[ch];
-        }
-        run
-    }
-}
-
-/// A [`ColourRow`] stepped one pixel (`2^16`) at a time: `q + ⌊r / d2⌋` with
-/// `0 ≤ r < d2`, the numerator growing by `dq·d2 + dr` per step (`0 ≤ dr < d2`). Every
-/// value stays inside the interval its row was set up for, where [`ColourRow::new`] keeps
-/// numerators below 2^62, so the sums `r + dr < 2·d2` fit.
-struct ColourRun {
-    q: [i64; 3],
-    r: [i64; 3],
-    dq: [i64; 3],
-    dr: [i64; 3],
-    d2: [i64; 3],
-}
-
-impl ColourRun {
-    /// The current values, clamped to the colour range; then moves one pixel on.
-    #[inline]
-    fn next(&mut self) -> [i64; 3] {
-        let v = clamp_colour(self.q);
-        for ch in 0..3 {
-            self.q[ch] += self.dq[ch];
-            self.r[ch] += self.dr[ch];
-            if self.r[ch] >= self.d2[ch] {
-                self.r[ch] -= self.d2[ch];
-                self.q[ch] += 1;
-            }
-        }
-        v
+            steps[ch].narrow_from(self.q[ch] + q, n - q * self.d2[ch])
+        };
+        Some([at(0)?, at(1)?, at(2)?])
     }
 }
 
@@ -505,7 +470,7 @@ impl<'a, 't> PieceColour<'a, 't> {
                 None => match crow[pc.slot]
                     .get_or_insert_with(|| ColourRow::new(&Self::planes(a, ynum), a.xl, a.xr))
                 {
-                    Some(row) => ColourSource::Row(row, a.t.cstep64.as_ref()),
+                    Some(row) => ColourSource::Row(row, &a.t.cstep),
                     None => ColourSource::Wide(a),
                 },
             },
@@ -531,13 +496,19 @@ impl<'a, 't> PieceColour<'a, 't> {
     fn whole(&mut self, x0: i64, count: i64, end: i64, mut f: impl FnMut(i64, [i64; 3])) {
         match self.src {
             ColourSource::Fixed(c) => (0..count).for_each(|k| f(k, c)),
-            ColourSource::Row(row, Some(step)) => {
-                let mut run = row.run(x0 + ONE16 / 2, step);
-                (0..count).for_each(|k| f(k, run.next()));
-            }
-            ColourSource::Row(row, None) => {
-                (0..count).for_each(|k| f(k, clamp_colour(row.at(x0 + k * ONE16 + ONE16 / 2))))
-            }
+            ColourSource::Row(row, steps) => match row.run(x0 + ONE16 / 2, steps) {
+                Some(mut st) => (0..count).for_each(|k| {
+                    let mut c = [0; 3];
+                    for (v, s) in c.iter_mut().zip(&mut st) {
+                        *v = s.value() as i64;
+                        s.advance();
+                    }
+                    f(k, clamp_colour(c))
+                }),
+                None => {
+                    (0..count).for_each(|k| f(k, clamp_colour(row.at(x0 + k * ONE16 + ONE16 / 2))))
+                }
+            },
             ColourSource::Wide(_) => {
                 for k in 0..count {
                     let p0 = x0 + k * ONE16;
@@ -848,16 +819,23 @@ mod tests {
         );
     }
 
-    /// A colour run from a triangle's 64-bit steps gives each whole pixel's colour as
+    /// The whole pixels' steppers of a colour row give each pixel's colour as
     /// [`ColourRow::at`] (so [`RowPlane::at`]) does.
     #[test]
     fn colour_run_steps_equal_the_row() {
+        let take = |st: &mut [RoundDivSteps64; 3]| {
+            let mut c = [0; 3];
+            for (v, s) in c.iter_mut().zip(st.iter_mut()) {
+                *v = s.value() as i64;
+                s.advance();
+            }
+            clamp_colour(c)
+        };
         let (w, h) = (64u32, 40u32);
         let tris = crate::rng::random_tris(0x0c01_0e55, 60, w, h);
         let mut runs = 0;
         for (k, t) in tris.iter().enumerate() {
             let Some(mt) = prepare(k, t, 8) else { continue };
-            let Some(step) = mt.cstep64 else { continue };
             for ynum in (mt.ylo / 256..=mt.yhi / 256).step_by(3) {
                 let Some((xl, xr)) = mt.interval(ynum, false) else {
                     continue;
@@ -868,19 +846,21 @@ mod tests {
                 };
                 // Whole pixels inside the interval, from the first boundary on.
                 let first = xl.div_euclid(ONE16) + 1;
-                let mut run = row.run(first * ONE16 + ONE16 / 2, &step);
+                let Some(mut st) = row.run(first * ONE16 + ONE16 / 2, &mt.cstep) else {
+                    continue;
+                };
                 let mut i = first;
                 while (i + 1) * ONE16 <= xr {
                     let mid = i * ONE16 + ONE16 / 2;
                     let want = planes.map(|p| p.at(mid, 0).clamp(0, COLOUR_MAX));
-                    assert_eq!(run.next(), want, "triangle {k}, line {ynum}, pixel {i}");
+                    assert_eq!(take(&mut st), want, "triangle {k}, line {ynum}, pixel {i}");
                     i += 1;
                     runs += 1;
                 }
             }
         }
         assert!(runs > 2000, "{runs} steps");
-        // Small denominators, where remainders meet the denominator exactly.
+        // Small denominators, where numerators meet a multiple of the denominator.
         let mut rng = crate::rng::Lcg64(0x5a11_d0e5);
         let mut exact = 0;
         for _ in 0..2000 {
@@ -895,17 +875,16 @@ mod tests {
             let Some(row) = ColourRow::new(&planes, x0, x1) else {
                 continue;
             };
-            let step = planes.map(|p| {
-                let (s2, d2) = (2 * p.s * ONE16 as i128, 2 * p.d);
-                let q = s2.div_euclid(d2);
-                (q as i64, (s2 - q * d2) as i64)
-            });
-            let mut run = row.run(x0 + ONE16 / 2, &step);
+            let steps = planes.map(|p| RoundDivStep::new(p.s * ONE16 as i128, p.d));
+            let mut st = row.run(x0 + ONE16 / 2, &steps).expect("small steps fit");
             for i in 0..39 {
                 let mid = x0 + i * ONE16 + ONE16 / 2;
                 let want = planes.map(|p| p.at(mid, 0).clamp(0, COLOUR_MAX));
-                exact += run.r.iter().filter(|&&r| r == 0).count();
-                assert_eq!(run.next(), want, "{planes:?} from {x0}, pixel {i}");
+                exact += planes
+                    .iter()
+                    .filter(|p| (2 * (p.k + p.s * mid as i128) + p.d) % (2 * p.d) == 0)
+                    .count();
+                assert_eq!(take(&mut st), want, "{planes:?} from {x0}, pixel {i}");
             }
         }
         assert!(exact > 1000, "{exact} exact quotients");

@@ -123,10 +123,6 @@ pub(super) struct MsTri {
     /// Per colour plane, its step by one pixel (`s·2^16 / d`, the same on every
     /// sub-scanline), prepared once for stepping colours along a piece.
     pub(super) cstep: [RoundDivStep; 3],
-    /// The same steps in the form of [`super::ColourRow`] (`2s·2^16` over `2d`, as
-    /// `(quotient, remainder)` per channel) where they fit in 64 bits (`d > 0`, as
-    /// `ColourRow` needs).
-    pub(super) cstep64: Option<[(i64, i64); 3]>,
 }
 
 pub(super) fn prepare(k: usize, t: &SnappedTri, yden: i64) -> Option<MsTri> {
@@ -170,19 +166,6 @@ pub(super) fn prepare(k: usize, t: &SnappedTri, yden: i64) -> Option<MsTri> {
         .all(|p| p.nx == 0 && p.ny == 0)
         .then(|| c.map(|p| (p.v0 as i64).clamp(0, COLOUR_MAX)));
     let cstep = [1, 2, 3].map(|k| RoundDivStep::new(rows[k].s * ONE16 as i128, rows[k].d));
-    let step64 = |k: usize| -> Option<(i64, i64)> {
-        const LIM: i128 = 1 << 62;
-        let (s2, d2) = (2 * rows[k].s * ONE16 as i128, 2 * rows[k].d);
-        if d2 <= 0 || d2 >= LIM || s2.abs() >= LIM {
-            return None;
-        }
-        let q = s2.div_euclid(d2);
-        Some((q as i64, (s2 - q * d2) as i64))
-    };
-    let cstep64 = match [step64(1), step64(2), step64(3)] {
-        [Some(r), Some(g), Some(b)] => Some([r, g, b]),
-        _ => None,
-    };
     Some(MsTri {
         idx: k as i32,
         ymin,
@@ -195,7 +178,6 @@ pub(super) fn prepare(k: usize, t: &SnappedTri, yden: i64) -> Option<MsTri> {
         decal: t.host.is_some(),
         flat,
         cstep,
-        cstep64,
     })
 }
 
