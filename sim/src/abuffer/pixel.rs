@@ -389,17 +389,14 @@ impl PixelScratch {
             };
         }
         self.picks.clear();
-        let (mut evals, mut steps, mut decal) = (0, 0, false);
+        let (mut evals, mut steps) = (0, 0);
         for f in frags {
             let p = sel.select(variant, f.mask, &f.plane, interpenetrating);
             evals += p.evals;
             steps += p.steps;
-            decal |= f.decal;
             self.picks.push(p);
         }
-        if decal {
-            coplanar_common_depth(frags, &mut self.picks);
-        }
+        coplanar_common_depth(frags, &mut self.picks);
         let picks = &self.picks;
         // Merge: components of overlapping same-tag ranges, by a sweep in (tag, start)
         // order; a group's range is the union of its members' (they overlap), so two
