@@ -1,8 +1,11 @@
 //! The filters of multi-scanning (seed 002, Nishita & Nakamae, §2.2.1 box and §2.2.2
 //! axisymmetric Gaussian and cone): integer weight tables integrated per sub-scanline,
-//! and the per-pixel accumulator that sums weighted colours and per-triangle weights.
+//! the per-pixel accumulator that sums weighted colours and per-triangle weights, and the
+//! adding of one sub-scanline's visible pieces to it under each filter.
 
-use super::{Filter, GAUSS_SIGMA};
+use super::colour::{ColourRow, PieceColour};
+use super::walk::{Active, Piece};
+use super::{Filter, GAUSS_SIGMA, ONE16};
 use smallvec::SmallVec;
 
 /// Integer filter tables: `f[m][k]` for `m = 0..=n`, `k = 0..=64`, and the total weight
@@ -141,4 +144,91 @@ pub(super) fn dominant(w: &Weights) -> i32 {
     w.iter()
         .min_by_key(|e| (std::cmp::Reverse(e.1), e.0))
         .map_or(-1, |e| e.0)
+}
+
+/// Box filter: adds each piece, split at pixel boundaries, with line weight `wl`, to the
+/// pixel row `acc`.
+pub(super) fn accumulate_box(
+    mut acc: PixRow,
+    pieces: &[Piece],
+    act: &[Active],
+    crow: &mut [Option<Option<ColourRow>>],
+    ynum: i64,
+    wl: i64,
+    bgc: [i64; 3],
+) {
+    for pc in pieces {
+        let mut pcol = PieceColour::new(act, crow, pc, ynum, bgc);
+        let (x0, x1, tri) = (pc.x0, pc.x1, pc.tri);
+        // A part in the first pixel unless it is whole, the whole pixels, a part in the
+        // last pixel.
+        let i0 = x0.div_euclid(ONE16);
+        let mut first = i0;
+        if x0 != i0 * ONE16 || x1 < (i0 + 1) * ONE16 {
+            let b0 = x1.min((i0 + 1) * ONE16);
+            acc.add(i0 as usize, wl * (b0 - x0), pcol.at(x0, b0, x1), tri);
+            if b0 == x1 {
+                continue;
+            }
+            first = i0 + 1;
+        }
+        let i1 = x1.div_euclid(ONE16);
+        pcol.whole(first * ONE16, i1 - first, x1, |k, col| {
+            acc.add((first + k) as usize, wl * ONE16, col, tri)
+        });
+        let b1 = i1 * ONE16;
+        if b1 < x1 {
+            acc.add(i1 as usize, wl * (x1 - b1), pcol.at(b1, x1, x1), tri);
+        }
+    }
+}
+
+/// Axisymmetric filter: adds each piece, split at pixel centres (square R_i spans centres
+/// i .. i+1), to the two pixels of its square with the table weights `fm`. `acc` is the
+/// pixel row.
+pub(super) fn accumulate_filtered(
+    mut acc: PixRow,
+    pieces: &[Piece],
+    act: &[Active],
+    crow: &mut [Option<Option<ColourRow>>],
+    (ynum, fm): (i64, &[i64; 65]),
+    bgc: [i64; 3],
+) {
+    for pc in pieces {
+        let mut pcol = PieceColour::new(act, crow, pc, ynum, bgc);
+        let mut x0 = pc.x0;
+        while x0 < pc.x1 {
+            let i = (x0 - ONE16 / 2).div_euclid(ONE16);
+            let cx = i * ONE16 + ONE16 / 2;
+            let x1 = pc.x1.min(cx + ONE16);
+            let col = pcol.at(x0, x1, pc.x1);
+            let q = |x: i64| ((x - cx + 512) >> 10).clamp(0, 64) as usize;
+            let (k1, k2) = (q(x0), q(x1));
+            if i >= 0 {
+                acc.add(i as usize, fm[k2] - fm[k1], col, pc.tri);
+            }
+            if i + 1 < acc.len() as i64 {
+                acc.add((i + 1) as usize, fm[64 - k1] - fm[64 - k2], col, pc.tri);
+            }
+            x0 = x1;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tables_are_monotone_and_total_near_2_24() {
+        for f in [Filter::Gauss, Filter::Cone] {
+            for n in [1, 3, 8] {
+                let t = tables(f, n);
+                for row in &t.f {
+                    assert!(row.windows(2).all(|w| w[1] >= w[0]));
+                }
+                assert!((t.total - (1 << 24)).abs() < 64, "{f:?} {n}: {}", t.total);
+            }
+        }
+    }
 }
