@@ -610,14 +610,12 @@ mod tests {
     /// family, corner and size, with random planes.
     #[test]
     fn full_mask_picks_are_the_searches() {
-        let mut x = 0x00f0_11ca_c4e5u64;
+        let mut rng = crate::rng::XorShift64Star(0x00f0_11ca_c4e5);
         for (n, m) in [(4, 4), (8, 8), (3, 5), (2, 2), (8, 1), (1, 1)] {
             let size = MaskSize::new(n, m).unwrap();
             let sel = DepthSelector::new(size);
             for _ in 0..4000 {
-                x ^= x << 13;
-                x ^= x >> 7;
-                x ^= x << 17;
+                let x = rng.next_u64();
                 let p = FragPlane {
                     zc: (x % 1_000_000) as i64 - 500_000,
                     sx: (x >> 20) as i64 % 4000 - 2000,
@@ -649,7 +647,7 @@ mod tests {
     /// corner) and on random masks of other sizes.
     #[test]
     fn first_hit_is_the_units_run() {
-        let mut x = 0x0f17_57a1_c0de_5eedu64;
+        let mut rng = crate::rng::XorShift64Star(0x0f17_57a1_c0de_5eed);
         for (n, m) in [(4, 4), (8, 8), (3, 5), (2, 2), (8, 1)] {
             let size = MaskSize::new(n, m).unwrap();
             for &family in &SLOPE_FAMILIES {
@@ -663,9 +661,7 @@ mod tests {
                         (0..=size.full()).for_each(&mut check);
                     } else {
                         for _ in 0..20_000 {
-                            x ^= x << 13;
-                            x ^= x >> 7;
-                            x ^= x << 17;
+                            let x = rng.next_u64();
                             // Sparse masks too (long searches), and bits past the grid.
                             check(x & (x >> 17) & (x >> 31));
                             check(x);
