@@ -43,6 +43,19 @@ impl ColourSteps {
     }
 }
 
+/// Hands the colours of `count` whole pixels, stepped from `st`, to `f(k, colour)`.
+#[inline]
+fn run<S: PlaneStepper>(st: &mut [S; 3], count: i64, mut f: impl FnMut(i64, [i64; 3])) {
+    for k in 0..count {
+        let mut c = [0; 3];
+        for (v, s) in c.iter_mut().zip(st.iter_mut()) {
+            *v = s.value() as i64;
+            s.advance();
+        }
+        f(k, clamp_colour(c));
+    }
+}
+
 /// A colour clamped to the range a piece takes (`0..=COLOUR_MAX` per channel).
 #[inline]
 fn clamp_colour(mut c: [i64; 3]) -> [i64; 3] {
@@ -172,35 +185,31 @@ impl<'a, 't> PieceColour<'a, 't> {
     }
 
     /// The colours of `count` whole pixels from `x0` on (parts `[x0 + k·2^16,
-    /// x0 + (k + 1)·2^16)`, `k = 0..count`), handed to `f(k, colour)`; `end` is the piece's
-    /// end. The same values as [`PieceColour::at`] gives each part.
+    /// x0 + (k + 1)·2^16)`, `k = 0..count`), handed to `f(k, colour)`. The same values as
+    /// [`PieceColour::at`] gives each part.
     #[inline]
-    pub(super) fn whole(
-        &mut self,
-        x0: i64,
-        count: i64,
-        end: i64,
-        mut f: impl FnMut(i64, [i64; 3]),
-    ) {
+    pub(super) fn whole(&mut self, x0: i64, count: i64, mut f: impl FnMut(i64, [i64; 3])) {
         match self.src {
             ColourSource::Fixed(c) => (0..count).for_each(|k| f(k, c)),
             ColourSource::Row(row, steps) => match row.run(x0 + ONE16 / 2, steps) {
-                Some(mut st) => (0..count).for_each(|k| {
-                    let mut c = [0; 3];
-                    for (v, s) in c.iter_mut().zip(&mut st) {
-                        *v = s.value() as i64;
-                        s.advance();
-                    }
-                    f(k, clamp_colour(c))
-                }),
+                Some(mut st) => run(&mut st, count, f),
                 None => {
                     (0..count).for_each(|k| f(k, clamp_colour(row.at(x0 + k * ONE16 + ONE16 / 2))))
                 }
             },
-            ColourSource::Wide(_) => {
-                for k in 0..count {
-                    let p0 = x0 + k * ONE16;
-                    f(k, self.at(p0, p0 + ONE16, end));
+            ColourSource::Wide(a) => {
+                if count <= 0 {
+                    return;
+                }
+                // Steppers at the first middle, set up once for the run (one wide division
+                // per channel), in 64 bits where the run's `count − 1` steps stay inside.
+                let mid = x0 + ONE16 / 2;
+                let c = Self::planes(a, self.ynum);
+                let st = [0, 1, 2]
+                    .map(|k| RoundDivSteps::start(c[k].k + c[k].s * mid as i128, &a.t.cstep[k]));
+                match st.map(|s| s.narrow(count as u64)) {
+                    [Some(r), Some(g), Some(b)] => run(&mut [r, g, b], count, f),
+                    _ => run(&mut { st }, count, f),
                 }
             }
         }

@@ -173,7 +173,7 @@ pub(super) fn accumulate_box(
             first = i0 + 1;
         }
         let i1 = x1.div_euclid(ONE16);
-        pcol.whole(first * ONE16, i1 - first, x1, |k, col| {
+        pcol.whole(first * ONE16, i1 - first, |k, col| {
             acc.add((first + k) as usize, wl * ONE16, col, tri)
         });
         let b1 = i1 * ONE16;
