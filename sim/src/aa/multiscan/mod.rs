@@ -81,7 +81,7 @@ mod spans;
 mod walk;
 use colour::ColourRow;
 use filter::{accumulate_box, accumulate_filtered, dominant, tables, PixMem, Tables};
-use spans::{prepare, MsTri};
+use spans::{prepare, Cand, MsTri};
 use walk::{walk, Active, Piece, WalkScratch};
 
 /// Q.16 pixel unit.
@@ -153,7 +153,7 @@ impl<'a> MsFrame<'a> {
     /// order, into `act`.
     fn hits(
         &self,
-        cand: &[&'a MsTri],
+        cand: &[Cand<'a>],
         ynum: i64,
         from_above: bool,
         act: &mut Vec<Active<'a>>,
@@ -161,11 +161,13 @@ impl<'a> MsFrame<'a> {
     ) {
         act.clear();
         crow.clear();
-        act.extend(cand.iter().filter_map(|&t| {
-            let (xl, xr) = t.interval(ynum, from_above)?;
+        act.extend(cand.iter().filter_map(|c| {
+            let (xl, xr) = c.interval(ynum, from_above)?;
             Some(Active {
-                t,
-                z: t.rows[0].row(ynum),
+                t: c.t,
+                idx: c.t.idx,
+                decal: c.t.decal,
+                z: c.z.row(ynum),
                 xl,
                 xr,
             })
@@ -208,7 +210,8 @@ impl<'a> MsFrame<'a> {
                 .members(b)
                 .iter()
                 .map(|&k| &self.mt[k as usize])
-                .filter(|t| t.ymax >= ylo && t.ymin <= yhi),
+                .filter(|t| t.ymax >= ylo && t.ymin <= yhi)
+                .map(Cand::new),
         );
         let (xa, xb) = match p.filter {
             Filter::Box => (0, width as i64 * ONE16),
@@ -246,7 +249,7 @@ impl<'a> MsFrame<'a> {
                         npieces += pieces.len() as u64;
                         let r = row(ja);
                         accumulate_box(acc.row(r), pieces, act, crow, ynum, 1, self.bgc);
-                        if above && !cand.iter().any(|t| t.sides_differ(ynum)) {
+                        if above && !cand.iter().any(|c| c.sides_differ(ynum)) {
                             // Both sides see the same spans: the same pieces.
                             let r = row(ja - 1);
                             accumulate_box(acc.row(r), pieces, act, crow, ynum, 1, self.bgc);
@@ -322,8 +325,8 @@ struct BandScratch<'a> {
     walk: WalkScratch,
     /// The triangles hit by the current sub-scanline.
     act: Vec<Active<'a>>,
-    /// The band's candidate triangles.
-    cand: Vec<&'a MsTri>,
+    /// The band's candidate triangles, packed for the hit tests.
+    cand: Vec<Cand<'a>>,
     /// Per triangle of `act`, its colour planes on the line in 64-bit form, once set up
     /// (`Some(None)`: they do not fit).
     crow: Vec<Option<Option<ColourRow>>>,

@@ -102,24 +102,29 @@ pub(super) struct MsEdge {
     pub(super) d: i128,
 }
 
+/// A triangle set up for multi-scanning. The fields every sub-scanline reads for every
+/// candidate (its y extent and edges, then its index and decal flag) come first and in
+/// this order (`repr(C)`), so that testing a candidate touches the start of the struct
+/// only; the planes, read for the triangles that are hit, follow.
 #[derive(Clone, Debug)]
+#[repr(C)]
 pub(super) struct MsTri {
-    pub(super) idx: i32,
-    pub(super) ymin: i64,
-    pub(super) ymax: i64,
     /// `ymin`, `ymax` times `yden`.
     pub(super) ylo: i64,
     pub(super) yhi: i64,
     /// The non-horizontal edges, `ne` of them.
-    pub(super) edges: [MsEdge; 3],
     pub(super) ne: usize,
-    /// Depth (the host face's plane for a decal) and colour planes on the sub-scanlines
-    /// of the frame's denominator.
-    pub(super) rows: [RowPlanes; 4],
+    pub(super) idx: i32,
     pub(super) decal: bool,
+    pub(super) edges: [MsEdge; 3],
     /// Flat colour (every colour plane constant: each [`RowPlane::at`] is exactly the
     /// plane's `v0`), clamped as the walk's colours are; `None` for a shaded triangle.
     pub(super) flat: Option<[i64; 3]>,
+    pub(super) ymin: i64,
+    pub(super) ymax: i64,
+    /// Depth (the host face's plane for a decal) and colour planes on the sub-scanlines
+    /// of the frame's denominator.
+    pub(super) rows: [RowPlanes; 4],
     /// Per colour plane, its step by one pixel (`s·2^16 / d`, the same on every
     /// sub-scanline), prepared once for stepping colours along a piece.
     pub(super) cstep: [RoundDivStep; 3],
@@ -210,7 +215,112 @@ impl MsTri {
     }
 
     /// Does the sub-scanline `y = ynum/yden` see a different interval from above than
-    /// from below (a horizontal edge of the triangle lies on it)?
+    /// from below (a horizontal edge of the triangle lies on it)? (The renderer asks
+    /// [`Cand::sides_differ`]; this is its reference.)
+    #[cfg(test)]
+    pub(super) fn sides_differ(&self, ynum: i64) -> bool {
+        let y = 256 * ynum;
+        (self.ylo == y || self.yhi == y)
+            && (self.interval(ynum, true).is_some() || self.interval(ynum, false).is_some())
+    }
+}
+
+/// A non-horizontal edge in 64-bit form, normalised to a positive denominator: on
+/// `y = ynum/yden` it is at `x16 = ⌊(2(a + b·ynum) + d) / 2d⌋`, the value
+/// [`MsTri::interval`] rounds from [`MsEdge`].
+#[derive(Clone, Copy, Debug, Default)]
+struct Edge64 {
+    ya: i64,
+    yb: i64,
+    a: i64,
+    b: i64,
+    d: i64,
+}
+
+/// A band's candidate triangle: the fields every sub-scanline's hit test reads, packed
+/// together and stored contiguously for the band (the full [`MsTri`] is read only for
+/// the triangles a sub-scanline hits, and then only for their colour).
+pub(super) struct Cand<'a> {
+    pub(super) t: &'a MsTri,
+    ylo: i64,
+    yhi: i64,
+    /// Edges in 64-bit form, `ne` of them; `ne = 0` with `wide` when one does not fit.
+    edges: [Edge64; 3],
+    ne: u8,
+    wide: bool,
+    /// The depth plane's rows (a copy of `t.rows[0]`).
+    pub(super) z: RowPlanes,
+}
+
+impl<'a> Cand<'a> {
+    pub(super) fn new(t: &'a MsTri) -> Cand<'a> {
+        // Every intermediate of the 64-bit rounding must stay inside `i64` for the
+        // sub-scanlines the edge spans (`|ynum| ≤ max(|ya|, |yb|) / 256`).
+        const LIM: i128 = 1 << 60;
+        let narrow = |e: &MsEdge| -> Option<Edge64> {
+            let (a, b, d) = if e.d < 0 {
+                (-e.a, -e.b, -e.d)
+            } else {
+                (e.a, e.b, e.d)
+            };
+            let yn = (e.ya.unsigned_abs().max(e.yb.unsigned_abs()) / 256 + 1) as i128;
+            let reach = a.abs().checked_add(b.abs().checked_mul(yn)?)?;
+            (reach < LIM && d < LIM).then_some(Edge64 {
+                ya: e.ya,
+                yb: e.yb,
+                a: a as i64,
+                b: b as i64,
+                d: d as i64,
+            })
+        };
+        let mut edges = [Edge64::default(); 3];
+        let mut wide = false;
+        for (o, e) in edges.iter_mut().zip(&t.edges[..t.ne]) {
+            match narrow(e) {
+                Some(n) => *o = n,
+                None => wide = true,
+            }
+        }
+        Cand {
+            t,
+            ylo: t.ylo,
+            yhi: t.yhi,
+            edges,
+            ne: if wide { 0 } else { t.ne as u8 },
+            wide,
+            z: t.rows[0],
+        }
+    }
+
+    /// [`MsTri::interval`] of the triangle.
+    #[inline]
+    pub(super) fn interval(&self, ynum: i64, from_above: bool) -> Option<(i64, i64)> {
+        if self.wide {
+            return self.t.interval(ynum, from_above);
+        }
+        let y = 256 * ynum;
+        let hit = if from_above {
+            self.ylo < y && y <= self.yhi
+        } else {
+            self.ylo <= y && y < self.yhi
+        };
+        if !hit {
+            return None;
+        }
+        let (mut lo, mut hi) = (i64::MAX, i64::MIN);
+        for e in &self.edges[..self.ne as usize] {
+            if y < e.ya || y > e.yb {
+                continue;
+            }
+            let x = (2 * (e.a + e.b * ynum) + e.d).div_euclid(2 * e.d);
+            lo = lo.min(x);
+            hi = hi.max(x);
+        }
+        (lo < hi).then_some((lo, hi))
+    }
+
+    /// [`MsTri::sides_differ`] of the triangle.
+    #[inline]
     pub(super) fn sides_differ(&self, ynum: i64) -> bool {
         let y = 256 * ynum;
         (self.ylo == y || self.yhi == y)
@@ -253,5 +363,72 @@ mod tests {
                 assert_eq!(p.at(x, frac), want, "{p:?} at {x}, frac {frac}");
             }
         }
+    }
+
+    /// A candidate's 64-bit hit test gives the triangle's intervals on every sub-scanline
+    /// it spans, from above and from below, for on-screen triangles and for triangles far
+    /// outside the screen (whose edges take the 128-bit path).
+    #[test]
+    fn candidate_intervals_equal_the_triangles() {
+        let (w, h) = (300u32, 200u32);
+        let mut tris = crate::rng::random_tris(0x0ca0_d1da, 300, w, h);
+        let far = crate::rng::random_tris(0x0fa2_0ff5, 100, w, h);
+        let far_at = |t: &SnappedTri, s: i32| {
+            let mut t = *t;
+            for p in &mut t.v {
+                p[0] = p[0].saturating_mul(s);
+                p[1] = p[1].saturating_mul(s / 2);
+            }
+            t
+        };
+        tris.extend(far.iter().map(|t| far_at(t, 1 << 14)));
+        tris.extend(far.iter().map(|t| far_at(t, 1 << 6)));
+        // Edges 128 px tall from a pixel row: on the sub-scanlines of 8 and 32 per pixel
+        // some meet them exactly half-way between two Q.16 positions, where the rounding
+        // direction decides.
+        let mut rng = crate::rng::Lcg64(0x71e5_0f0a);
+        tris.extend((0..100).map(|_| {
+            let mut r = |m: u64| (rng.step() % m) as i32;
+            let (px, py) = (r(150 * 256), 256 * r(60));
+            let mut t = far[0];
+            t.v = [
+                [px, py],
+                [px + 1 + 2 * r(2000), py + 32768],
+                [px - 1 - r(9000), py + r(32768)],
+            ];
+            t
+        }));
+        let (mut hits, mut wide, mut ties) = (0, 0, 0);
+        for yden in [2i64, 8, 32] {
+            for (k, t) in tris.iter().enumerate() {
+                let Some(mt) = prepare(k, t, yden) else {
+                    continue;
+                };
+                let c = Cand::new(&mt);
+                wide += c.wide as usize;
+                let (lo, hi) = (mt.ylo / 256 - 1, mt.yhi / 256 + 1);
+                let step = ((hi - lo) / 4000).max(1) as usize;
+                for ynum in (lo..=hi).step_by(step).chain([mt.ylo / 256, mt.yhi / 256]) {
+                    ties += mt.edges[..mt.ne]
+                        .iter()
+                        .filter(|e| {
+                            let y = 256 * ynum;
+                            let n = 2 * (e.a + e.b * ynum as i128) + e.d;
+                            e.ya <= y && y <= e.yb && n % (2 * e.d) == 0
+                        })
+                        .count();
+                    for above in [false, true] {
+                        let want = mt.interval(ynum, above);
+                        hits += want.is_some() as usize;
+                        assert_eq!(c.interval(ynum, above), want, "triangle {k}, {ynum}/{yden}");
+                    }
+                    assert_eq!(c.sides_differ(ynum), mt.sides_differ(ynum));
+                }
+            }
+        }
+        assert!(
+            hits > 10_000 && wide > 50 && ties > 500,
+            "{hits} hits, {wide} wide candidates, {ties} ties"
+        );
     }
 }

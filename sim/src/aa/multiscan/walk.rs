@@ -21,16 +21,20 @@ pub(super) struct Piece {
     pub(super) slot: usize,
 }
 
-/// A triangle hit by the sub-scanline: its depth plane on the line and its interval.
+/// A triangle hit by the sub-scanline: its depth plane on the line and its interval, and
+/// its index and decal flag (copies of the triangle's, which the walk reads at every
+/// crossing).
 pub(super) struct Active<'a> {
     pub(super) t: &'a MsTri,
+    pub(super) idx: i32,
+    pub(super) decal: bool,
     pub(super) z: RowPlane,
     pub(super) xl: i64,
     pub(super) xr: i64,
 }
 
 /// `a` in front of `b` at equal depth (the renderer's depth-test order).
-pub(super) fn tie_front(a: &MsTri, b: &MsTri) -> bool {
+pub(super) fn tie_front(a: &Active, b: &Active) -> bool {
     depth::tie_front((a.decal, a.idx as i64), (b.decal, b.idx as i64))
 }
 
@@ -52,7 +56,7 @@ pub(super) fn walk(
         act.len(),
         xb - xa
     );
-    debug_assert!(act.windows(2).all(|w| w[0].t.idx < w[1].t.idx));
+    debug_assert!(act.windows(2).all(|w| w[0].idx < w[1].idx));
     out.clear();
     let WalkScratch {
         ev,
@@ -81,7 +85,7 @@ pub(super) fn walk(
             zrange[s] = (z0.min(z1), z0.max(z1));
             zcache[s] = [(x1, z1), (x0, z0)];
         }
-        let d = a.t.decal as u64;
+        let d = a.decal as u64;
         // Key, most significant first: x, right (0) before left (1); rights: decal
         // first; lefts: face first; then the triangle, which is the slot's order (the
         // active list is in input order), so the slot stands for both (keys distinct).
@@ -156,7 +160,7 @@ pub(super) fn emit(out: &mut Vec<Piece>, act: &[Active], x0: i64, x1: i64, cur: 
         out.push(Piece {
             x0,
             x1,
-            tri: cur.map_or(-1, |s| act[s].t.idx),
+            tri: cur.map_or(-1, |s| act[s].idx),
             slot: cur.unwrap_or(usize::MAX),
         });
     }
@@ -224,7 +228,7 @@ impl Walker<'_, '_, '_> {
         if sp != sq {
             return sp < sq;
         }
-        tie_front(act[p].t, act[q].t)
+        tie_front(&act[p], &act[q])
     }
 
     /// The first x in `(x, ex]` where a polygon of `next` is in front of the current one
