@@ -43,23 +43,28 @@ impl ExactPlane {
 }
 
 /// Per-triangle fragment setup: edges for the masks, planes for depth and colour.
+///
+/// In the order each row reads them (`repr(C)`): the edges, which every row tests for
+/// every triangle of its band, first; then what every fragment copies; then the depth
+/// plane and the steps; the colour planes, which only shaded triangles read, last.
 #[derive(Clone, Debug)]
+#[repr(C)]
 pub struct FragSetup {
     /// The triangle's edges.
     pub edges: MaskEdges,
-    z: ExactPlane,
-    sx: i64,
-    sy: i64,
-    c: [ExactPlane; 3],
-    /// Steps per pixel along a row of the depth plane (Q.12) and the colour planes: the
-    /// same on every row, prepared once.
-    steps: [RoundDivStep; 4],
-    /// A flat triangle's colour (every colour plane constant: its value is the plane's
-    /// `v0` exactly, `round(v0·area2 / area2)`), else `None`.
-    flat: Option<[i128; 3]>,
     tag: u16,
     decal: bool,
     prim: u32,
+    sx: i64,
+    sy: i64,
+    /// A flat triangle's colour (every colour plane constant: its value is the plane's
+    /// `v0` exactly, `round(v0·area2 / area2)`), else `None`.
+    flat: Option<[i128; 3]>,
+    z: ExactPlane,
+    /// Steps per pixel along a row of the depth plane (Q.12) and the colour planes: the
+    /// same on every row, prepared once.
+    steps: [RoundDivStep; 4],
+    c: [ExactPlane; 3],
 }
 
 impl FragSetup {
