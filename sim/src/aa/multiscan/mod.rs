@@ -304,9 +304,16 @@ impl<'a> MsFrame<'a> {
             None => 2 * p.subscanlines as u64 * ONE16 as u64 * 4096,
             Some(t) => t.total as u64 * 4096,
         };
+        // A shift where the divisor is a power of two (the box filter with n a power of
+        // two), the same quotient.
+        let shift = div.is_power_of_two().then(|| div.trailing_zeros());
         for (a, px) in acc.c.iter().zip(rgb.chunks_mut(3)) {
             for (o, &c) in px.iter_mut().zip(a) {
-                *o = (c / div).min(255) as u8;
+                let q = match shift {
+                    Some(k) => c >> k,
+                    None => c / div,
+                };
+                *o = q.min(255) as u8;
             }
         }
         for (a, v) in acc.w.iter().zip(vis.iter_mut()) {
