@@ -4,10 +4,10 @@
 //
 // Same ports and behaviour as the generic module the exported core carries (the last
 // module of pixelproc_top.v): the word at `read_address` before edge E is on `read_data`
-// after edge E + 1. Exception: a read of a word written at the same edge; Lattice does not
-// define what port B reads when port A writes the same word in the same clock (the generic
-// module returns the old value). The core writes the table with TABLE beats, before the
-// frames that read it.
+// after edge E + 1. Exception: a read of a word written at the same edge (port A writing
+// the word port B reads in the same clock), treated here as undefined; the generic module
+// returns the old value. The core writes the table with TABLE beats, before the frames
+// that read it.
 //
 // Read by synth/flow_ecp5.sh (and the other ECP5 scripts) after the export, with
 // `read_verilog -overwrite`, in place of the generic definition. Yosys's ECP5 library

@@ -1,8 +1,8 @@
 // Behavioural model of the subset of the Lattice ECP5 DP16KD block RAM that
 // synth/ecp5/pixelproc_bank_ram.v uses, for simulation only (Icarus Verilog). Written for
-// this project from Lattice's documentation of the ECP5 sysMEM block RAM (FPGA-TN-02204,
-// ECP5 and ECP5-5G Memory Usage Guide); it is not Lattice's simulation model and was not
-// compared with it or with hardware. Neither Yosys's ECP5 cell library nor the PyPI
+// this project from Lattice's documentation of the ECP5 sysMEM block RAM (ECP5 and
+// ECP5-5G Memory Usage Guide); it is not Lattice's simulation model and was not compared
+// with it or with hardware. Neither Yosys's ECP5 cell library nor the PyPI
 // build's has a simulation model of DP16KD (they declare its ports and parameters only).
 //
 // Modelled:
@@ -21,9 +21,9 @@
 // - contents and output registers start at zero (no INITVAL_* parameters: they are not
 //   declared, so setting one is an error);
 // - one port reading a word the other port writes at the same time (both clocks rising
-//   together): the read gives X (the documentation does not define it).
-// Anything else (other widths, CLK/CE/WE/RST inversion muxes, RESETMODE "ASYNC") stops the
-// simulation at time 0.
+//   together): the read gives X (treated as undefined, not relied on).
+// Other widths, REGMODE, WRITEMODE or RESETMODE values stop the simulation at time 0;
+// parameters not declared here (the *MUX inversion settings, INITVAL_*) do not compile.
 module DP16KD(
     DIA17, DIA16, DIA15, DIA14, DIA13, DIA12, DIA11, DIA10, DIA9, DIA8, DIA7, DIA6, DIA5, DIA4, DIA3, DIA2, DIA1, DIA0,
     ADA13, ADA12, ADA11, ADA10, ADA9, ADA8, ADA7, ADA6, ADA5, ADA4, ADA3, ADA2, ADA1, ADA0,
