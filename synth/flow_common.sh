@@ -31,9 +31,14 @@ check_export() {
     || { echo "the exported Verilog fails Yosys's check -assert: $out/check.log" >&2; grep -E "ERROR|Warning" "$out/check.log" | head -5 >&2; exit 1; }
 }
 
-# synth_ecp5_core OUT: Yosys synth_ecp5 of OUT/v/pixelproc_top.v into OUT/top.json.
+# The ECP5 definition of the shading table's bank (one DP16KD with its output register),
+# read over the generic one at the end of the export (`read_verilog -overwrite`).
+ECP5_CELLS=synth/ecp5/pixelproc_bank_ram.v
+
+# synth_ecp5_core OUT: Yosys synth_ecp5 of OUT/v/pixelproc_top.v (with $ECP5_CELLS) into
+# OUT/top.json.
 synth_ecp5_core() {
-  $YOSYS -p "read_verilog $1/v/pixelproc_top.v; synth_ecp5 -top pixelproc_top -json $1/top.json; stat" > "$1/synth.log" 2>&1 \
+  $YOSYS -p "read_verilog $1/v/pixelproc_top.v; read_verilog -overwrite $ECP5_CELLS; synth_ecp5 -top pixelproc_top -json $1/top.json; stat" > "$1/synth.log" 2>&1 \
     || { echo "Yosys synthesis failed: $1/synth.log" >&2; grep -E "ERROR" "$1/synth.log" | head -5 >&2; exit 1; }
 }
 

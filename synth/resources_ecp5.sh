@@ -21,14 +21,14 @@ for W in "$@"; do
   OUT=target/flow/res_${CFG}_n$W
   mkdir -p "$OUT"
   export_core "$OUT" "$W" "$CFG"
-  h=$(sha256sum "$OUT/v/pixelproc_top.v" | cut -c1-16)
+  h=$(cat "$OUT/v/pixelproc_top.v" "$ECP5_CELLS" | sha256sum | cut -c1-16)
   if [ -f "$OUT/stat.txt" ] && [ "$(cat "$OUT/hash" 2>/dev/null)" = "$h" ]; then
     echo "N = $W ($CFG): up to date"
   else
     rm -f "$OUT/stat.txt" "$OUT/hash"
     t0=$(now)
     check_export "$OUT" pixelproc_top "$OUT/v/pixelproc_top.v"
-    $YOSYS -p "read_verilog $OUT/v/pixelproc_top.v; synth_ecp5 -top pixelproc_top; tee -o $OUT/stat.txt stat" > "$OUT/synth.log" 2>&1
+    $YOSYS -p "read_verilog $OUT/v/pixelproc_top.v; read_verilog -overwrite $ECP5_CELLS; synth_ecp5 -top pixelproc_top; tee -o $OUT/stat.txt stat" > "$OUT/synth.log" 2>&1
     t1=$(now)
     secs "$t0" "$t1" > "$OUT/time"
     echo "$h" > "$OUT/hash"

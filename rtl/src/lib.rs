@@ -15,6 +15,7 @@
 
 #![warn(missing_docs)]
 
+pub mod bank_ram;
 pub mod colour_lane;
 pub mod core_top;
 pub mod entry_channel;

@@ -5,9 +5,10 @@
 //! Each pixel read out of the array passes through five registers. The shading table
 //! (2^15 × 18 bits holding `{G, F}`, written through `tw_*`, indexed by
 //! `{NCLASS, MASK[2:0], COUNT[3:0]}`: `pixelproc_formats::core_stream::SHADE_ADDR_FIELDS`)
-//! is [`BANKS`] synchronous-read RAMs of 2^[`BANK_BITS`] entries, one ECP5 DP16KD each,
-//! all read with the low address bits. Stage 1 registers the readout word and reads every
-//! bank; stage 2 registers every bank's output straight from its block RAM, and per
+//! is [`BANKS`] banks of 2^[`BANK_BITS`] entries ([`crate::bank_ram::BankRam`], one ECP5
+//! DP16KD each), all read with the low address bits. Stage 1 registers the readout word and
+//! reads every bank; stage 2 registers every bank's output (inside the bank: on an ECP5 the
+//! block RAM's own output register), and per
 //! channel `d = max(0, c − s)` (`c` a colour channel, `s` the same channel of shade
 //! register `SH`); stage 3 picks the entry of the addressed bank (the top address bits,
 //! carried along) and applies the override below; stage 4 the products `c·F + 128` and
@@ -34,6 +35,7 @@
 //! Latency: a pixel on the inputs before edge `E` is on the outputs after edge `E + 4`
 //! ([`LATENCY`] edges).
 
+use crate::bank_ram::BankRam;
 use crate::layout::{ReadoutFields, ReadoutLowFields, ShadeAddrFields, READOUT_W};
 use pixelproc_formats::core_stream::{FACTOR_BITS, SHADE_ADDR_BITS};
 use pixelproc_formats::Z_FAR;
@@ -48,7 +50,7 @@ pub const LATENCY: usize = pixelproc_formats::core_stream::SHADE_STAGES;
 const _: () = assert!(LATENCY == 5);
 
 /// Address bits of one table bank (2^10 × 18 bits: one ECP5 DP16KD).
-pub const BANK_BITS: usize = 10;
+pub const BANK_BITS: usize = crate::bank_ram::BANK_BITS;
 // The kernel spells the bank number's offset in the address as the literal 10.
 const _: () = assert!(BANK_BITS == 10);
 /// Number of table banks.
@@ -86,7 +88,7 @@ pub struct ShadeUnit {
     pub out_word: Signal<Out, Bits<READOUT_W>>,
     /// The flags.
     pub out_meta: Signal<Out, Bits<META_W>>,
-    banks: Vec<RAM<Bits<ENTRY_W>, BANK_BITS>>,
+    banks: Vec<BankRam>,
     s1_v: DFF<Bit>,
     s1_word: DFF<Bits<READOUT_W>>,
     s1_meta: DFF<Bits<META_W>>,
@@ -95,7 +97,6 @@ pub struct ShadeUnit {
     s2_word: DFF<Bits<READOUT_W>>,
     s2_meta: DFF<Bits<META_W>>,
     s2_hi: DFF<Bits<HI_W>>,
-    s2_e: Vec<DFF<Bits<ENTRY_W>>>,
     s2_d: DFF<Bits<24>>,
     s3_v: DFF<Bit>,
     s3_word: DFF<Bits<READOUT_W>>,
@@ -146,6 +147,7 @@ pub struct ShadeUnit {
 
 /// Width of a table entry `{G, F}`.
 pub const ENTRY_W: usize = 2 * FACTOR_BITS;
+const _: () = assert!(ENTRY_W == crate::bank_ram::ENTRY_W);
 const _: () = assert!(FACTOR_BITS == 9);
 
 impl ShadeUnit {
@@ -172,7 +174,6 @@ impl ShadeUnit {
             s2_word: Default::default(),
             s2_meta: Default::default(),
             s2_hi: Default::default(),
-            s2_e: (0..BANKS).map(|_| Default::default()).collect(),
             s2_d: Default::default(),
             s3_v: Default::default(),
             s3_word: Default::default(),
@@ -243,8 +244,7 @@ impl Logic for ShadeUnit {
             .next
             .set_value_snclass(self.in_word.val().get_value_nclass());
         for i in 0..self.banks.len() {
-            self.banks[i].read_clock.next = self.clock.val();
-            self.banks[i].write_clock.next = self.clock.val();
+            self.banks[i].clock.next = self.clock.val();
             self.banks[i].write_enable.next = self.tw_en.val()
                 & self.k_on.val()
                 & (self.tw_addr.val().get_bits::<HI_W>(10).index() == i);
@@ -256,12 +256,8 @@ impl Logic for ShadeUnit {
         self.s1_word.d.next = self.in_word.val();
         self.s1_meta.d.next = self.in_meta.val();
         self.s1_hi.d.next = self.l_addr.val().get_bits::<HI_W>(10);
-        // ---- Stage 2: every bank's entry, registered at its block RAM; per channel
-        // d = max(0, c − s).
-        for i in 0..self.s2_e.len() {
-            self.s2_e[i].clock.next = self.clock.val();
-            self.s2_e[i].d.next = self.banks[i].read_data.val();
-        }
+        // ---- Stage 2: every bank's entry, registered inside the bank (`BankRam`: on an
+        // ECP5 the block RAM's output register); per channel d = max(0, c − s).
         self.l_rgb.next = self.s1_word.q.val().get_value_rgb();
         self.l_sh.next = self.s1_word.q.val().get_value_sh();
         self.l_dd.next = self.k_zero24.val();
@@ -281,9 +277,9 @@ impl Logic for ShadeUnit {
         self.s2_d.d.next = self.l_dd.val();
         // ---- Stage 3: the addressed bank's entry (override: background, or no shading).
         self.l_e.next = self.k_zero_e.val();
-        for i in 0..self.s2_e.len() {
+        for i in 0..self.banks.len() {
             if self.s2_hi.q.val().index() == i {
-                self.l_e.next = self.s2_e[i].q.val();
+                self.l_e.next = self.banks[i].read_data.val();
             }
         }
         self.l_f.next = bit_cast::<16, FACTOR_BITS>(self.l_e.val().get_bits::<FACTOR_BITS>(0));

@@ -2874,230 +2874,198 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     localparam  k_zero54 = 54'h0;
     
     // Stub signals
-    reg  [9:0] banks$0$read_address;
-    reg  banks$0$read_clock;
-    wire  [17:0] banks$0$read_data;
-    reg  [9:0] banks$0$write_address;
-    reg  banks$0$write_clock;
-    reg  [17:0] banks$0$write_data;
+    reg  banks$0$clock;
     reg  banks$0$write_enable;
-    reg  [9:0] banks$1$read_address;
-    reg  banks$1$read_clock;
-    wire  [17:0] banks$1$read_data;
-    reg  [9:0] banks$1$write_address;
-    reg  banks$1$write_clock;
-    reg  [17:0] banks$1$write_data;
+    reg  [9:0] banks$0$write_address;
+    reg  [17:0] banks$0$write_data;
+    reg  [9:0] banks$0$read_address;
+    wire  [17:0] banks$0$read_data;
+    reg  banks$1$clock;
     reg  banks$1$write_enable;
-    reg  [9:0] banks$2$read_address;
-    reg  banks$2$read_clock;
-    wire  [17:0] banks$2$read_data;
-    reg  [9:0] banks$2$write_address;
-    reg  banks$2$write_clock;
-    reg  [17:0] banks$2$write_data;
+    reg  [9:0] banks$1$write_address;
+    reg  [17:0] banks$1$write_data;
+    reg  [9:0] banks$1$read_address;
+    wire  [17:0] banks$1$read_data;
+    reg  banks$2$clock;
     reg  banks$2$write_enable;
-    reg  [9:0] banks$3$read_address;
-    reg  banks$3$read_clock;
-    wire  [17:0] banks$3$read_data;
-    reg  [9:0] banks$3$write_address;
-    reg  banks$3$write_clock;
-    reg  [17:0] banks$3$write_data;
+    reg  [9:0] banks$2$write_address;
+    reg  [17:0] banks$2$write_data;
+    reg  [9:0] banks$2$read_address;
+    wire  [17:0] banks$2$read_data;
+    reg  banks$3$clock;
     reg  banks$3$write_enable;
-    reg  [9:0] banks$4$read_address;
-    reg  banks$4$read_clock;
-    wire  [17:0] banks$4$read_data;
-    reg  [9:0] banks$4$write_address;
-    reg  banks$4$write_clock;
-    reg  [17:0] banks$4$write_data;
+    reg  [9:0] banks$3$write_address;
+    reg  [17:0] banks$3$write_data;
+    reg  [9:0] banks$3$read_address;
+    wire  [17:0] banks$3$read_data;
+    reg  banks$4$clock;
     reg  banks$4$write_enable;
-    reg  [9:0] banks$5$read_address;
-    reg  banks$5$read_clock;
-    wire  [17:0] banks$5$read_data;
-    reg  [9:0] banks$5$write_address;
-    reg  banks$5$write_clock;
-    reg  [17:0] banks$5$write_data;
+    reg  [9:0] banks$4$write_address;
+    reg  [17:0] banks$4$write_data;
+    reg  [9:0] banks$4$read_address;
+    wire  [17:0] banks$4$read_data;
+    reg  banks$5$clock;
     reg  banks$5$write_enable;
-    reg  [9:0] banks$6$read_address;
-    reg  banks$6$read_clock;
-    wire  [17:0] banks$6$read_data;
-    reg  [9:0] banks$6$write_address;
-    reg  banks$6$write_clock;
-    reg  [17:0] banks$6$write_data;
+    reg  [9:0] banks$5$write_address;
+    reg  [17:0] banks$5$write_data;
+    reg  [9:0] banks$5$read_address;
+    wire  [17:0] banks$5$read_data;
+    reg  banks$6$clock;
     reg  banks$6$write_enable;
-    reg  [9:0] banks$7$read_address;
-    reg  banks$7$read_clock;
-    wire  [17:0] banks$7$read_data;
-    reg  [9:0] banks$7$write_address;
-    reg  banks$7$write_clock;
-    reg  [17:0] banks$7$write_data;
+    reg  [9:0] banks$6$write_address;
+    reg  [17:0] banks$6$write_data;
+    reg  [9:0] banks$6$read_address;
+    wire  [17:0] banks$6$read_data;
+    reg  banks$7$clock;
     reg  banks$7$write_enable;
-    reg  [9:0] banks$8$read_address;
-    reg  banks$8$read_clock;
-    wire  [17:0] banks$8$read_data;
-    reg  [9:0] banks$8$write_address;
-    reg  banks$8$write_clock;
-    reg  [17:0] banks$8$write_data;
+    reg  [9:0] banks$7$write_address;
+    reg  [17:0] banks$7$write_data;
+    reg  [9:0] banks$7$read_address;
+    wire  [17:0] banks$7$read_data;
+    reg  banks$8$clock;
     reg  banks$8$write_enable;
-    reg  [9:0] banks$9$read_address;
-    reg  banks$9$read_clock;
-    wire  [17:0] banks$9$read_data;
-    reg  [9:0] banks$9$write_address;
-    reg  banks$9$write_clock;
-    reg  [17:0] banks$9$write_data;
+    reg  [9:0] banks$8$write_address;
+    reg  [17:0] banks$8$write_data;
+    reg  [9:0] banks$8$read_address;
+    wire  [17:0] banks$8$read_data;
+    reg  banks$9$clock;
     reg  banks$9$write_enable;
-    reg  [9:0] banks$10$read_address;
-    reg  banks$10$read_clock;
-    wire  [17:0] banks$10$read_data;
-    reg  [9:0] banks$10$write_address;
-    reg  banks$10$write_clock;
-    reg  [17:0] banks$10$write_data;
+    reg  [9:0] banks$9$write_address;
+    reg  [17:0] banks$9$write_data;
+    reg  [9:0] banks$9$read_address;
+    wire  [17:0] banks$9$read_data;
+    reg  banks$10$clock;
     reg  banks$10$write_enable;
-    reg  [9:0] banks$11$read_address;
-    reg  banks$11$read_clock;
-    wire  [17:0] banks$11$read_data;
-    reg  [9:0] banks$11$write_address;
-    reg  banks$11$write_clock;
-    reg  [17:0] banks$11$write_data;
+    reg  [9:0] banks$10$write_address;
+    reg  [17:0] banks$10$write_data;
+    reg  [9:0] banks$10$read_address;
+    wire  [17:0] banks$10$read_data;
+    reg  banks$11$clock;
     reg  banks$11$write_enable;
-    reg  [9:0] banks$12$read_address;
-    reg  banks$12$read_clock;
-    wire  [17:0] banks$12$read_data;
-    reg  [9:0] banks$12$write_address;
-    reg  banks$12$write_clock;
-    reg  [17:0] banks$12$write_data;
+    reg  [9:0] banks$11$write_address;
+    reg  [17:0] banks$11$write_data;
+    reg  [9:0] banks$11$read_address;
+    wire  [17:0] banks$11$read_data;
+    reg  banks$12$clock;
     reg  banks$12$write_enable;
-    reg  [9:0] banks$13$read_address;
-    reg  banks$13$read_clock;
-    wire  [17:0] banks$13$read_data;
-    reg  [9:0] banks$13$write_address;
-    reg  banks$13$write_clock;
-    reg  [17:0] banks$13$write_data;
+    reg  [9:0] banks$12$write_address;
+    reg  [17:0] banks$12$write_data;
+    reg  [9:0] banks$12$read_address;
+    wire  [17:0] banks$12$read_data;
+    reg  banks$13$clock;
     reg  banks$13$write_enable;
-    reg  [9:0] banks$14$read_address;
-    reg  banks$14$read_clock;
-    wire  [17:0] banks$14$read_data;
-    reg  [9:0] banks$14$write_address;
-    reg  banks$14$write_clock;
-    reg  [17:0] banks$14$write_data;
+    reg  [9:0] banks$13$write_address;
+    reg  [17:0] banks$13$write_data;
+    reg  [9:0] banks$13$read_address;
+    wire  [17:0] banks$13$read_data;
+    reg  banks$14$clock;
     reg  banks$14$write_enable;
-    reg  [9:0] banks$15$read_address;
-    reg  banks$15$read_clock;
-    wire  [17:0] banks$15$read_data;
-    reg  [9:0] banks$15$write_address;
-    reg  banks$15$write_clock;
-    reg  [17:0] banks$15$write_data;
+    reg  [9:0] banks$14$write_address;
+    reg  [17:0] banks$14$write_data;
+    reg  [9:0] banks$14$read_address;
+    wire  [17:0] banks$14$read_data;
+    reg  banks$15$clock;
     reg  banks$15$write_enable;
-    reg  [9:0] banks$16$read_address;
-    reg  banks$16$read_clock;
-    wire  [17:0] banks$16$read_data;
-    reg  [9:0] banks$16$write_address;
-    reg  banks$16$write_clock;
-    reg  [17:0] banks$16$write_data;
+    reg  [9:0] banks$15$write_address;
+    reg  [17:0] banks$15$write_data;
+    reg  [9:0] banks$15$read_address;
+    wire  [17:0] banks$15$read_data;
+    reg  banks$16$clock;
     reg  banks$16$write_enable;
-    reg  [9:0] banks$17$read_address;
-    reg  banks$17$read_clock;
-    wire  [17:0] banks$17$read_data;
-    reg  [9:0] banks$17$write_address;
-    reg  banks$17$write_clock;
-    reg  [17:0] banks$17$write_data;
+    reg  [9:0] banks$16$write_address;
+    reg  [17:0] banks$16$write_data;
+    reg  [9:0] banks$16$read_address;
+    wire  [17:0] banks$16$read_data;
+    reg  banks$17$clock;
     reg  banks$17$write_enable;
-    reg  [9:0] banks$18$read_address;
-    reg  banks$18$read_clock;
-    wire  [17:0] banks$18$read_data;
-    reg  [9:0] banks$18$write_address;
-    reg  banks$18$write_clock;
-    reg  [17:0] banks$18$write_data;
+    reg  [9:0] banks$17$write_address;
+    reg  [17:0] banks$17$write_data;
+    reg  [9:0] banks$17$read_address;
+    wire  [17:0] banks$17$read_data;
+    reg  banks$18$clock;
     reg  banks$18$write_enable;
-    reg  [9:0] banks$19$read_address;
-    reg  banks$19$read_clock;
-    wire  [17:0] banks$19$read_data;
-    reg  [9:0] banks$19$write_address;
-    reg  banks$19$write_clock;
-    reg  [17:0] banks$19$write_data;
+    reg  [9:0] banks$18$write_address;
+    reg  [17:0] banks$18$write_data;
+    reg  [9:0] banks$18$read_address;
+    wire  [17:0] banks$18$read_data;
+    reg  banks$19$clock;
     reg  banks$19$write_enable;
-    reg  [9:0] banks$20$read_address;
-    reg  banks$20$read_clock;
-    wire  [17:0] banks$20$read_data;
-    reg  [9:0] banks$20$write_address;
-    reg  banks$20$write_clock;
-    reg  [17:0] banks$20$write_data;
+    reg  [9:0] banks$19$write_address;
+    reg  [17:0] banks$19$write_data;
+    reg  [9:0] banks$19$read_address;
+    wire  [17:0] banks$19$read_data;
+    reg  banks$20$clock;
     reg  banks$20$write_enable;
-    reg  [9:0] banks$21$read_address;
-    reg  banks$21$read_clock;
-    wire  [17:0] banks$21$read_data;
-    reg  [9:0] banks$21$write_address;
-    reg  banks$21$write_clock;
-    reg  [17:0] banks$21$write_data;
+    reg  [9:0] banks$20$write_address;
+    reg  [17:0] banks$20$write_data;
+    reg  [9:0] banks$20$read_address;
+    wire  [17:0] banks$20$read_data;
+    reg  banks$21$clock;
     reg  banks$21$write_enable;
-    reg  [9:0] banks$22$read_address;
-    reg  banks$22$read_clock;
-    wire  [17:0] banks$22$read_data;
-    reg  [9:0] banks$22$write_address;
-    reg  banks$22$write_clock;
-    reg  [17:0] banks$22$write_data;
+    reg  [9:0] banks$21$write_address;
+    reg  [17:0] banks$21$write_data;
+    reg  [9:0] banks$21$read_address;
+    wire  [17:0] banks$21$read_data;
+    reg  banks$22$clock;
     reg  banks$22$write_enable;
-    reg  [9:0] banks$23$read_address;
-    reg  banks$23$read_clock;
-    wire  [17:0] banks$23$read_data;
-    reg  [9:0] banks$23$write_address;
-    reg  banks$23$write_clock;
-    reg  [17:0] banks$23$write_data;
+    reg  [9:0] banks$22$write_address;
+    reg  [17:0] banks$22$write_data;
+    reg  [9:0] banks$22$read_address;
+    wire  [17:0] banks$22$read_data;
+    reg  banks$23$clock;
     reg  banks$23$write_enable;
-    reg  [9:0] banks$24$read_address;
-    reg  banks$24$read_clock;
-    wire  [17:0] banks$24$read_data;
-    reg  [9:0] banks$24$write_address;
-    reg  banks$24$write_clock;
-    reg  [17:0] banks$24$write_data;
+    reg  [9:0] banks$23$write_address;
+    reg  [17:0] banks$23$write_data;
+    reg  [9:0] banks$23$read_address;
+    wire  [17:0] banks$23$read_data;
+    reg  banks$24$clock;
     reg  banks$24$write_enable;
-    reg  [9:0] banks$25$read_address;
-    reg  banks$25$read_clock;
-    wire  [17:0] banks$25$read_data;
-    reg  [9:0] banks$25$write_address;
-    reg  banks$25$write_clock;
-    reg  [17:0] banks$25$write_data;
+    reg  [9:0] banks$24$write_address;
+    reg  [17:0] banks$24$write_data;
+    reg  [9:0] banks$24$read_address;
+    wire  [17:0] banks$24$read_data;
+    reg  banks$25$clock;
     reg  banks$25$write_enable;
-    reg  [9:0] banks$26$read_address;
-    reg  banks$26$read_clock;
-    wire  [17:0] banks$26$read_data;
-    reg  [9:0] banks$26$write_address;
-    reg  banks$26$write_clock;
-    reg  [17:0] banks$26$write_data;
+    reg  [9:0] banks$25$write_address;
+    reg  [17:0] banks$25$write_data;
+    reg  [9:0] banks$25$read_address;
+    wire  [17:0] banks$25$read_data;
+    reg  banks$26$clock;
     reg  banks$26$write_enable;
-    reg  [9:0] banks$27$read_address;
-    reg  banks$27$read_clock;
-    wire  [17:0] banks$27$read_data;
-    reg  [9:0] banks$27$write_address;
-    reg  banks$27$write_clock;
-    reg  [17:0] banks$27$write_data;
+    reg  [9:0] banks$26$write_address;
+    reg  [17:0] banks$26$write_data;
+    reg  [9:0] banks$26$read_address;
+    wire  [17:0] banks$26$read_data;
+    reg  banks$27$clock;
     reg  banks$27$write_enable;
-    reg  [9:0] banks$28$read_address;
-    reg  banks$28$read_clock;
-    wire  [17:0] banks$28$read_data;
-    reg  [9:0] banks$28$write_address;
-    reg  banks$28$write_clock;
-    reg  [17:0] banks$28$write_data;
+    reg  [9:0] banks$27$write_address;
+    reg  [17:0] banks$27$write_data;
+    reg  [9:0] banks$27$read_address;
+    wire  [17:0] banks$27$read_data;
+    reg  banks$28$clock;
     reg  banks$28$write_enable;
-    reg  [9:0] banks$29$read_address;
-    reg  banks$29$read_clock;
-    wire  [17:0] banks$29$read_data;
-    reg  [9:0] banks$29$write_address;
-    reg  banks$29$write_clock;
-    reg  [17:0] banks$29$write_data;
+    reg  [9:0] banks$28$write_address;
+    reg  [17:0] banks$28$write_data;
+    reg  [9:0] banks$28$read_address;
+    wire  [17:0] banks$28$read_data;
+    reg  banks$29$clock;
     reg  banks$29$write_enable;
-    reg  [9:0] banks$30$read_address;
-    reg  banks$30$read_clock;
-    wire  [17:0] banks$30$read_data;
-    reg  [9:0] banks$30$write_address;
-    reg  banks$30$write_clock;
-    reg  [17:0] banks$30$write_data;
+    reg  [9:0] banks$29$write_address;
+    reg  [17:0] banks$29$write_data;
+    reg  [9:0] banks$29$read_address;
+    wire  [17:0] banks$29$read_data;
+    reg  banks$30$clock;
     reg  banks$30$write_enable;
-    reg  [9:0] banks$31$read_address;
-    reg  banks$31$read_clock;
-    wire  [17:0] banks$31$read_data;
-    reg  [9:0] banks$31$write_address;
-    reg  banks$31$write_clock;
-    reg  [17:0] banks$31$write_data;
+    reg  [9:0] banks$30$write_address;
+    reg  [17:0] banks$30$write_data;
+    reg  [9:0] banks$30$read_address;
+    wire  [17:0] banks$30$read_data;
+    reg  banks$31$clock;
     reg  banks$31$write_enable;
+    reg  [9:0] banks$31$write_address;
+    reg  [17:0] banks$31$write_data;
+    reg  [9:0] banks$31$read_address;
+    wire  [17:0] banks$31$read_data;
     reg  s1_v$d;
     wire  s1_v$q;
     reg  s1_v$clock;
@@ -3122,102 +3090,6 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  [4:0] s2_hi$d;
     wire  [4:0] s2_hi$q;
     reg  s2_hi$clock;
-    reg  [17:0] s2_e$0$d;
-    wire  [17:0] s2_e$0$q;
-    reg  s2_e$0$clock;
-    reg  [17:0] s2_e$1$d;
-    wire  [17:0] s2_e$1$q;
-    reg  s2_e$1$clock;
-    reg  [17:0] s2_e$2$d;
-    wire  [17:0] s2_e$2$q;
-    reg  s2_e$2$clock;
-    reg  [17:0] s2_e$3$d;
-    wire  [17:0] s2_e$3$q;
-    reg  s2_e$3$clock;
-    reg  [17:0] s2_e$4$d;
-    wire  [17:0] s2_e$4$q;
-    reg  s2_e$4$clock;
-    reg  [17:0] s2_e$5$d;
-    wire  [17:0] s2_e$5$q;
-    reg  s2_e$5$clock;
-    reg  [17:0] s2_e$6$d;
-    wire  [17:0] s2_e$6$q;
-    reg  s2_e$6$clock;
-    reg  [17:0] s2_e$7$d;
-    wire  [17:0] s2_e$7$q;
-    reg  s2_e$7$clock;
-    reg  [17:0] s2_e$8$d;
-    wire  [17:0] s2_e$8$q;
-    reg  s2_e$8$clock;
-    reg  [17:0] s2_e$9$d;
-    wire  [17:0] s2_e$9$q;
-    reg  s2_e$9$clock;
-    reg  [17:0] s2_e$10$d;
-    wire  [17:0] s2_e$10$q;
-    reg  s2_e$10$clock;
-    reg  [17:0] s2_e$11$d;
-    wire  [17:0] s2_e$11$q;
-    reg  s2_e$11$clock;
-    reg  [17:0] s2_e$12$d;
-    wire  [17:0] s2_e$12$q;
-    reg  s2_e$12$clock;
-    reg  [17:0] s2_e$13$d;
-    wire  [17:0] s2_e$13$q;
-    reg  s2_e$13$clock;
-    reg  [17:0] s2_e$14$d;
-    wire  [17:0] s2_e$14$q;
-    reg  s2_e$14$clock;
-    reg  [17:0] s2_e$15$d;
-    wire  [17:0] s2_e$15$q;
-    reg  s2_e$15$clock;
-    reg  [17:0] s2_e$16$d;
-    wire  [17:0] s2_e$16$q;
-    reg  s2_e$16$clock;
-    reg  [17:0] s2_e$17$d;
-    wire  [17:0] s2_e$17$q;
-    reg  s2_e$17$clock;
-    reg  [17:0] s2_e$18$d;
-    wire  [17:0] s2_e$18$q;
-    reg  s2_e$18$clock;
-    reg  [17:0] s2_e$19$d;
-    wire  [17:0] s2_e$19$q;
-    reg  s2_e$19$clock;
-    reg  [17:0] s2_e$20$d;
-    wire  [17:0] s2_e$20$q;
-    reg  s2_e$20$clock;
-    reg  [17:0] s2_e$21$d;
-    wire  [17:0] s2_e$21$q;
-    reg  s2_e$21$clock;
-    reg  [17:0] s2_e$22$d;
-    wire  [17:0] s2_e$22$q;
-    reg  s2_e$22$clock;
-    reg  [17:0] s2_e$23$d;
-    wire  [17:0] s2_e$23$q;
-    reg  s2_e$23$clock;
-    reg  [17:0] s2_e$24$d;
-    wire  [17:0] s2_e$24$q;
-    reg  s2_e$24$clock;
-    reg  [17:0] s2_e$25$d;
-    wire  [17:0] s2_e$25$q;
-    reg  s2_e$25$clock;
-    reg  [17:0] s2_e$26$d;
-    wire  [17:0] s2_e$26$q;
-    reg  s2_e$26$clock;
-    reg  [17:0] s2_e$27$d;
-    wire  [17:0] s2_e$27$q;
-    reg  s2_e$27$clock;
-    reg  [17:0] s2_e$28$d;
-    wire  [17:0] s2_e$28$q;
-    reg  s2_e$28$clock;
-    reg  [17:0] s2_e$29$d;
-    wire  [17:0] s2_e$29$q;
-    reg  s2_e$29$clock;
-    reg  [17:0] s2_e$30$d;
-    wire  [17:0] s2_e$30$q;
-    reg  s2_e$30$clock;
-    reg  [17:0] s2_e$31$d;
-    wire  [17:0] s2_e$31$q;
-    reg  s2_e$31$clock;
     reg  [23:0] s2_d$d;
     wire  [23:0] s2_d$q;
     reg  s2_d$clock;
@@ -3287,292 +3159,260 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     
     // Sub module instances
     pixelproc_top$shade$banks banks$0(
-        .read_address(banks$0$read_address),
-        .read_clock(banks$0$read_clock),
-        .read_data(banks$0$read_data),
+        .clock(banks$0$clock),
+        .write_enable(banks$0$write_enable),
         .write_address(banks$0$write_address),
-        .write_clock(banks$0$write_clock),
         .write_data(banks$0$write_data),
-        .write_enable(banks$0$write_enable)
+        .read_address(banks$0$read_address),
+        .read_data(banks$0$read_data)
     );
     pixelproc_top$shade$banks banks$1(
-        .read_address(banks$1$read_address),
-        .read_clock(banks$1$read_clock),
-        .read_data(banks$1$read_data),
+        .clock(banks$1$clock),
+        .write_enable(banks$1$write_enable),
         .write_address(banks$1$write_address),
-        .write_clock(banks$1$write_clock),
         .write_data(banks$1$write_data),
-        .write_enable(banks$1$write_enable)
+        .read_address(banks$1$read_address),
+        .read_data(banks$1$read_data)
     );
     pixelproc_top$shade$banks banks$2(
-        .read_address(banks$2$read_address),
-        .read_clock(banks$2$read_clock),
-        .read_data(banks$2$read_data),
+        .clock(banks$2$clock),
+        .write_enable(banks$2$write_enable),
         .write_address(banks$2$write_address),
-        .write_clock(banks$2$write_clock),
         .write_data(banks$2$write_data),
-        .write_enable(banks$2$write_enable)
+        .read_address(banks$2$read_address),
+        .read_data(banks$2$read_data)
     );
     pixelproc_top$shade$banks banks$3(
-        .read_address(banks$3$read_address),
-        .read_clock(banks$3$read_clock),
-        .read_data(banks$3$read_data),
+        .clock(banks$3$clock),
+        .write_enable(banks$3$write_enable),
         .write_address(banks$3$write_address),
-        .write_clock(banks$3$write_clock),
         .write_data(banks$3$write_data),
-        .write_enable(banks$3$write_enable)
+        .read_address(banks$3$read_address),
+        .read_data(banks$3$read_data)
     );
     pixelproc_top$shade$banks banks$4(
-        .read_address(banks$4$read_address),
-        .read_clock(banks$4$read_clock),
-        .read_data(banks$4$read_data),
+        .clock(banks$4$clock),
+        .write_enable(banks$4$write_enable),
         .write_address(banks$4$write_address),
-        .write_clock(banks$4$write_clock),
         .write_data(banks$4$write_data),
-        .write_enable(banks$4$write_enable)
+        .read_address(banks$4$read_address),
+        .read_data(banks$4$read_data)
     );
     pixelproc_top$shade$banks banks$5(
-        .read_address(banks$5$read_address),
-        .read_clock(banks$5$read_clock),
-        .read_data(banks$5$read_data),
+        .clock(banks$5$clock),
+        .write_enable(banks$5$write_enable),
         .write_address(banks$5$write_address),
-        .write_clock(banks$5$write_clock),
         .write_data(banks$5$write_data),
-        .write_enable(banks$5$write_enable)
+        .read_address(banks$5$read_address),
+        .read_data(banks$5$read_data)
     );
     pixelproc_top$shade$banks banks$6(
-        .read_address(banks$6$read_address),
-        .read_clock(banks$6$read_clock),
-        .read_data(banks$6$read_data),
+        .clock(banks$6$clock),
+        .write_enable(banks$6$write_enable),
         .write_address(banks$6$write_address),
-        .write_clock(banks$6$write_clock),
         .write_data(banks$6$write_data),
-        .write_enable(banks$6$write_enable)
+        .read_address(banks$6$read_address),
+        .read_data(banks$6$read_data)
     );
     pixelproc_top$shade$banks banks$7(
-        .read_address(banks$7$read_address),
-        .read_clock(banks$7$read_clock),
-        .read_data(banks$7$read_data),
+        .clock(banks$7$clock),
+        .write_enable(banks$7$write_enable),
         .write_address(banks$7$write_address),
-        .write_clock(banks$7$write_clock),
         .write_data(banks$7$write_data),
-        .write_enable(banks$7$write_enable)
+        .read_address(banks$7$read_address),
+        .read_data(banks$7$read_data)
     );
     pixelproc_top$shade$banks banks$8(
-        .read_address(banks$8$read_address),
-        .read_clock(banks$8$read_clock),
-        .read_data(banks$8$read_data),
+        .clock(banks$8$clock),
+        .write_enable(banks$8$write_enable),
         .write_address(banks$8$write_address),
-        .write_clock(banks$8$write_clock),
         .write_data(banks$8$write_data),
-        .write_enable(banks$8$write_enable)
+        .read_address(banks$8$read_address),
+        .read_data(banks$8$read_data)
     );
     pixelproc_top$shade$banks banks$9(
-        .read_address(banks$9$read_address),
-        .read_clock(banks$9$read_clock),
-        .read_data(banks$9$read_data),
+        .clock(banks$9$clock),
+        .write_enable(banks$9$write_enable),
         .write_address(banks$9$write_address),
-        .write_clock(banks$9$write_clock),
         .write_data(banks$9$write_data),
-        .write_enable(banks$9$write_enable)
+        .read_address(banks$9$read_address),
+        .read_data(banks$9$read_data)
     );
     pixelproc_top$shade$banks banks$10(
-        .read_address(banks$10$read_address),
-        .read_clock(banks$10$read_clock),
-        .read_data(banks$10$read_data),
+        .clock(banks$10$clock),
+        .write_enable(banks$10$write_enable),
         .write_address(banks$10$write_address),
-        .write_clock(banks$10$write_clock),
         .write_data(banks$10$write_data),
-        .write_enable(banks$10$write_enable)
+        .read_address(banks$10$read_address),
+        .read_data(banks$10$read_data)
     );
     pixelproc_top$shade$banks banks$11(
-        .read_address(banks$11$read_address),
-        .read_clock(banks$11$read_clock),
-        .read_data(banks$11$read_data),
+        .clock(banks$11$clock),
+        .write_enable(banks$11$write_enable),
         .write_address(banks$11$write_address),
-        .write_clock(banks$11$write_clock),
         .write_data(banks$11$write_data),
-        .write_enable(banks$11$write_enable)
+        .read_address(banks$11$read_address),
+        .read_data(banks$11$read_data)
     );
     pixelproc_top$shade$banks banks$12(
-        .read_address(banks$12$read_address),
-        .read_clock(banks$12$read_clock),
-        .read_data(banks$12$read_data),
+        .clock(banks$12$clock),
+        .write_enable(banks$12$write_enable),
         .write_address(banks$12$write_address),
-        .write_clock(banks$12$write_clock),
         .write_data(banks$12$write_data),
-        .write_enable(banks$12$write_enable)
+        .read_address(banks$12$read_address),
+        .read_data(banks$12$read_data)
     );
     pixelproc_top$shade$banks banks$13(
-        .read_address(banks$13$read_address),
-        .read_clock(banks$13$read_clock),
-        .read_data(banks$13$read_data),
+        .clock(banks$13$clock),
+        .write_enable(banks$13$write_enable),
         .write_address(banks$13$write_address),
-        .write_clock(banks$13$write_clock),
         .write_data(banks$13$write_data),
-        .write_enable(banks$13$write_enable)
+        .read_address(banks$13$read_address),
+        .read_data(banks$13$read_data)
     );
     pixelproc_top$shade$banks banks$14(
-        .read_address(banks$14$read_address),
-        .read_clock(banks$14$read_clock),
-        .read_data(banks$14$read_data),
+        .clock(banks$14$clock),
+        .write_enable(banks$14$write_enable),
         .write_address(banks$14$write_address),
-        .write_clock(banks$14$write_clock),
         .write_data(banks$14$write_data),
-        .write_enable(banks$14$write_enable)
+        .read_address(banks$14$read_address),
+        .read_data(banks$14$read_data)
     );
     pixelproc_top$shade$banks banks$15(
-        .read_address(banks$15$read_address),
-        .read_clock(banks$15$read_clock),
-        .read_data(banks$15$read_data),
+        .clock(banks$15$clock),
+        .write_enable(banks$15$write_enable),
         .write_address(banks$15$write_address),
-        .write_clock(banks$15$write_clock),
         .write_data(banks$15$write_data),
-        .write_enable(banks$15$write_enable)
+        .read_address(banks$15$read_address),
+        .read_data(banks$15$read_data)
     );
     pixelproc_top$shade$banks banks$16(
-        .read_address(banks$16$read_address),
-        .read_clock(banks$16$read_clock),
-        .read_data(banks$16$read_data),
+        .clock(banks$16$clock),
+        .write_enable(banks$16$write_enable),
         .write_address(banks$16$write_address),
-        .write_clock(banks$16$write_clock),
         .write_data(banks$16$write_data),
-        .write_enable(banks$16$write_enable)
+        .read_address(banks$16$read_address),
+        .read_data(banks$16$read_data)
     );
     pixelproc_top$shade$banks banks$17(
-        .read_address(banks$17$read_address),
-        .read_clock(banks$17$read_clock),
-        .read_data(banks$17$read_data),
+        .clock(banks$17$clock),
+        .write_enable(banks$17$write_enable),
         .write_address(banks$17$write_address),
-        .write_clock(banks$17$write_clock),
         .write_data(banks$17$write_data),
-        .write_enable(banks$17$write_enable)
+        .read_address(banks$17$read_address),
+        .read_data(banks$17$read_data)
     );
     pixelproc_top$shade$banks banks$18(
-        .read_address(banks$18$read_address),
-        .read_clock(banks$18$read_clock),
-        .read_data(banks$18$read_data),
+        .clock(banks$18$clock),
+        .write_enable(banks$18$write_enable),
         .write_address(banks$18$write_address),
-        .write_clock(banks$18$write_clock),
         .write_data(banks$18$write_data),
-        .write_enable(banks$18$write_enable)
+        .read_address(banks$18$read_address),
+        .read_data(banks$18$read_data)
     );
     pixelproc_top$shade$banks banks$19(
-        .read_address(banks$19$read_address),
-        .read_clock(banks$19$read_clock),
-        .read_data(banks$19$read_data),
+        .clock(banks$19$clock),
+        .write_enable(banks$19$write_enable),
         .write_address(banks$19$write_address),
-        .write_clock(banks$19$write_clock),
         .write_data(banks$19$write_data),
-        .write_enable(banks$19$write_enable)
+        .read_address(banks$19$read_address),
+        .read_data(banks$19$read_data)
     );
     pixelproc_top$shade$banks banks$20(
-        .read_address(banks$20$read_address),
-        .read_clock(banks$20$read_clock),
-        .read_data(banks$20$read_data),
+        .clock(banks$20$clock),
+        .write_enable(banks$20$write_enable),
         .write_address(banks$20$write_address),
-        .write_clock(banks$20$write_clock),
         .write_data(banks$20$write_data),
-        .write_enable(banks$20$write_enable)
+        .read_address(banks$20$read_address),
+        .read_data(banks$20$read_data)
     );
     pixelproc_top$shade$banks banks$21(
-        .read_address(banks$21$read_address),
-        .read_clock(banks$21$read_clock),
-        .read_data(banks$21$read_data),
+        .clock(banks$21$clock),
+        .write_enable(banks$21$write_enable),
         .write_address(banks$21$write_address),
-        .write_clock(banks$21$write_clock),
         .write_data(banks$21$write_data),
-        .write_enable(banks$21$write_enable)
+        .read_address(banks$21$read_address),
+        .read_data(banks$21$read_data)
     );
     pixelproc_top$shade$banks banks$22(
-        .read_address(banks$22$read_address),
-        .read_clock(banks$22$read_clock),
-        .read_data(banks$22$read_data),
+        .clock(banks$22$clock),
+        .write_enable(banks$22$write_enable),
         .write_address(banks$22$write_address),
-        .write_clock(banks$22$write_clock),
         .write_data(banks$22$write_data),
-        .write_enable(banks$22$write_enable)
+        .read_address(banks$22$read_address),
+        .read_data(banks$22$read_data)
     );
     pixelproc_top$shade$banks banks$23(
-        .read_address(banks$23$read_address),
-        .read_clock(banks$23$read_clock),
-        .read_data(banks$23$read_data),
+        .clock(banks$23$clock),
+        .write_enable(banks$23$write_enable),
         .write_address(banks$23$write_address),
-        .write_clock(banks$23$write_clock),
         .write_data(banks$23$write_data),
-        .write_enable(banks$23$write_enable)
+        .read_address(banks$23$read_address),
+        .read_data(banks$23$read_data)
     );
     pixelproc_top$shade$banks banks$24(
-        .read_address(banks$24$read_address),
-        .read_clock(banks$24$read_clock),
-        .read_data(banks$24$read_data),
+        .clock(banks$24$clock),
+        .write_enable(banks$24$write_enable),
         .write_address(banks$24$write_address),
-        .write_clock(banks$24$write_clock),
         .write_data(banks$24$write_data),
-        .write_enable(banks$24$write_enable)
+        .read_address(banks$24$read_address),
+        .read_data(banks$24$read_data)
     );
     pixelproc_top$shade$banks banks$25(
-        .read_address(banks$25$read_address),
-        .read_clock(banks$25$read_clock),
-        .read_data(banks$25$read_data),
+        .clock(banks$25$clock),
+        .write_enable(banks$25$write_enable),
         .write_address(banks$25$write_address),
-        .write_clock(banks$25$write_clock),
         .write_data(banks$25$write_data),
-        .write_enable(banks$25$write_enable)
+        .read_address(banks$25$read_address),
+        .read_data(banks$25$read_data)
     );
     pixelproc_top$shade$banks banks$26(
-        .read_address(banks$26$read_address),
-        .read_clock(banks$26$read_clock),
-        .read_data(banks$26$read_data),
+        .clock(banks$26$clock),
+        .write_enable(banks$26$write_enable),
         .write_address(banks$26$write_address),
-        .write_clock(banks$26$write_clock),
         .write_data(banks$26$write_data),
-        .write_enable(banks$26$write_enable)
+        .read_address(banks$26$read_address),
+        .read_data(banks$26$read_data)
     );
     pixelproc_top$shade$banks banks$27(
-        .read_address(banks$27$read_address),
-        .read_clock(banks$27$read_clock),
-        .read_data(banks$27$read_data),
+        .clock(banks$27$clock),
+        .write_enable(banks$27$write_enable),
         .write_address(banks$27$write_address),
-        .write_clock(banks$27$write_clock),
         .write_data(banks$27$write_data),
-        .write_enable(banks$27$write_enable)
+        .read_address(banks$27$read_address),
+        .read_data(banks$27$read_data)
     );
     pixelproc_top$shade$banks banks$28(
-        .read_address(banks$28$read_address),
-        .read_clock(banks$28$read_clock),
-        .read_data(banks$28$read_data),
+        .clock(banks$28$clock),
+        .write_enable(banks$28$write_enable),
         .write_address(banks$28$write_address),
-        .write_clock(banks$28$write_clock),
         .write_data(banks$28$write_data),
-        .write_enable(banks$28$write_enable)
+        .read_address(banks$28$read_address),
+        .read_data(banks$28$read_data)
     );
     pixelproc_top$shade$banks banks$29(
-        .read_address(banks$29$read_address),
-        .read_clock(banks$29$read_clock),
-        .read_data(banks$29$read_data),
+        .clock(banks$29$clock),
+        .write_enable(banks$29$write_enable),
         .write_address(banks$29$write_address),
-        .write_clock(banks$29$write_clock),
         .write_data(banks$29$write_data),
-        .write_enable(banks$29$write_enable)
+        .read_address(banks$29$read_address),
+        .read_data(banks$29$read_data)
     );
     pixelproc_top$shade$banks banks$30(
-        .read_address(banks$30$read_address),
-        .read_clock(banks$30$read_clock),
-        .read_data(banks$30$read_data),
+        .clock(banks$30$clock),
+        .write_enable(banks$30$write_enable),
         .write_address(banks$30$write_address),
-        .write_clock(banks$30$write_clock),
         .write_data(banks$30$write_data),
-        .write_enable(banks$30$write_enable)
+        .read_address(banks$30$read_address),
+        .read_data(banks$30$read_data)
     );
     pixelproc_top$shade$banks banks$31(
-        .read_address(banks$31$read_address),
-        .read_clock(banks$31$read_clock),
-        .read_data(banks$31$read_data),
+        .clock(banks$31$clock),
+        .write_enable(banks$31$write_enable),
         .write_address(banks$31$write_address),
-        .write_clock(banks$31$write_clock),
         .write_data(banks$31$write_data),
-        .write_enable(banks$31$write_enable)
+        .read_address(banks$31$read_address),
+        .read_data(banks$31$read_data)
     );
     pixelproc_top$array$procs$b_covered s1_v(
         .d(s1_v$d),
@@ -3613,166 +3453,6 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .d(s2_hi$d),
         .q(s2_hi$q),
         .clock(s2_hi$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$0(
-        .d(s2_e$0$d),
-        .q(s2_e$0$q),
-        .clock(s2_e$0$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$1(
-        .d(s2_e$1$d),
-        .q(s2_e$1$q),
-        .clock(s2_e$1$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$2(
-        .d(s2_e$2$d),
-        .q(s2_e$2$q),
-        .clock(s2_e$2$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$3(
-        .d(s2_e$3$d),
-        .q(s2_e$3$q),
-        .clock(s2_e$3$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$4(
-        .d(s2_e$4$d),
-        .q(s2_e$4$q),
-        .clock(s2_e$4$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$5(
-        .d(s2_e$5$d),
-        .q(s2_e$5$q),
-        .clock(s2_e$5$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$6(
-        .d(s2_e$6$d),
-        .q(s2_e$6$q),
-        .clock(s2_e$6$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$7(
-        .d(s2_e$7$d),
-        .q(s2_e$7$q),
-        .clock(s2_e$7$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$8(
-        .d(s2_e$8$d),
-        .q(s2_e$8$q),
-        .clock(s2_e$8$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$9(
-        .d(s2_e$9$d),
-        .q(s2_e$9$q),
-        .clock(s2_e$9$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$10(
-        .d(s2_e$10$d),
-        .q(s2_e$10$q),
-        .clock(s2_e$10$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$11(
-        .d(s2_e$11$d),
-        .q(s2_e$11$q),
-        .clock(s2_e$11$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$12(
-        .d(s2_e$12$d),
-        .q(s2_e$12$q),
-        .clock(s2_e$12$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$13(
-        .d(s2_e$13$d),
-        .q(s2_e$13$q),
-        .clock(s2_e$13$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$14(
-        .d(s2_e$14$d),
-        .q(s2_e$14$q),
-        .clock(s2_e$14$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$15(
-        .d(s2_e$15$d),
-        .q(s2_e$15$q),
-        .clock(s2_e$15$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$16(
-        .d(s2_e$16$d),
-        .q(s2_e$16$q),
-        .clock(s2_e$16$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$17(
-        .d(s2_e$17$d),
-        .q(s2_e$17$q),
-        .clock(s2_e$17$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$18(
-        .d(s2_e$18$d),
-        .q(s2_e$18$q),
-        .clock(s2_e$18$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$19(
-        .d(s2_e$19$d),
-        .q(s2_e$19$q),
-        .clock(s2_e$19$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$20(
-        .d(s2_e$20$d),
-        .q(s2_e$20$q),
-        .clock(s2_e$20$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$21(
-        .d(s2_e$21$d),
-        .q(s2_e$21$q),
-        .clock(s2_e$21$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$22(
-        .d(s2_e$22$d),
-        .q(s2_e$22$q),
-        .clock(s2_e$22$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$23(
-        .d(s2_e$23$d),
-        .q(s2_e$23$q),
-        .clock(s2_e$23$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$24(
-        .d(s2_e$24$d),
-        .q(s2_e$24$q),
-        .clock(s2_e$24$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$25(
-        .d(s2_e$25$d),
-        .q(s2_e$25$q),
-        .clock(s2_e$25$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$26(
-        .d(s2_e$26$d),
-        .q(s2_e$26$q),
-        .clock(s2_e$26$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$27(
-        .d(s2_e$27$d),
-        .q(s2_e$27$q),
-        .clock(s2_e$27$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$28(
-        .d(s2_e$28$d),
-        .q(s2_e$28$q),
-        .clock(s2_e$28$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$29(
-        .d(s2_e$29$d),
-        .q(s2_e$29$q),
-        .clock(s2_e$29$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$30(
-        .d(s2_e$30$d),
-        .q(s2_e$30$q),
-        .clock(s2_e$30$clock)
-    );
-    pixelproc_top$shade$s2_e s2_e$31(
-        .d(s2_e$31$d),
-        .q(s2_e$31$q),
-        .clock(s2_e$31$clock)
     );
     pixelproc_top$array$e1_bg s2_d(
         .d(s2_d$d),
@@ -3902,194 +3582,162 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         l_addr[(32'h0)+:(4)] = in_word[(32'h0)+:(4)];
         l_addr[(32'h4)+:(3)] = in_word[(32'h3a)+:(3)];
         l_addr[(32'h7)+:(8)] = in_word[(32'h42)+:(8)];
-        banks$0$read_clock = clock;
-        banks$0$write_clock = clock;
+        banks$0$clock = clock;
         banks$0$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 0);
         banks$0$write_address = tw_addr[(32'h0)+:(10)];
         banks$0$write_data = tw_data;
         banks$0$read_address = l_addr[(32'h0)+:(10)];
-        banks$1$read_clock = clock;
-        banks$1$write_clock = clock;
+        banks$1$clock = clock;
         banks$1$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 1);
         banks$1$write_address = tw_addr[(32'h0)+:(10)];
         banks$1$write_data = tw_data;
         banks$1$read_address = l_addr[(32'h0)+:(10)];
-        banks$2$read_clock = clock;
-        banks$2$write_clock = clock;
+        banks$2$clock = clock;
         banks$2$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 2);
         banks$2$write_address = tw_addr[(32'h0)+:(10)];
         banks$2$write_data = tw_data;
         banks$2$read_address = l_addr[(32'h0)+:(10)];
-        banks$3$read_clock = clock;
-        banks$3$write_clock = clock;
+        banks$3$clock = clock;
         banks$3$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 3);
         banks$3$write_address = tw_addr[(32'h0)+:(10)];
         banks$3$write_data = tw_data;
         banks$3$read_address = l_addr[(32'h0)+:(10)];
-        banks$4$read_clock = clock;
-        banks$4$write_clock = clock;
+        banks$4$clock = clock;
         banks$4$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 4);
         banks$4$write_address = tw_addr[(32'h0)+:(10)];
         banks$4$write_data = tw_data;
         banks$4$read_address = l_addr[(32'h0)+:(10)];
-        banks$5$read_clock = clock;
-        banks$5$write_clock = clock;
+        banks$5$clock = clock;
         banks$5$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 5);
         banks$5$write_address = tw_addr[(32'h0)+:(10)];
         banks$5$write_data = tw_data;
         banks$5$read_address = l_addr[(32'h0)+:(10)];
-        banks$6$read_clock = clock;
-        banks$6$write_clock = clock;
+        banks$6$clock = clock;
         banks$6$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 6);
         banks$6$write_address = tw_addr[(32'h0)+:(10)];
         banks$6$write_data = tw_data;
         banks$6$read_address = l_addr[(32'h0)+:(10)];
-        banks$7$read_clock = clock;
-        banks$7$write_clock = clock;
+        banks$7$clock = clock;
         banks$7$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 7);
         banks$7$write_address = tw_addr[(32'h0)+:(10)];
         banks$7$write_data = tw_data;
         banks$7$read_address = l_addr[(32'h0)+:(10)];
-        banks$8$read_clock = clock;
-        banks$8$write_clock = clock;
+        banks$8$clock = clock;
         banks$8$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 8);
         banks$8$write_address = tw_addr[(32'h0)+:(10)];
         banks$8$write_data = tw_data;
         banks$8$read_address = l_addr[(32'h0)+:(10)];
-        banks$9$read_clock = clock;
-        banks$9$write_clock = clock;
+        banks$9$clock = clock;
         banks$9$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 9);
         banks$9$write_address = tw_addr[(32'h0)+:(10)];
         banks$9$write_data = tw_data;
         banks$9$read_address = l_addr[(32'h0)+:(10)];
-        banks$10$read_clock = clock;
-        banks$10$write_clock = clock;
+        banks$10$clock = clock;
         banks$10$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 10);
         banks$10$write_address = tw_addr[(32'h0)+:(10)];
         banks$10$write_data = tw_data;
         banks$10$read_address = l_addr[(32'h0)+:(10)];
-        banks$11$read_clock = clock;
-        banks$11$write_clock = clock;
+        banks$11$clock = clock;
         banks$11$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 11);
         banks$11$write_address = tw_addr[(32'h0)+:(10)];
         banks$11$write_data = tw_data;
         banks$11$read_address = l_addr[(32'h0)+:(10)];
-        banks$12$read_clock = clock;
-        banks$12$write_clock = clock;
+        banks$12$clock = clock;
         banks$12$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 12);
         banks$12$write_address = tw_addr[(32'h0)+:(10)];
         banks$12$write_data = tw_data;
         banks$12$read_address = l_addr[(32'h0)+:(10)];
-        banks$13$read_clock = clock;
-        banks$13$write_clock = clock;
+        banks$13$clock = clock;
         banks$13$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 13);
         banks$13$write_address = tw_addr[(32'h0)+:(10)];
         banks$13$write_data = tw_data;
         banks$13$read_address = l_addr[(32'h0)+:(10)];
-        banks$14$read_clock = clock;
-        banks$14$write_clock = clock;
+        banks$14$clock = clock;
         banks$14$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 14);
         banks$14$write_address = tw_addr[(32'h0)+:(10)];
         banks$14$write_data = tw_data;
         banks$14$read_address = l_addr[(32'h0)+:(10)];
-        banks$15$read_clock = clock;
-        banks$15$write_clock = clock;
+        banks$15$clock = clock;
         banks$15$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 15);
         banks$15$write_address = tw_addr[(32'h0)+:(10)];
         banks$15$write_data = tw_data;
         banks$15$read_address = l_addr[(32'h0)+:(10)];
-        banks$16$read_clock = clock;
-        banks$16$write_clock = clock;
+        banks$16$clock = clock;
         banks$16$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 16);
         banks$16$write_address = tw_addr[(32'h0)+:(10)];
         banks$16$write_data = tw_data;
         banks$16$read_address = l_addr[(32'h0)+:(10)];
-        banks$17$read_clock = clock;
-        banks$17$write_clock = clock;
+        banks$17$clock = clock;
         banks$17$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 17);
         banks$17$write_address = tw_addr[(32'h0)+:(10)];
         banks$17$write_data = tw_data;
         banks$17$read_address = l_addr[(32'h0)+:(10)];
-        banks$18$read_clock = clock;
-        banks$18$write_clock = clock;
+        banks$18$clock = clock;
         banks$18$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 18);
         banks$18$write_address = tw_addr[(32'h0)+:(10)];
         banks$18$write_data = tw_data;
         banks$18$read_address = l_addr[(32'h0)+:(10)];
-        banks$19$read_clock = clock;
-        banks$19$write_clock = clock;
+        banks$19$clock = clock;
         banks$19$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 19);
         banks$19$write_address = tw_addr[(32'h0)+:(10)];
         banks$19$write_data = tw_data;
         banks$19$read_address = l_addr[(32'h0)+:(10)];
-        banks$20$read_clock = clock;
-        banks$20$write_clock = clock;
+        banks$20$clock = clock;
         banks$20$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 20);
         banks$20$write_address = tw_addr[(32'h0)+:(10)];
         banks$20$write_data = tw_data;
         banks$20$read_address = l_addr[(32'h0)+:(10)];
-        banks$21$read_clock = clock;
-        banks$21$write_clock = clock;
+        banks$21$clock = clock;
         banks$21$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 21);
         banks$21$write_address = tw_addr[(32'h0)+:(10)];
         banks$21$write_data = tw_data;
         banks$21$read_address = l_addr[(32'h0)+:(10)];
-        banks$22$read_clock = clock;
-        banks$22$write_clock = clock;
+        banks$22$clock = clock;
         banks$22$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 22);
         banks$22$write_address = tw_addr[(32'h0)+:(10)];
         banks$22$write_data = tw_data;
         banks$22$read_address = l_addr[(32'h0)+:(10)];
-        banks$23$read_clock = clock;
-        banks$23$write_clock = clock;
+        banks$23$clock = clock;
         banks$23$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 23);
         banks$23$write_address = tw_addr[(32'h0)+:(10)];
         banks$23$write_data = tw_data;
         banks$23$read_address = l_addr[(32'h0)+:(10)];
-        banks$24$read_clock = clock;
-        banks$24$write_clock = clock;
+        banks$24$clock = clock;
         banks$24$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 24);
         banks$24$write_address = tw_addr[(32'h0)+:(10)];
         banks$24$write_data = tw_data;
         banks$24$read_address = l_addr[(32'h0)+:(10)];
-        banks$25$read_clock = clock;
-        banks$25$write_clock = clock;
+        banks$25$clock = clock;
         banks$25$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 25);
         banks$25$write_address = tw_addr[(32'h0)+:(10)];
         banks$25$write_data = tw_data;
         banks$25$read_address = l_addr[(32'h0)+:(10)];
-        banks$26$read_clock = clock;
-        banks$26$write_clock = clock;
+        banks$26$clock = clock;
         banks$26$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 26);
         banks$26$write_address = tw_addr[(32'h0)+:(10)];
         banks$26$write_data = tw_data;
         banks$26$read_address = l_addr[(32'h0)+:(10)];
-        banks$27$read_clock = clock;
-        banks$27$write_clock = clock;
+        banks$27$clock = clock;
         banks$27$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 27);
         banks$27$write_address = tw_addr[(32'h0)+:(10)];
         banks$27$write_data = tw_data;
         banks$27$read_address = l_addr[(32'h0)+:(10)];
-        banks$28$read_clock = clock;
-        banks$28$write_clock = clock;
+        banks$28$clock = clock;
         banks$28$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 28);
         banks$28$write_address = tw_addr[(32'h0)+:(10)];
         banks$28$write_data = tw_data;
         banks$28$read_address = l_addr[(32'h0)+:(10)];
-        banks$29$read_clock = clock;
-        banks$29$write_clock = clock;
+        banks$29$clock = clock;
         banks$29$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 29);
         banks$29$write_address = tw_addr[(32'h0)+:(10)];
         banks$29$write_data = tw_data;
         banks$29$read_address = l_addr[(32'h0)+:(10)];
-        banks$30$read_clock = clock;
-        banks$30$write_clock = clock;
+        banks$30$clock = clock;
         banks$30$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 30);
         banks$30$write_address = tw_addr[(32'h0)+:(10)];
         banks$30$write_data = tw_data;
         banks$30$read_address = l_addr[(32'h0)+:(10)];
-        banks$31$read_clock = clock;
-        banks$31$write_clock = clock;
+        banks$31$clock = clock;
         banks$31$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 31);
         banks$31$write_address = tw_addr[(32'h0)+:(10)];
         banks$31$write_data = tw_data;
@@ -4098,70 +3746,6 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         s1_word$d = in_word;
         s1_meta$d = in_meta;
         s1_hi$d = l_addr[(32'ha)+:(5)];
-        s2_e$0$clock = clock;
-        s2_e$0$d = banks$0$read_data;
-        s2_e$1$clock = clock;
-        s2_e$1$d = banks$1$read_data;
-        s2_e$2$clock = clock;
-        s2_e$2$d = banks$2$read_data;
-        s2_e$3$clock = clock;
-        s2_e$3$d = banks$3$read_data;
-        s2_e$4$clock = clock;
-        s2_e$4$d = banks$4$read_data;
-        s2_e$5$clock = clock;
-        s2_e$5$d = banks$5$read_data;
-        s2_e$6$clock = clock;
-        s2_e$6$d = banks$6$read_data;
-        s2_e$7$clock = clock;
-        s2_e$7$d = banks$7$read_data;
-        s2_e$8$clock = clock;
-        s2_e$8$d = banks$8$read_data;
-        s2_e$9$clock = clock;
-        s2_e$9$d = banks$9$read_data;
-        s2_e$10$clock = clock;
-        s2_e$10$d = banks$10$read_data;
-        s2_e$11$clock = clock;
-        s2_e$11$d = banks$11$read_data;
-        s2_e$12$clock = clock;
-        s2_e$12$d = banks$12$read_data;
-        s2_e$13$clock = clock;
-        s2_e$13$d = banks$13$read_data;
-        s2_e$14$clock = clock;
-        s2_e$14$d = banks$14$read_data;
-        s2_e$15$clock = clock;
-        s2_e$15$d = banks$15$read_data;
-        s2_e$16$clock = clock;
-        s2_e$16$d = banks$16$read_data;
-        s2_e$17$clock = clock;
-        s2_e$17$d = banks$17$read_data;
-        s2_e$18$clock = clock;
-        s2_e$18$d = banks$18$read_data;
-        s2_e$19$clock = clock;
-        s2_e$19$d = banks$19$read_data;
-        s2_e$20$clock = clock;
-        s2_e$20$d = banks$20$read_data;
-        s2_e$21$clock = clock;
-        s2_e$21$d = banks$21$read_data;
-        s2_e$22$clock = clock;
-        s2_e$22$d = banks$22$read_data;
-        s2_e$23$clock = clock;
-        s2_e$23$d = banks$23$read_data;
-        s2_e$24$clock = clock;
-        s2_e$24$d = banks$24$read_data;
-        s2_e$25$clock = clock;
-        s2_e$25$d = banks$25$read_data;
-        s2_e$26$clock = clock;
-        s2_e$26$d = banks$26$read_data;
-        s2_e$27$clock = clock;
-        s2_e$27$d = banks$27$read_data;
-        s2_e$28$clock = clock;
-        s2_e$28$d = banks$28$read_data;
-        s2_e$29$clock = clock;
-        s2_e$29$d = banks$29$read_data;
-        s2_e$30$clock = clock;
-        s2_e$30$d = banks$30$read_data;
-        s2_e$31$clock = clock;
-        s2_e$31$d = banks$31$read_data;
         l_rgb = s1_word$q[(32'ha)+:(24)];
         l_sh = s1_word$q[(32'h4a)+:(24)];
         l_dd = k_zero24;
@@ -4193,100 +3777,100 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         s2_d$d = l_dd;
         l_e = k_zero_e;
         if (s2_hi$q == 0) begin
-            l_e = s2_e$0$q;
+            l_e = banks$0$read_data;
         end
         if (s2_hi$q == 1) begin
-            l_e = s2_e$1$q;
+            l_e = banks$1$read_data;
         end
         if (s2_hi$q == 2) begin
-            l_e = s2_e$2$q;
+            l_e = banks$2$read_data;
         end
         if (s2_hi$q == 3) begin
-            l_e = s2_e$3$q;
+            l_e = banks$3$read_data;
         end
         if (s2_hi$q == 4) begin
-            l_e = s2_e$4$q;
+            l_e = banks$4$read_data;
         end
         if (s2_hi$q == 5) begin
-            l_e = s2_e$5$q;
+            l_e = banks$5$read_data;
         end
         if (s2_hi$q == 6) begin
-            l_e = s2_e$6$q;
+            l_e = banks$6$read_data;
         end
         if (s2_hi$q == 7) begin
-            l_e = s2_e$7$q;
+            l_e = banks$7$read_data;
         end
         if (s2_hi$q == 8) begin
-            l_e = s2_e$8$q;
+            l_e = banks$8$read_data;
         end
         if (s2_hi$q == 9) begin
-            l_e = s2_e$9$q;
+            l_e = banks$9$read_data;
         end
         if (s2_hi$q == 10) begin
-            l_e = s2_e$10$q;
+            l_e = banks$10$read_data;
         end
         if (s2_hi$q == 11) begin
-            l_e = s2_e$11$q;
+            l_e = banks$11$read_data;
         end
         if (s2_hi$q == 12) begin
-            l_e = s2_e$12$q;
+            l_e = banks$12$read_data;
         end
         if (s2_hi$q == 13) begin
-            l_e = s2_e$13$q;
+            l_e = banks$13$read_data;
         end
         if (s2_hi$q == 14) begin
-            l_e = s2_e$14$q;
+            l_e = banks$14$read_data;
         end
         if (s2_hi$q == 15) begin
-            l_e = s2_e$15$q;
+            l_e = banks$15$read_data;
         end
         if (s2_hi$q == 16) begin
-            l_e = s2_e$16$q;
+            l_e = banks$16$read_data;
         end
         if (s2_hi$q == 17) begin
-            l_e = s2_e$17$q;
+            l_e = banks$17$read_data;
         end
         if (s2_hi$q == 18) begin
-            l_e = s2_e$18$q;
+            l_e = banks$18$read_data;
         end
         if (s2_hi$q == 19) begin
-            l_e = s2_e$19$q;
+            l_e = banks$19$read_data;
         end
         if (s2_hi$q == 20) begin
-            l_e = s2_e$20$q;
+            l_e = banks$20$read_data;
         end
         if (s2_hi$q == 21) begin
-            l_e = s2_e$21$q;
+            l_e = banks$21$read_data;
         end
         if (s2_hi$q == 22) begin
-            l_e = s2_e$22$q;
+            l_e = banks$22$read_data;
         end
         if (s2_hi$q == 23) begin
-            l_e = s2_e$23$q;
+            l_e = banks$23$read_data;
         end
         if (s2_hi$q == 24) begin
-            l_e = s2_e$24$q;
+            l_e = banks$24$read_data;
         end
         if (s2_hi$q == 25) begin
-            l_e = s2_e$25$q;
+            l_e = banks$25$read_data;
         end
         if (s2_hi$q == 26) begin
-            l_e = s2_e$26$q;
+            l_e = banks$26$read_data;
         end
         if (s2_hi$q == 27) begin
-            l_e = s2_e$27$q;
+            l_e = banks$27$read_data;
         end
         if (s2_hi$q == 28) begin
-            l_e = s2_e$28$q;
+            l_e = banks$28$read_data;
         end
         if (s2_hi$q == 29) begin
-            l_e = s2_e$29$q;
+            l_e = banks$29$read_data;
         end
         if (s2_hi$q == 30) begin
-            l_e = s2_e$30$q;
+            l_e = banks$30$read_data;
         end
         if (s2_hi$q == 31) begin
-            l_e = s2_e$31$q;
+            l_e = banks$31$read_data;
         end
         l_f = {{7{1'b0}}, l_e[(32'h0)+:(9)]};
         l_g = {{7{1'b0}}, l_e[(32'h9)+:(9)]};
@@ -4389,52 +3973,21 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
 endmodule // pixelproc_top$shade
 
 
-module pixelproc_top$shade$banks(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
+
+module pixelproc_top$shade$banks(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
-    input wire  [9:0] read_address;
-    input wire  read_clock;
-    output reg  [17:0] read_data;
-    input wire  [9:0] write_address;
-    input wire  write_clock;
-    input wire  [17:0] write_data;
+    input wire  clock;
     input wire  write_enable;
+    input wire  [9:0] write_address;
+    input wire  [17:0] write_data;
+    input wire  [9:0] read_address;
+    output wire  [17:0] read_data;
     
-    // Update code (custom)
-    reg[17:0] mem[1023:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
+    // Update code (wrapper)
+    pixelproc_bank_ram ram(.clock(clock), .write_enable(write_enable), .write_address(write_address), .write_data(write_data), .read_address(read_address), .read_data(read_data));
 endmodule // pixelproc_top$shade$banks
 
-
-module pixelproc_top$shade$s2_e(d,q,clock);
-    
-    // Module arguments
-    input wire  [17:0] d;
-    output reg  [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // pixelproc_top$shade$s2_e
 
 
 module pixelproc_top$shade$s4_pd(d,q,clock);
@@ -4456,3 +4009,41 @@ module pixelproc_top$shade$s4_pd(d,q,clock);
 endmodule // pixelproc_top$shade$s4_pd
 
 
+
+// pixelproc_bank_ram: one bank of the core's shading table, 1024 words of 18 bits, one
+// write port and one read port on the same clock. The read is registered twice: the word
+// at `read_address` before edge E is on `read_data` after edge E + 1. A read of a word
+// written at the same edge returns the word's old value.
+//
+// This is the generic (behavioural) implementation, the one the exported core carries
+// and every simulator and generic synthesis reads. The ECP5 flow replaces it with
+// synth/ecp5/pixelproc_bank_ram.v (one DP16KD, the second register being the block
+// RAM's own output register), which behaves the same except for a read of a word written
+// at the same edge (not defined there).
+module pixelproc_bank_ram(clock, write_enable, write_address, write_data, read_address, read_data);
+    input wire clock;
+    input wire write_enable;
+    input wire [9:0] write_address;
+    input wire [17:0] write_data;
+    input wire [9:0] read_address;
+    output reg [17:0] read_data;
+
+    reg [17:0] mem [0:1023];
+    // The block RAM's read register.
+    reg [17:0] read_word;
+
+    initial begin
+        read_data = 18'h0;
+    end
+
+    always @(posedge clock) begin
+        if (write_enable) begin
+            mem[write_address] <= write_data;
+        end
+    end
+
+    always @(posedge clock) begin
+        read_word <= mem[read_address];
+        read_data <= read_word;
+    end
+endmodule // pixelproc_bank_ram
