@@ -120,7 +120,7 @@ impl PixRow<'_> {
 
     /// Adds colour `col` with weight `w` to pixel `i`, and the weight to triangle `tri`'s
     /// when weights are kept.
-    #[inline]
+    #[inline(always)]
     pub(super) fn add(&mut self, i: usize, w: i64, col: [i64; 3], tri: i32) {
         if w == 0 {
             return;
