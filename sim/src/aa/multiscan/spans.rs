@@ -186,6 +186,40 @@ pub(super) fn prepare(k: usize, t: &SnappedTri, yden: i64) -> Option<MsTri> {
     })
 }
 
+/// The interval `[lo, hi)` of a triangle of y extent `(ylo, yhi)` (Q.8 · `yden`) on the
+/// sub-scanline `ynum` (see [`MsTri::interval`]): the least and greatest x at which the
+/// edges that reach the line (`reach`, inclusive y extent) cross it (`x_at`, Q.16).
+#[inline(always)]
+fn line_interval<E>(
+    (ylo, yhi): (i64, i64),
+    ynum: i64,
+    from_above: bool,
+    edges: &[E],
+    reach: impl Fn(&E) -> (i64, i64),
+    x_at: impl Fn(&E) -> i64,
+) -> Option<(i64, i64)> {
+    let y = 256 * ynum; // Q.8 · yden
+    let hit = if from_above {
+        ylo < y && y <= yhi
+    } else {
+        ylo <= y && y < yhi
+    };
+    if !hit {
+        return None;
+    }
+    let (mut lo, mut hi) = (i64::MAX, i64::MIN);
+    for e in edges {
+        let (ya, yb) = reach(e);
+        if y < ya || y > yb {
+            continue;
+        }
+        let x = x_at(e);
+        lo = lo.min(x);
+        hi = hi.max(x);
+    }
+    (lo < hi).then_some((lo, hi))
+}
+
 impl MsTri {
     /// The Q.16 x-interval `[xl, xr)` on the sub-scanline `y = ynum/yden` (`yden` of
     /// [`prepare`]), if non-empty. `from_above` takes the limit `y → y⁻` (the
@@ -193,25 +227,14 @@ impl MsTri {
     /// (`ymin ≤ y < ymax`).
     #[inline]
     pub(super) fn interval(&self, ynum: i64, from_above: bool) -> Option<(i64, i64)> {
-        let y = 256 * ynum; // Q.8 · yden
-        let hit = if from_above {
-            self.ylo < y && y <= self.yhi
-        } else {
-            self.ylo <= y && y < self.yhi
-        };
-        if !hit {
-            return None;
-        }
-        let (mut lo, mut hi) = (i64::MAX, i64::MIN);
-        for e in &self.edges[..self.ne] {
-            if y < e.ya || y > e.yb {
-                continue;
-            }
-            let x = round_div(e.a + e.b * ynum as i128, e.d) as i64;
-            lo = lo.min(x);
-            hi = hi.max(x);
-        }
-        (lo < hi).then_some((lo, hi))
+        line_interval(
+            (self.ylo, self.yhi),
+            ynum,
+            from_above,
+            &self.edges[..self.ne],
+            |e| (e.ya, e.yb),
+            |e| round_div(e.a + e.b * ynum as i128, e.d) as i64,
+        )
     }
 
     /// Does the sub-scanline `y = ynum/yden` see a different interval from above than
@@ -298,25 +321,14 @@ impl<'a> Cand<'a> {
         if self.wide {
             return self.t.interval(ynum, from_above);
         }
-        let y = 256 * ynum;
-        let hit = if from_above {
-            self.ylo < y && y <= self.yhi
-        } else {
-            self.ylo <= y && y < self.yhi
-        };
-        if !hit {
-            return None;
-        }
-        let (mut lo, mut hi) = (i64::MAX, i64::MIN);
-        for e in &self.edges[..self.ne as usize] {
-            if y < e.ya || y > e.yb {
-                continue;
-            }
-            let x = (2 * (e.a + e.b * ynum) + e.d).div_euclid(2 * e.d);
-            lo = lo.min(x);
-            hi = hi.max(x);
-        }
-        (lo < hi).then_some((lo, hi))
+        line_interval(
+            (self.ylo, self.yhi),
+            ynum,
+            from_above,
+            &self.edges[..self.ne as usize],
+            |e| (e.ya, e.yb),
+            |e| (2 * (e.a + e.b * ynum) + e.d).div_euclid(2 * e.d),
+        )
     }
 
     /// [`MsTri::sides_differ`] of the triangle.
