@@ -177,6 +177,19 @@ impl<'a, 't> PieceColour<'a, 't> {
         }
     }
 
+    /// Steppers of `a`'s colour planes from `mid` on, pixel by pixel (one wide division
+    /// per channel), in 64 bits where `steps` advances stay inside them.
+    #[inline]
+    fn wide_steps(&self, a: &Active, mid: i64, steps: u64) -> ColourSteps {
+        let c = Self::planes(a, self.ynum);
+        let st =
+            [0, 1, 2].map(|k| RoundDivSteps::start(c[k].k + c[k].s * mid as i128, &a.t.cstep[k]));
+        match st.map(|s| s.narrow(steps)) {
+            [Some(r), Some(g), Some(b)] => ColourSteps::Narrow([r, g, b]),
+            _ => ColourSteps::Wide(st),
+        }
+    }
+
     /// The colour planes of `a` on the sub-scanline `ynum`.
     #[inline]
     fn planes(a: &Active, ynum: i64) -> [RowPlane; 3] {
@@ -201,15 +214,10 @@ impl<'a, 't> PieceColour<'a, 't> {
                 if count <= 0 {
                     return;
                 }
-                // Steppers at the first middle, set up once for the run (one wide division
-                // per channel), in 64 bits where the run's `count − 1` steps stay inside.
-                let mid = x0 + ONE16 / 2;
-                let c = Self::planes(a, self.ynum);
-                let st = [0, 1, 2]
-                    .map(|k| RoundDivSteps::start(c[k].k + c[k].s * mid as i128, &a.t.cstep[k]));
-                match st.map(|s| s.narrow(count as u64)) {
-                    [Some(r), Some(g), Some(b)] => run(&mut [r, g, b], count, f),
-                    _ => run(&mut { st }, count, f),
+                // Steppers at the first middle, set up once for the run.
+                match self.wide_steps(a, x0 + ONE16 / 2, count as u64) {
+                    ColourSteps::Narrow(mut st) => run(&mut st, count, f),
+                    ColourSteps::Wide(mut st) => run(&mut st, count, f),
                 }
             }
         }
@@ -234,16 +242,7 @@ impl<'a, 't> PieceColour<'a, 't> {
         if x1 - x0 == ONE16 && end - x1 >= 2 * ONE16 {
             // More whole parts follow: step from here, in 64 bits where the steps that
             // can follow (one per whole part up to `end`) stay inside them.
-            let c = Self::planes(a, self.ynum);
-            let st = [0, 1, 2].map(|k| {
-                let p = &c[k];
-                RoundDivSteps::start(p.k + p.s * mid as i128, &a.t.cstep[k])
-            });
-            let steps = ((end - mid) / ONE16 + 1) as u64;
-            let mut st = match st.map(|s| s.narrow(steps)) {
-                [Some(r), Some(g), Some(b)] => ColourSteps::Narrow([r, g, b]),
-                _ => ColourSteps::Wide(st),
-            };
+            let mut st = self.wide_steps(a, mid, ((end - mid) / ONE16 + 1) as u64);
             let v = st.next().map(clamp);
             self.steps = Some((st, mid + ONE16));
             return v;

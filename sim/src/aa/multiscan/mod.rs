@@ -165,8 +165,8 @@ impl<'a> MsFrame<'a> {
             let (xl, xr) = c.interval(ynum, from_above)?;
             Some(Active {
                 t: c.t,
-                idx: c.t.idx,
-                decal: c.t.decal,
+                idx: c.idx,
+                decal: c.decal,
                 z: c.z.row(ynum),
                 xl,
                 xr,

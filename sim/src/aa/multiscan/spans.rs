@@ -102,10 +102,10 @@ pub(super) struct MsEdge {
     pub(super) d: i128,
 }
 
-/// A triangle set up for multi-scanning. The fields every sub-scanline reads for every
-/// candidate (its y extent and edges, then its index and decal flag) come first and in
-/// this order (`repr(C)`), so that testing a candidate touches the start of the struct
-/// only; the planes, read for the triangles that are hit, follow.
+/// A triangle set up for multi-scanning. The fields a band's [`Cand`] copies (its y
+/// extent and edges, its index and decal flag) come first and in this order (`repr(C)`),
+/// so that making the candidate reads the start of the struct; the planes, read for the
+/// triangles that are hit, follow.
 #[derive(Clone, Debug)]
 #[repr(C)]
 pub(super) struct MsTri {
@@ -265,6 +265,9 @@ struct Edge64 {
 /// the triangles a sub-scanline hits, and then only for their colour).
 pub(super) struct Cand<'a> {
     pub(super) t: &'a MsTri,
+    /// Copies of the triangle's input index and decal flag.
+    pub(super) idx: i32,
+    pub(super) decal: bool,
     ylo: i64,
     yhi: i64,
     /// Edges in 64-bit form, `ne` of them; `ne = 0` with `wide` when one does not fit.
@@ -306,6 +309,8 @@ impl<'a> Cand<'a> {
         }
         Cand {
             t,
+            idx: t.idx,
+            decal: t.decal,
             ylo: t.ylo,
             yhi: t.yhi,
             edges,
