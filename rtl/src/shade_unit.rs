@@ -11,12 +11,16 @@
 //! block RAM's own output register), and per
 //! channel `d = max(0, c − s)` (`c` a colour channel, `s` the same channel of shade
 //! register `SH`); stage 3 picks the entry of the addressed bank (the top address bits,
-//! carried along) and applies the override below; stage 4 the products `c·F + 128` and
-//! `d·G + 128`; stage 5 `max(0, min((c·F + 128) >> 8, 255) − ((d·G + 128) >> 8))`: the
-//! clamp, the subtraction and the floor at 0. No step is longer than one block RAM read,
-//! one 32-way multiplexer, one multiply or one add and compare (a single 2^15-entry RAM
-//! put the block RAMs' read, their 32-way output multiplexer and the override in one
-//! clock: 12.1 ns on an ECP5). This is the seed's factor `F` (table mode, `G = 0`) or the
+//! carried along) and applies the override below; stage 4 registers the raw products
+//! `c·F` and `d·G` (nothing after the multiplier: on an ECP5 the `+ 128` of the rounding
+//! behind the MULT18X18D was the critical path, 9.6–10.3 ns); stage 5 rounds them,
+//! `(p + 128) >> 8` computed as `(p >> 8) + p[7]` (the same number for every `p ≥ 0`:
+//! [`round_q8`]), and forms `max(0, min(round(c·F), 255) − round(d·G))`: the clamp, the
+//! subtraction and the floor at 0, with the clamp decided beside the subtraction rather
+//! than before it ([`stage5`]). No step is longer than one block RAM read, one 32-way
+//! multiplexer, one multiply, or one increment, one subtraction and one multiplexer (a
+//! single 2^15-entry RAM put the block RAMs' read, their 32-way output multiplexer and the
+//! override in one clock: 12.1 ns on an ECP5). This is the seed's factor `F` (table mode, `G = 0`) or the
 //! exact removal of the shadowed share `G` of light 0 (exact mode, `F = 256`). A
 //! background pixel (`ZB = Z_FAR`) and every pixel of a unit built without shading keep
 //! their colour. This is `pixelproc_formats::core_stream::shade_rgb`, the golden model's
@@ -58,10 +62,50 @@ pub const BANKS: usize = 1 << (SHADE_ADDR_BITS - BANK_BITS);
 /// Width of the bank number (the table address's top bits).
 const HI_W: usize = SHADE_ADDR_BITS - BANK_BITS;
 
-/// Width of one product field (`c·F + 128 < 2^17`). The kernel spells it as the literal
-/// 18 (a kernel takes literal widths and offsets).
+/// Width of one product field (`c·F ≤ 255 · 511 < 2^17`). The kernel spells it as the
+/// literal 18 (a kernel takes literal widths and offsets).
 const PROD_W: usize = 18;
 const _: () = assert!(PROD_W == 18);
+const _: () = assert!(255 * ((1 << FACTOR_BITS) - 1) < 1 << PROD_W);
+
+/// The rounding of stage 5: `(p + 128) >> 8`, as the kernel computes it, `(p >> 8) + p[7]`,
+/// with no add before the shift (the product goes into a register straight from the
+/// multiplier).
+///
+/// Why the two are equal for every `p ≥ 0`: write `p = 256·a + b` with `a = p >> 8` and
+/// `0 ≤ b = p mod 256 < 256`, so `p[7] = 1` exactly when `b ≥ 128`. Then
+/// `p + 128 = 256·a + (b + 128)` with `128 ≤ b + 128 < 384`, so
+/// `(p + 128) >> 8 = a + ⌊(b + 128) / 256⌋`, and `⌊(b + 128) / 256⌋` is 1 when `b ≥ 128`
+/// and 0 when `b < 128`: it is `p[7]`. (The tests also check it over every product the
+/// unit can form.)
+pub fn round_q8(p: u32) -> u32 {
+    (p >> 8) + ((p >> 7) & 1)
+}
+
+/// Stage 5 of one channel on integers, step for step as the kernel does it, from the two
+/// products `pf = c·F` and `pd = d·G` (each at most `255 · 511`, so each rounded value is
+/// at most 509 and fits the kernel's 9 bits): `max(0, min(round(pf), 255) − round(pd))`.
+pub fn stage5(pf: u32, pd: u32) -> u32 {
+    stage5_rounded(round_q8(pf) & 0x1ff, round_q8(pd) & 0x1ff)
+}
+
+/// The part of [`stage5`] after the rounding, on the two 9-bit rounded values: when bit 8
+/// of `lit` is set the clamp gives 255 and the result is `255 − drop = !drop[7:0]` for
+/// `drop < 256`, else 0; otherwise the 10-bit difference `lit − drop`, 0 when negative.
+fn stage5_rounded(lit: u32, drop: u32) -> u32 {
+    let diff = lit.wrapping_sub(drop) & 0x3ff;
+    if lit & 0x100 != 0 {
+        if drop & 0x100 == 0 {
+            !drop & 0xff
+        } else {
+            0
+        }
+    } else if diff & 0x200 == 0 {
+        diff & 0xff
+    } else {
+        0
+    }
+}
 
 /// The shading unit. Build with [`ShadeUnit::new`].
 #[derive(LogicBlock)]
@@ -127,21 +171,19 @@ pub struct ShadeUnit {
     l_ch: Signal<Local, Bits<8>>,
     l_sc: Signal<Local, Bits<8>>,
     l_d: Signal<Local, Bits<8>>,
-    l_drop: Signal<Local, Bits<32>>,
-    l_c: Signal<Local, Bits<32>>,
+    l_lit: Signal<Local, Bits<9>>,
+    l_drop: Signal<Local, Bits<9>>,
+    l_diff: Signal<Local, Bits<10>>,
     l_out: Signal<Local, Bits<24>>,
     l_word: Signal<Local, Bits<READOUT_W>>,
     k_on: Constant<Bit>,
     k_zero_e: Constant<Bits<ENTRY_W>>,
     k_far: Constant<Bits<24>>,
     k_one: Constant<Bits<16>>,
-    k_half: Constant<Bits<32>>,
-    k_max: Constant<Bits<32>>,
     k_zero_addr: Constant<Bits<SHADE_ADDR_BITS>>,
     k_zero24: Constant<Bits<24>>,
     k_zero16: Constant<Bits<16>>,
     k_zero8: Constant<Bits<8>>,
-    k_zero32: Constant<Bits<32>>,
     k_zero54: Constant<Bits<{ 3 * PROD_W }>>,
 }
 
@@ -204,21 +246,19 @@ impl ShadeUnit {
             l_ch: Default::default(),
             l_sc: Default::default(),
             l_d: Default::default(),
+            l_lit: Default::default(),
             l_drop: Default::default(),
-            l_c: Default::default(),
+            l_diff: Default::default(),
             l_out: Default::default(),
             l_word: Default::default(),
             k_on: Constant::new(shading),
             k_zero_e: Constant::new(0u64.to_bits()),
             k_far: Constant::new((Z_FAR as u64).to_bits()),
             k_one: Constant::new(256u64.to_bits()),
-            k_half: Constant::new(128u64.to_bits()),
-            k_max: Constant::new(255u64.to_bits()),
             k_zero_addr: Constant::new(0u64.to_bits()),
             k_zero24: Constant::new(0u64.to_bits()),
             k_zero16: Constant::new(0u64.to_bits()),
             k_zero8: Constant::new(0u64.to_bits()),
-            k_zero32: Constant::new(0u64.to_bits()),
             k_zero54: Constant::new(0u64.to_bits()),
         }
     }
@@ -296,19 +336,17 @@ impl Logic for ShadeUnit {
         self.s3_f.d.next = self.l_f.val();
         self.s3_g.d.next = self.l_g.val();
         self.s3_d.d.next = self.s2_d.q.val();
-        // ---- Stage 4, per channel: c·F + 128 and d·G + 128.
+        // ---- Stage 4, per channel: the raw products c·F and d·G (rounded in stage 5).
         self.l_rgb3.next = self.s3_word.q.val().get_value_rgb();
         self.l_pf.next = self.k_zero54.val();
         self.l_pd.next = self.k_zero54.val();
         for c in 0..3 {
             self.l_ch.next = self.l_rgb3.val().get_bits::<8>(8 * c);
-            self.l_p.next =
-                (bit_cast::<16, 8>(self.l_ch.val()) * self.s3_f.q.val()) + self.k_half.val();
+            self.l_p.next = bit_cast::<16, 8>(self.l_ch.val()) * self.s3_f.q.val();
             self.l_pf.next = (self.l_pf.val() >> 18)
                 | (bit_cast::<54, 18>(self.l_p.val().get_bits::<18>(0)) << 36);
             self.l_sc.next = self.s3_d.q.val().get_bits::<8>(8 * c);
-            self.l_p.next =
-                (bit_cast::<16, 8>(self.l_sc.val()) * self.s3_g.q.val()) + self.k_half.val();
+            self.l_p.next = bit_cast::<16, 8>(self.l_sc.val()) * self.s3_g.q.val();
             self.l_pd.next = (self.l_pd.val() >> 18)
                 | (bit_cast::<54, 18>(self.l_p.val().get_bits::<18>(0)) << 36);
         }
@@ -317,25 +355,33 @@ impl Logic for ShadeUnit {
         self.s4_meta.d.next = self.s3_meta.q.val();
         self.s4_pf.d.next = self.l_pf.val();
         self.s4_pd.d.next = self.l_pd.val();
-        // ---- Stage 5, per channel: lit = min(pf >> 8, 255), drop = pd >> 8,
-        // out = max(0, lit − drop).
+        // ---- Stage 5, per channel (`stage5`, the same steps on integers): round each
+        // product p to (p >> 8) + p[7] (= (p + 128) >> 8: `round_q8`), 9 bits wide
+        // (p < 2^17), lit = min(round(pf), 255), drop = round(pd), out = max(0, lit − drop).
+        // The clamp is not a multiplexer before the subtraction: bit 8 of round(pf) says lit
+        // is 255, and then out = 255 − drop = !drop[7:0] when drop < 256, else 0; otherwise
+        // out is the 10-bit difference round(pf) − drop floored at 0. Two short carry chains
+        // (the increment, the subtraction) and one multiplexer.
         self.l_out.next = self.k_zero24.val();
         for c in 0..3 {
             // (A kernel's loop index cannot go into a function's arguments: via `l_q`.)
             self.l_q.next = self.s4_pf.q.val().get_bits::<18>(18 * c);
-            self.l_c.next = bit_cast::<32, 18>(self.l_q.val()) >> 8;
-            if self.l_c.val() > self.k_max.val() {
-                self.l_c.next = self.k_max.val();
-            }
+            self.l_lit.next =
+                self.l_q.val().get_bits::<9>(8) + bit_cast::<9, 1>(self.l_q.val().get_bits::<1>(7));
             self.l_q.next = self.s4_pd.q.val().get_bits::<18>(18 * c);
-            self.l_drop.next = bit_cast::<32, 18>(self.l_q.val()) >> 8;
-            if self.l_drop.val() > self.l_c.val() {
-                self.l_c.next = self.k_zero32.val();
-            } else {
-                self.l_c.next = self.l_c.val() - self.l_drop.val();
+            self.l_drop.next =
+                self.l_q.val().get_bits::<9>(8) + bit_cast::<9, 1>(self.l_q.val().get_bits::<1>(7));
+            self.l_diff.next =
+                bit_cast::<10, 9>(self.l_lit.val()) - bit_cast::<10, 9>(self.l_drop.val());
+            self.l_d.next = self.k_zero8.val();
+            if self.l_lit.val().get_bit(8) {
+                if !self.l_drop.val().get_bit(8) {
+                    self.l_d.next = !self.l_drop.val().get_bits::<8>(0);
+                }
+            } else if !self.l_diff.val().get_bit(9) {
+                self.l_d.next = self.l_diff.val().get_bits::<8>(0);
             }
-            self.l_out.next = (self.l_out.val() >> 8)
-                | (bit_cast::<24, 8>(self.l_c.val().get_bits::<8>(0)) << 16);
+            self.l_out.next = (self.l_out.val() >> 8) | (bit_cast::<24, 8>(self.l_d.val()) << 16);
         }
         self.l_word.next = self.s4_word.q.val();
         self.l_word.next.set_value_rgb(self.l_out.val());
@@ -375,8 +421,55 @@ mod tests {
         b
     }
 
+    /// `(p >> 8) + p[7]` equals `(p + 128) >> 8` for every product the unit can form
+    /// (`c·F` and `d·G`, 8-bit by 9-bit: `0 ..= 255 · 511`), and on to the top of the
+    /// 18-bit product field.
+    #[test]
+    fn rounding_without_the_add_is_exact() {
+        for p in 0..(1u32 << PROD_W) {
+            assert_eq!(round_q8(p), (p + 128) >> 8, "p = {p}");
+        }
+        // Every product of a channel and a factor, as stage 4 forms it.
+        for c in 0..=255u32 {
+            for f in 0..(1u32 << FACTOR_BITS) {
+                let p = c * f;
+                assert!(p < 1 << PROD_W);
+                assert_eq!(round_q8(p), (p + 128) >> 8, "c = {c}, f = {f}");
+            }
+        }
+    }
+
+    /// Stage 5's clamp, subtraction and floor without a multiplexer before the
+    /// subtraction equal `max(0, min(lit, 255) − drop)` for every pair of 9-bit rounded
+    /// values; with `rounding_without_the_add_is_exact` (and `round_q8(255 · 511) < 512`)
+    /// this is `shade_rgb`'s channel for every product pair.
+    #[test]
+    fn stage5_is_the_formula() {
+        assert!(round_q8(255 * ((1 << FACTOR_BITS) - 1)) < 512);
+        for lit in 0..512u32 {
+            for drop in 0..512u32 {
+                assert_eq!(
+                    stage5_rounded(lit, drop),
+                    lit.min(255).saturating_sub(drop),
+                    "lit = {lit}, drop = {drop}"
+                );
+            }
+        }
+        for c in (0..=255u32).step_by(5) {
+            for f in (0..(1u32 << FACTOR_BITS)).step_by(7) {
+                for (d, g) in [(0, 0), (c / 2, 511), (c, 256), (200, 77), (255, 511)] {
+                    let want = ((c * f + 128) >> 8)
+                        .min(255)
+                        .saturating_sub((d * g + 128) >> 8);
+                    assert_eq!(stage5(c * f, d * g), want);
+                }
+            }
+        }
+    }
+
     /// Every channel value against a spread of shade registers, factors and drop weights,
-    /// through the banked table (entries in ten banks), equals `shade_rgb`; background pixels and the unshaded unit pass
+    /// through the banked table (entries in twelve banks; factors up to 511, where the clamp
+    /// at 255 acts), equals `shade_rgb`; background pixels and the unshaded unit pass
     /// colours through.
     #[test]
     fn shades_like_the_formula() {
@@ -394,11 +487,14 @@ mod tests {
                 (256, 128),
                 (256, 1),
                 (200, 100),
+                (511, 0),
+                (300, 511),
             ];
             for (i, (f, g)) in entries.iter().enumerate() {
                 u.tw_en.next = true;
-                // Normal classes 0, 24, 48, …: ten different banks, one low address (bank isolation).
-                u.tw_addr.next = (shade_addr((24 * i) as u8, 5, 3) as u64).to_bits();
+                // Normal classes 0, 20, 40, …: twelve different banks, one low address (bank
+                // isolation).
+                u.tw_addr.next = (shade_addr((20 * i) as u8, 5, 3) as u64).to_bits();
                 u.tw_data.next = ((*g as u64) << FACTOR_BITS | *f as u64).to_bits();
                 edge(&mut u);
             }
@@ -412,7 +508,7 @@ mod tests {
                         sh: (v / 2) << 16 | (v * 7 % 256) << 8 | (255 - v / 3),
                         mask: 5,
                         count: 3,
-                        nclass: (24 * i) as u8,
+                        nclass: (20 * i) as u8,
                         ..Default::default()
                     };
                     let mut out = s;

@@ -2864,13 +2864,10 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     localparam  k_zero_e = 18'b0;
     localparam  k_far = 24'hffffff;
     localparam  k_one = 16'h100;
-    localparam  k_half = 32'h80;
-    localparam  k_max = 32'hff;
     localparam  k_zero_addr = 15'b0;
     localparam  k_zero24 = 24'h0;
     localparam  k_zero16 = 16'h0;
     localparam  k_zero8 = 8'h0;
-    localparam  k_zero32 = 32'h0;
     localparam  k_zero54 = 54'h0;
     
     // Stub signals
@@ -3152,8 +3149,9 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  [7:0] l_ch;
     reg  [7:0] l_sc;
     reg  [7:0] l_d;
-    reg  [31:0] l_drop;
-    reg  [31:0] l_c;
+    reg  [8:0] l_lit;
+    reg  [8:0] l_drop;
+    reg  [9:0] l_diff;
     reg  [23:0] l_out;
     reg  [98:0] l_word;
     
@@ -3888,22 +3886,22 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         l_pf = k_zero54;
         l_pd = k_zero54;
         l_ch = l_rgb3[(32'h8 * 0)+:(8)];
-        l_p = ({{8{1'b0}}, l_ch} * s3_f$q) + k_half;
+        l_p = {{8{1'b0}}, l_ch} * s3_f$q;
         l_pf = (l_pf >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
         l_sc = s3_d$q[(32'h8 * 0)+:(8)];
-        l_p = ({{8{1'b0}}, l_sc} * s3_g$q) + k_half;
+        l_p = {{8{1'b0}}, l_sc} * s3_g$q;
         l_pd = (l_pd >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
         l_ch = l_rgb3[(32'h8 * 1)+:(8)];
-        l_p = ({{8{1'b0}}, l_ch} * s3_f$q) + k_half;
+        l_p = {{8{1'b0}}, l_ch} * s3_f$q;
         l_pf = (l_pf >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
         l_sc = s3_d$q[(32'h8 * 1)+:(8)];
-        l_p = ({{8{1'b0}}, l_sc} * s3_g$q) + k_half;
+        l_p = {{8{1'b0}}, l_sc} * s3_g$q;
         l_pd = (l_pd >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
         l_ch = l_rgb3[(32'h8 * 2)+:(8)];
-        l_p = ({{8{1'b0}}, l_ch} * s3_f$q) + k_half;
+        l_p = {{8{1'b0}}, l_ch} * s3_f$q;
         l_pf = (l_pf >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
         l_sc = s3_d$q[(32'h8 * 2)+:(8)];
-        l_p = ({{8{1'b0}}, l_sc} * s3_g$q) + k_half;
+        l_p = {{8{1'b0}}, l_sc} * s3_g$q;
         l_pd = (l_pd >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
         s4_v$d = s3_v$q;
         s4_word$d = s3_word$q;
@@ -3912,47 +3910,50 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         s4_pd$d = l_pd;
         l_out = k_zero24;
         l_q = s4_pf$q[(32'h12 * 0)+:(18)];
-        l_c = {{14{1'b0}}, l_q} >> 32'h8;
-        if (l_c > k_max) begin
-            l_c = k_max;
-        end
+        l_lit = l_q[(32'h8)+:(9)] + {{8{1'b0}}, l_q[(32'h7)+:(1)]};
         l_q = s4_pd$q[(32'h12 * 0)+:(18)];
-        l_drop = {{14{1'b0}}, l_q} >> 32'h8;
-        if (l_drop > l_c) begin
-            l_c = k_zero32;
+        l_drop = l_q[(32'h8)+:(9)] + {{8{1'b0}}, l_q[(32'h7)+:(1)]};
+        l_diff = {{1{1'b0}}, l_lit} - {{1{1'b0}}, l_drop};
+        l_d = k_zero8;
+        if (l_lit[32'h8]) begin
+            if (~l_drop[32'h8]) begin
+                l_d = ~l_drop[(32'h0)+:(8)];
+            end
         end
-        else begin
-            l_c = l_c - l_drop;
+        else if (~l_diff[32'h9]) begin
+            l_d = l_diff[(32'h0)+:(8)];
         end
-        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_c[(32'h0)+:(8)]} << 32'h10);
+        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_d} << 32'h10);
         l_q = s4_pf$q[(32'h12 * 1)+:(18)];
-        l_c = {{14{1'b0}}, l_q} >> 32'h8;
-        if (l_c > k_max) begin
-            l_c = k_max;
-        end
+        l_lit = l_q[(32'h8)+:(9)] + {{8{1'b0}}, l_q[(32'h7)+:(1)]};
         l_q = s4_pd$q[(32'h12 * 1)+:(18)];
-        l_drop = {{14{1'b0}}, l_q} >> 32'h8;
-        if (l_drop > l_c) begin
-            l_c = k_zero32;
+        l_drop = l_q[(32'h8)+:(9)] + {{8{1'b0}}, l_q[(32'h7)+:(1)]};
+        l_diff = {{1{1'b0}}, l_lit} - {{1{1'b0}}, l_drop};
+        l_d = k_zero8;
+        if (l_lit[32'h8]) begin
+            if (~l_drop[32'h8]) begin
+                l_d = ~l_drop[(32'h0)+:(8)];
+            end
         end
-        else begin
-            l_c = l_c - l_drop;
+        else if (~l_diff[32'h9]) begin
+            l_d = l_diff[(32'h0)+:(8)];
         end
-        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_c[(32'h0)+:(8)]} << 32'h10);
+        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_d} << 32'h10);
         l_q = s4_pf$q[(32'h12 * 2)+:(18)];
-        l_c = {{14{1'b0}}, l_q} >> 32'h8;
-        if (l_c > k_max) begin
-            l_c = k_max;
-        end
+        l_lit = l_q[(32'h8)+:(9)] + {{8{1'b0}}, l_q[(32'h7)+:(1)]};
         l_q = s4_pd$q[(32'h12 * 2)+:(18)];
-        l_drop = {{14{1'b0}}, l_q} >> 32'h8;
-        if (l_drop > l_c) begin
-            l_c = k_zero32;
+        l_drop = l_q[(32'h8)+:(9)] + {{8{1'b0}}, l_q[(32'h7)+:(1)]};
+        l_diff = {{1{1'b0}}, l_lit} - {{1{1'b0}}, l_drop};
+        l_d = k_zero8;
+        if (l_lit[32'h8]) begin
+            if (~l_drop[32'h8]) begin
+                l_d = ~l_drop[(32'h0)+:(8)];
+            end
         end
-        else begin
-            l_c = l_c - l_drop;
+        else if (~l_diff[32'h9]) begin
+            l_d = l_diff[(32'h0)+:(8)];
         end
-        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_c[(32'h0)+:(8)]} << 32'h10);
+        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_d} << 32'h10);
         l_word = s4_word$q;
         l_word[(32'ha)+:(24)] = l_out;
         s5_v$d = s4_v$q;
