@@ -322,6 +322,60 @@ impl TriSetup {
         }
     }
 
+    /// As [`TriSetup::for_each_span_in`] for this triangle and `copies`, triangles with
+    /// the same snapped geometry (vertices, depths, decal host; only intensities, shade
+    /// channel and tag may differ: the shade-channel copies of
+    /// [`SnappedTri::chan`]). Their spans have the same columns and depth on every row, so
+    /// the row's columns and depth are found once: `f(i, row, word)` gets, per row, this
+    /// triangle's word (`i = 0`) and then each copy's (`i = 1 ..`), the same words as each
+    /// triangle's own [`TriSetup::for_each_span_in`].
+    pub fn for_each_span_shared(
+        &self,
+        copies: &[Option<TriSetup>],
+        lo: i64,
+        hi: i64,
+        width: u32,
+        mut f: impl FnMut(usize, u32, SpanWord),
+    ) {
+        let first = self.row_min.max(lo).max(0);
+        let last = self.row_max.min(hi);
+        if first > last {
+            return;
+        }
+        debug_assert!(copies
+            .iter()
+            .all(|c| c.as_ref().is_some_and(|c| c.edges == self.edges
+                && c.dz == self.dz
+                && (c.row_min, c.row_max) == (self.row_min, self.row_max))));
+        let all = || std::iter::once(self).chain(copies.iter().flatten());
+        let x0 = (SUBPIXEL_ONE / 2) as i64;
+        let mut zr = self.z.rows(x0, first, Z_FRAC);
+        let mut cr: Vec<[RoundDivSteps; 3]> = all()
+            .map(|t| [0, 1, 2].map(|k| t.c[k].rows(x0, first, 0)))
+            .collect();
+        for j in first..=last {
+            if let Some((xl, xr)) = self.columns(j, width) {
+                let z0 = zr.value() as i64;
+                for (i, (t, r)) in all().zip(&cr).enumerate() {
+                    let w = t.word(xl, xr, z0, r.map(|r| r.value() as i64));
+                    debug_assert_eq!(Some(w), t.span(j, width));
+                    f(i, j as u32, w);
+                }
+            }
+            zr.advance();
+            for r in cr.iter_mut().flatten() {
+                r.advance();
+            }
+        }
+    }
+
+    /// Whether `a` and `b` have the same snapped vertices, depths and decal host: their
+    /// span words then have the same rows, columns and depths (a shade-channel copy and
+    /// its polygon; see [`TriSetup::for_each_span_shared`]).
+    pub fn same_geometry(a: &SnappedTri, b: &SnappedTri) -> bool {
+        (a.v, a.z, a.host) == (b.v, b.z, b.host)
+    }
+
     /// The depth plane's exact row stepper from row `first` on, at the centre of column 0
     /// (as [`TriSetup::for_each_span_in`] steps it), for [`TriSetup::shadow_span`].
     pub(crate) fn depth_rows(&self, first: i64) -> RoundDivSteps {

@@ -246,6 +246,10 @@ pub struct SpanRaster {
     set: Vec<Option<TriSetup>>,
     /// Number of non-degenerate triangles.
     live: usize,
+    /// Per input triangle, how many triangles right after it share its geometry
+    /// ([`TriSetup::same_geometry`]: its shade-channel copies), scanned with it; 0 for those
+    /// copies themselves, which [`SpanRaster::scan_band`] then skips.
+    group: Vec<u8>,
     bands: Bands,
 }
 
@@ -259,6 +263,19 @@ impl SpanRaster {
         // filtered copy of these large records.
         let set: Vec<Option<TriSetup>> = tris.par_iter().map(TriSetup::of_checked).collect();
         let live = set.iter().filter(|s| s.is_some()).count();
+        let mut group = vec![0u8; tris.len()];
+        let mut lead = 0;
+        for k in 1..tris.len() {
+            // A shade-channel copy right after its polygon (or after another copy of it),
+            // or any other triangle of the same geometry. Same geometry means both were set
+            // up, or neither.
+            if group[lead] < u8::MAX && TriSetup::same_geometry(&tris[lead], &tris[k]) {
+                debug_assert_eq!(set[lead].is_some(), set[k].is_some());
+                group[lead] += 1;
+            } else {
+                lead = k;
+            }
+        }
         let bands = Bands::new(
             SPAN_BAND,
             height,
@@ -272,6 +289,7 @@ impl SpanRaster {
             height,
             set,
             live,
+            group,
             bands,
         })
     }
@@ -322,9 +340,26 @@ impl SpanRaster {
     /// words of the band's rows, top to bottom.
     pub fn scan_band(&self, b: usize, sink: &mut impl SpanSink) {
         let (lo, hi) = self.bands.rows(b);
+        let mut skip = 0;
         for &k in self.bands.members(b) {
-            if let Some(t) = &self.set[k as usize] {
-                t.for_each_span_in(lo, hi, self.width, |j, w| sink.span(k, j, &w));
+            if skip > 0 {
+                // A copy, scanned with its polygon (binned alike: the same rows).
+                skip -= 1;
+                continue;
+            }
+            let Some(t) = &self.set[k as usize] else {
+                skip = self.group[k as usize];
+                continue;
+            };
+            match self.group[k as usize] {
+                0 => t.for_each_span_in(lo, hi, self.width, |j, w| sink.span(k, j, &w)),
+                n => {
+                    skip = n;
+                    let copies = &self.set[k as usize + 1..=k as usize + n as usize];
+                    t.for_each_span_shared(copies, lo, hi, self.width, |i, j, w| {
+                        sink.span(k + i as u32, j, &w)
+                    });
+                }
             }
         }
     }
@@ -422,6 +457,74 @@ mod tests {
         for _ in 0..20 {
             let e = SpanRaster::new(&bad, 64, 16).err().expect("an error");
             assert_eq!(e.to_string(), first);
+        }
+    }
+
+    /// Triangles of the same geometry in a row (shade-channel copies, a duplicated
+    /// triangle) are scanned together; every row must still receive each triangle's own
+    /// words ([`TriSetup::for_each_span_in`]), in input order, whatever the groups.
+    #[test]
+    fn shared_geometry_groups_give_each_triangles_own_words() {
+        let mut rng = crate::rng::Lcg64(0x5eed_0c0b);
+        let (w, h) = (96u32, 80u32);
+        let mut tris = Vec::new();
+        for i in 0..300 {
+            let mut r = |m: u64| (rng.step() % m) as i32;
+            let v = [0; 3].map(|_| [r(120 * 256) - 10 * 256, r(100 * 256) - 10 * 256]);
+            let z = [0; 3].map(|_| 1000 + r(1 << 20) as u32);
+            let host = (i % 7 == 3).then_some(crate::setup::HostPlane {
+                v: [[0, 0], [w as i32 * 256, 0], [0, h as i32 * 256]],
+                z: [5000, 6000, 7000],
+            });
+            let col =
+                |r: &mut dyn FnMut(u64) -> i32| [0; 3].map(|_| [0; 3].map(|_| r(1 << 20) as u32));
+            let t = SnappedTri {
+                v,
+                z,
+                c: col(&mut r),
+                tag: i as u16,
+                host,
+                nclass: (i % 5) as u8,
+                chan: 0,
+            };
+            tris.push(t);
+            // 0–3 copies: other intensities, channel, class and tag.
+            for c in 1..=(i % 4) {
+                tris.push(SnappedTri {
+                    c: col(&mut r),
+                    chan: c as u8,
+                    tag: (i + c) as u16,
+                    nclass: (c * 3) as u8,
+                    ..t
+                });
+            }
+        }
+        // A degenerate polygon with a copy: neither is scanned.
+        let flat = SnappedTri {
+            v: [[0, 0], [256, 256], [512, 512]],
+            ..tris[0]
+        };
+        tris.insert(5, flat);
+        tris.insert(6, SnappedTri { chan: 1, ..flat });
+        let r = SpanRaster::new(&tris, w, h).unwrap();
+        assert!(r.group.iter().any(|&g| g >= 2), "copies are grouped");
+        let mut expect: Vec<Vec<(u32, SpanWord)>> = vec![Vec::new(); h as usize];
+        for (k, t) in tris.iter().enumerate() {
+            if let Some(s) = TriSetup::new(t).unwrap() {
+                s.for_each_span(w, h, |j, sw| expect[j as usize].push((k as u32, sw)));
+            }
+        }
+        struct Rows(Vec<Vec<(u32, SpanWord)>>);
+        impl SpanSink for Rows {
+            fn span(&mut self, prim: u32, row: u32, w: &SpanWord) {
+                self.0[row as usize].push((prim, *w));
+            }
+        }
+        let mut got = Rows(vec![Vec::new(); h as usize]);
+        r.scan(&mut got);
+        assert!(expect.iter().map(Vec::len).sum::<usize>() > 5_000);
+        for (j, (g, e)) in got.0.iter().zip(&expect).enumerate() {
+            assert_eq!(g, e, "row {j}");
         }
     }
 
