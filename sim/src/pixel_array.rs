@@ -180,6 +180,25 @@ impl PixelArray {
         }
     }
 
+    /// Two clocks, span words `a` then `b`: the same as `step_span(a)` then
+    /// `step_span(b)`. When `b` is the shade-channel 1 copy of the polygon span `a` (the
+    /// same columns), both are applied in one pass over the processors: where `a` wins,
+    /// `b` writes `SH`, which is what `b`'s clock does after `a`'s.
+    #[inline]
+    pub fn step_span_pair(&mut self, a: &SpanWord, b: &SpanWord) {
+        if a.attr == Attr::Op
+            && a.chan == 0
+            && b.attr == Attr::Op
+            && b.chan == 1
+            && (a.xl, a.xr) == (b.xl, b.xr)
+        {
+            self.op_chan_span(a, b);
+        } else {
+            self.step_span(a);
+            self.step_span(b);
+        }
+    }
+
     /// The processor index range `[lo, hi]` a span covers in this tile, if any.
     #[inline]
     fn tile_range(&self, w: &SpanWord) -> Option<(usize, usize)> {
@@ -215,6 +234,34 @@ impl PixelArray {
             z += w.dz;
             for (ck, dk) in c.iter_mut().zip(w.di) {
                 *ck += dk as i64;
+            }
+        }
+    }
+
+    /// [`PixelArray::op_span`] of `w` and [`PixelArray::chan_span`] of its channel-1
+    /// copy `sh` (the same columns), in one pass.
+    fn op_chan_span(&mut self, w: &SpanWord, sh: &SpanWord) {
+        debug_assert!(sh.chan == 1 && (w.xl, w.xr) == (sh.xl, sh.xr));
+        let Some((lo, hi)) = self.tile_range(w) else {
+            return;
+        };
+        let off = self.base as i64 + lo as i64 - w.xl as i64;
+        let mut z = w.zl as i64 + off * w.dz;
+        let mut c: [i64; 3] = std::array::from_fn(|k| w.il[k] as i64 + off * w.di[k] as i64);
+        let mut d: [i64; 3] = std::array::from_fn(|k| sh.il[k] as i64 + off * sh.di[k] as i64);
+        for s in &mut self.procs[lo..=hi] {
+            let zp = (z >> Z_FRAC) as u32;
+            s.won = crate::raster::depth::passes(zp, s.zb, w.decal);
+            if s.won {
+                s.zb = zp;
+                s.nclass = w.nclass;
+                s.rgb = pack_rgb(c.map(|v| (v >> I_FRAC).clamp(0, 255) as u8));
+                s.sh = pack_rgb(d.map(|v| (v >> I_FRAC).clamp(0, 255) as u8));
+            }
+            z += w.dz;
+            for k in 0..3 {
+                c[k] += w.di[k] as i64;
+                d[k] += sh.di[k] as i64;
             }
         }
     }
@@ -311,6 +358,63 @@ mod tests {
         );
         assert_eq!(a.state()[3].zb, 500);
         assert_eq!(a.state()[0].zb, 800);
+    }
+
+    /// A pair of words is the two clocks in order, whether or not it is applied in one
+    /// pass (a channel-1 copy with the same columns) or not (other columns, channel,
+    /// attribute), on tiles the words overlap or miss, decals included.
+    #[test]
+    fn span_pair_is_two_clocks() {
+        let mut rng = crate::rng::Lcg64(0xfa11_0b1e);
+        let mut fused = 0;
+        for round in 0..2_000 {
+            let mut r = |m: u64| rng.step() % m;
+            let base = [0, 8, 16][round % 3];
+            let word = |r: &mut dyn FnMut(u64) -> u64| {
+                let xl = r(28) as u16;
+                SpanWord {
+                    attr: Attr::Op,
+                    xl,
+                    xr: xl + r(8) as u16,
+                    zl: r(1 << 30) + (1 << 20),
+                    dz: r(1 << 16) as i64 - (1 << 15),
+                    il: [0; 3].map(|_| r(1 << 20) as u32),
+                    di: [0; 3].map(|_| r(1 << 14) as i32 - (1 << 13)),
+                    decal: r(4) == 0,
+                    nclass: r(8) as u8,
+                    ..Default::default()
+                }
+            };
+            let mut a0 = PixelArray::new(16, base);
+            // Some earlier state: depths, WON flags and shade registers.
+            for _ in 0..3 {
+                let w = word(&mut r);
+                a0.step_span(&w);
+                a0.step_span(&SpanWord {
+                    chan: 1 + r(2) as u8,
+                    ..word(&mut r)
+                });
+            }
+            let a = word(&mut r);
+            let mut b = SpanWord {
+                chan: 1,
+                ..word(&mut r)
+            };
+            match r(5) {
+                0 | 1 => (b.xl, b.xr) = (a.xl, a.xr),
+                2 => b.chan = 2,
+                3 => b.attr = Attr::Sp,
+                _ => {}
+            }
+            fused += ((b.xl, b.xr, b.chan, b.attr) == (a.xl, a.xr, 1, Attr::Op)) as u32;
+            let (mut one, mut two) = (a0.clone(), a0);
+            one.step_span_pair(&a, &b);
+            two.step_span(&a);
+            two.step_span(&b);
+            assert_eq!(one.state(), two.state(), "round {round}: {a:?} {b:?}");
+            assert_eq!(one.shade_regs(), two.shade_regs(), "round {round}");
+        }
+        assert!(fused > 500, "{fused}");
     }
 
     #[test]

@@ -9,7 +9,7 @@
 use crate::pixel_array::{Command, PixelArray, ProcState, MORE_SHADE};
 use crate::raster::{SpanRaster, SpanSink};
 use crate::setup::{SetupError, SnappedTri};
-use crate::stream::{feed_routed, TileRouter};
+use crate::stream::{feed_routed, feed_routed_pairs, TileRouter};
 use pixelproc_formats::{SpanWord, MAX_SCREEN};
 use rayon::prelude::*;
 
@@ -219,7 +219,11 @@ where
                     let base = (t * array_width) as u32;
                     arr.set_base(base);
                     let ops = list.iter().map(|&k| &spans[k as usize]);
-                    feed_routed(arr, bg, ops, cmds, &routed[t]);
+                    if src.max_chan >= 1 {
+                        feed_routed_pairs(arr, bg, ops, cmds, &routed[t]);
+                    } else {
+                        feed_routed(arr, bg, ops, cmds, &routed[t]);
+                    }
                     let n = (w - base).min(array_width as u32) as usize;
                     row[base as usize..base as usize + n].copy_from_slice(&arr.state()[..n]);
                     if more_stride > 0 && !arr.shade_regs().is_empty() {

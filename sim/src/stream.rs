@@ -51,6 +51,12 @@ pub trait CommandSink {
     fn span(&mut self, w: &SpanWord);
     /// Any other command.
     fn command(&mut self, c: &Command);
+    /// Two span words in successive clocks: the same as `span(a)` then `span(b)` (the
+    /// array applies a polygon's span and its shade-channel copy in one pass).
+    fn span_pair(&mut self, a: &SpanWord, b: &SpanWord) {
+        self.span(a);
+        self.span(b);
+    }
 }
 
 impl CommandSink for PixelArray {
@@ -61,6 +67,10 @@ impl CommandSink for PixelArray {
     #[inline]
     fn command(&mut self, c: &Command) {
         self.step(c);
+    }
+    #[inline]
+    fn span_pair(&mut self, a: &SpanWord, b: &SpanWord) {
+        self.step_span_pair(a, b);
     }
 }
 
@@ -138,9 +148,40 @@ pub fn feed_routed<'a>(
     cmds: &[Command],
     list: &[u32],
 ) {
+    feed_routed_with::<false>(sink, bg, ops, cmds, list)
+}
+
+/// [`feed_routed`] for a frame with shade channels: an OP word followed by a shade-channel
+/// 1 word goes to the sink as a pair ([`CommandSink::span_pair`]: a polygon's span and its
+/// copy's, which the array applies in one pass). The same clocks as [`feed_routed`].
+pub fn feed_routed_pairs<'a>(
+    sink: &mut impl CommandSink,
+    bg: u32,
+    ops: impl IntoIterator<Item = &'a SpanWord>,
+    cmds: &[Command],
+    list: &[u32],
+) {
+    feed_routed_with::<true>(sink, bg, ops, cmds, list)
+}
+
+#[inline(always)]
+fn feed_routed_with<'a, const PAIRS: bool>(
+    sink: &mut impl CommandSink,
+    bg: u32,
+    ops: impl IntoIterator<Item = &'a SpanWord>,
+    cmds: &[Command],
+    list: &[u32],
+) {
     sink.command(&Command::ClearLine { bg });
-    for w in ops {
-        sink.span(w);
+    let mut ops = ops.into_iter().peekable();
+    while let Some(w) = ops.next() {
+        match PAIRS {
+            true => match ops.next_if(|n| n.attr == Attr::Op && n.chan == 1) {
+                Some(n) => sink.span_pair(w, n),
+                None => sink.span(w),
+            },
+            false => sink.span(w),
+        }
     }
     for &k in list {
         sink.command(&cmds[k as usize]);
