@@ -134,6 +134,23 @@ pub struct ClipVert {
     pub a: DVec3,
 }
 
+/// The clip planes of [`Projector::clip_polygon`] (near, far, the guard band), as
+/// functions `d(p)` of a clip-space point, `d(p) ≥ 0` inside.
+const CLIP_PLANES: [fn(&DVec4) -> f64; 6] = [
+    |p| p.z,
+    |p| p.w - p.z,
+    |p| GUARD * p.w - p.x,
+    |p| GUARD * p.w + p.x,
+    |p| GUARD * p.w - p.y,
+    |p| GUARD * p.w + p.y,
+];
+
+/// Whether [`Projector::clip_polygon`] keeps a polygon with every vertex at `p` as it is:
+/// each vertex inside every plane, by the same test (false for a NaN).
+fn unclipped(p: &[DVec4]) -> bool {
+    p.iter().all(|p| CLIP_PLANES.iter().all(|d| d(p) >= 0.0))
+}
+
 impl Projector {
     /// Builds the projector of a 3-D scene.
     pub fn new(ls: &LoadedScene) -> Projector {
@@ -179,17 +196,8 @@ impl Projector {
 
     /// Clips a convex polygon against near, far and the guard band.
     pub fn clip_polygon(&self, poly: Vec<ClipVert>) -> Vec<ClipVert> {
-        // Plane functions d(p) ≥ 0 inside.
-        let planes: [fn(&DVec4) -> f64; 6] = [
-            |p| p.z,
-            |p| p.w - p.z,
-            |p| GUARD * p.w - p.x,
-            |p| GUARD * p.w + p.x,
-            |p| GUARD * p.w - p.y,
-            |p| GUARD * p.w + p.y,
-        ];
         let mut poly = poly;
-        for d in planes {
+        for d in CLIP_PLANES {
             if poly.is_empty() {
                 break;
             }
@@ -457,6 +465,40 @@ fn shade_face(
         a: [0, 1, 2].map(|k| shade(k, skip)),
     };
     let tris = emit(pj, &lit(None), f.tag, f.host, f.nclass)?;
+    if !channels.is_empty() && tris.len() == 1 && unclipped(&p.map(|x| pj.clip(x))) {
+        // Not clipped: `emit` snaps the three vertices as they are, in order, into one
+        // triangle, so a copy's geometry is the polygon's and only its intensities
+        // (snapped the same way) differ.
+        let copies = (1..)
+            .zip(channels)
+            .map(|(c, &l)| SnappedTri {
+                c: [0, 1, 2].map(|k| {
+                    let a = shade(k, Some(l));
+                    [a.x, a.y, a.z].map(snap_intensity)
+                }),
+                chan: c,
+                ..tris[0]
+            })
+            .collect();
+        return Ok(ShadedFace { tris, copies });
+    }
+    shade_face_clipped(pj, p, &shade, channels, f, tris)
+}
+
+/// [`shade_face`] by clipping and snapping each copy on its own: `tris` are the pieces of
+/// `p` lit by `shade(vertex, None)`.
+fn shade_face_clipped(
+    pj: &Projector,
+    p: [DVec3; 3],
+    shade: &impl Fn(usize, Option<usize>) -> DVec3,
+    channels: &[usize],
+    f: &Face,
+    tris: Vec<SnappedTri>,
+) -> Result<ShadedFace, SetupError> {
+    let lit = |skip: Option<usize>| WorldTri {
+        p,
+        a: [0, 1, 2].map(|k| shade(k, skip)),
+    };
     let mut per_chan = Vec::with_capacity(channels.len());
     for &l in channels {
         let ct = emit(pj, &lit(Some(l)), f.tag, f.host, f.nclass)?;
@@ -673,4 +715,59 @@ pub fn class_normal(c: u8) -> DVec3 {
         (u, v)
     };
     DVec3::new(x, y, z).normalize()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The unclipped shortcut of [`shade_face`] gives the copies that clipping and
+    /// snapping each one gives, for triangles inside the view, cut by the near plane or
+    /// the guard band, and behind the eye.
+    #[test]
+    fn unclipped_copies_equal_clipped_ones() {
+        let ls = crate::scene::load_builtin("default").unwrap();
+        let pj = Projector::new(&ls);
+        let mut rng = crate::rng::Lcg64(0x00c0_b1e5);
+        let (mut fast, mut cut) = (0, 0);
+        for i in 0..3_000 {
+            let mut r = |s: f64| ((rng.step() >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * s;
+            let scale = [2.0, 20.0, 200.0][i % 3];
+            let c = DVec3::new(r(scale), r(scale), r(scale));
+            let p = [0; 3].map(|_| c + DVec3::new(r(scale), r(scale), r(scale)));
+            let seed = rng.step();
+            let shade = |k: usize, skip: Option<usize>| {
+                let h = seed ^ (k as u64 * 0x9e37) ^ skip.map_or(7, |l| l as u64 * 131);
+                DVec3::new(
+                    (h % 1000) as f64 / 999.0,
+                    (h / 1000 % 1000) as f64 / 999.0,
+                    (h / 1_000_000 % 1000) as f64 / 999.0,
+                )
+            };
+            let f = Face {
+                tag: i as u16,
+                host: None,
+                nclass: 3,
+                origin: Origin::Pattern(0),
+            };
+            let channels = [[0].as_slice(), &[1, 0], &[2, 0, 1]][i % 3];
+            let Ok(got) = shade_face(&pj, p, shade, channels, &f) else {
+                continue;
+            };
+            let lit = WorldTri {
+                p,
+                a: [0, 1, 2].map(|k| shade(k, None)),
+            };
+            let tris = emit(&pj, &lit, f.tag, f.host, f.nclass).unwrap();
+            let want = shade_face_clipped(&pj, p, &shade, channels, &f, tris).unwrap();
+            assert_eq!(got.tris, want.tris, "case {i}");
+            assert_eq!(got.copies, want.copies, "case {i}");
+            if unclipped(&p.map(|x| pj.clip(x))) {
+                fast += 1;
+            } else if !want.tris.is_empty() {
+                cut += 1;
+            }
+        }
+        assert!(fast > 300 && cut > 300, "{fast} unclipped, {cut} clipped");
+    }
 }
