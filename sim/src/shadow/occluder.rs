@@ -91,7 +91,8 @@ pub(super) fn edge_faces(faces: &[[usize; 3]]) -> EdgeFaces {
     edge_faces
 }
 
-/// Connected components of faces sharing an edge (union-find), ordered by their root.
+/// Connected components of faces sharing an edge (union-find), each in ascending face
+/// order, ordered by their smallest face (the same in every run).
 pub(super) fn components(n: usize, edge_faces: &EdgeFaces) -> Vec<Vec<usize>> {
     let mut parent: Vec<usize> = (0..n).collect();
     fn find(p: &mut [usize], x: usize) -> usize {
@@ -113,17 +114,19 @@ pub(super) fn components(n: usize, edge_faces: &EdgeFaces) -> Vec<Vec<usize>> {
             parent[a] = b;
         }
     }
-    let mut comps: HashMap<usize, Vec<usize>> = HashMap::new();
+    // Numbered in order of their smallest face: the union order above follows the hash
+    // map's iteration, which differs between runs, and so does which face becomes a root.
+    let mut id = vec![usize::MAX; n];
+    let mut comps: Vec<Vec<usize>> = Vec::new();
     for fi in 0..n {
         let r = find(&mut parent, fi);
-        comps.entry(r).or_default().push(fi);
+        if id[r] == usize::MAX {
+            id[r] = comps.len();
+            comps.push(Vec::new());
+        }
+        comps[id[r]].push(fi);
     }
-    let mut roots: Vec<usize> = comps.keys().copied().collect();
-    roots.sort_unstable();
-    roots
-        .into_iter()
-        .map(|r| comps.remove(&r).unwrap_or_default())
-        .collect()
+    comps
 }
 
 /// One component as an occluder: its faces, welded edges, closed and convex tests.
@@ -200,4 +203,43 @@ pub(super) fn segment_hits(p: DVec3, q: DVec3, t: &[DVec3; 3]) -> bool {
     }
     let tt = f * e2.dot(qv);
     tt > 1e-9 && tt < 1.0 - 1e-9
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Six "stars" (a face and the three faces on its edges), their faces shuffled through
+    /// the face list. Which face of a star ends up as the union-find root depends on the
+    /// order its edges are visited, and every call builds a new hash map, whose iteration
+    /// order differs from the last one's; the components and their order must not.
+    #[test]
+    fn components_come_in_the_same_order_every_time() {
+        let (stars, per) = (6usize, 4usize);
+        let n = stars * per;
+        // Item `i` (star `i / 4`, role `i % 4`) becomes face `(7 i) mod 24`.
+        let face_of = |i: usize| (7 * i) % n;
+        let mut faces = vec![[0usize; 3]; n];
+        for i in 0..n {
+            let b = 10 * (i / per);
+            faces[face_of(i)] = match i % per {
+                0 => [b, b + 1, b + 2],
+                1 => [b + 1, b, b + 3],
+                2 => [b + 2, b + 1, b + 4],
+                _ => [b, b + 2, b + 5],
+            };
+        }
+        let mut expected: Vec<Vec<usize>> = (0..stars)
+            .map(|s| {
+                let mut fl: Vec<usize> = (0..per).map(|r| face_of(s * per + r)).collect();
+                fl.sort_unstable();
+                fl
+            })
+            .collect();
+        expected.sort_unstable_by_key(|fl| fl[0]);
+        for _ in 0..64 {
+            let ef = edge_faces(&faces);
+            assert_eq!(components(n, &ef), expected);
+        }
+    }
 }
