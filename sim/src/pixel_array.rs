@@ -216,25 +216,12 @@ impl PixelArray {
         let Some((lo, hi)) = self.tile_range(w) else {
             return;
         };
-        let base = self.base as i64;
-        let xl = w.xl as i64;
-        // Accumulators at processor `lo`, then + dZ / + dI per processor: identical to the
-        // closed form (exact integer sums).
-        let mut z = w.zl as i64 + (base + lo as i64 - xl) * w.dz;
-        let off = base + lo as i64 - xl;
-        let mut c: [i64; 3] = std::array::from_fn(|k| w.il[k] as i64 + off * w.di[k] as i64);
-        for s in &mut self.procs[lo..=hi] {
-            let zp = (z >> Z_FRAC) as u32;
-            s.won = crate::raster::depth::passes(zp, s.zb, w.decal);
-            if s.won {
-                s.zb = zp;
-                s.nclass = w.nclass;
-                s.rgb = pack_rgb(c.map(|v| (v >> I_FRAC).clamp(0, 255) as u8));
-            }
-            z += w.dz;
-            for (ck, dk) in c.iter_mut().zip(w.di) {
-                *ck += dk as i64;
-            }
+        let off = self.base as i64 + lo as i64 - w.xl as i64;
+        let c = accumulators(w, off);
+        if in_range(&c, w, hi - lo) {
+            self.op_loop_in_range::<false>(w, lo, hi, c, w, c);
+        } else {
+            self.op_loop::<false>(w, lo, hi, c, w, c);
         }
     }
 
@@ -246,9 +233,31 @@ impl PixelArray {
             return;
         };
         let off = self.base as i64 + lo as i64 - w.xl as i64;
-        let mut z = w.zl as i64 + off * w.dz;
-        let mut c: [i64; 3] = std::array::from_fn(|k| w.il[k] as i64 + off * w.di[k] as i64);
-        let mut d: [i64; 3] = std::array::from_fn(|k| sh.il[k] as i64 + off * sh.di[k] as i64);
+        let (c, d) = (accumulators(w, off), accumulators(sh, off));
+        if in_range(&c, w, hi - lo) && in_range(&d, sh, hi - lo) {
+            self.op_loop_in_range::<true>(w, lo, hi, c, sh, d);
+        } else {
+            self.op_loop::<true>(w, lo, hi, c, sh, d);
+        }
+    }
+
+    /// The OP span's pass over processors `lo..=hi`: the depth test, and where it passes
+    /// `ZB`, the normal class, the intensity from accumulators `c` and, if `SH`, shade
+    /// register 1 from `d` (the channel-1 copy `sh`'s accumulators).
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn op_loop<const SH: bool>(
+        &mut self,
+        w: &SpanWord,
+        lo: usize,
+        hi: usize,
+        mut c: [i64; 3],
+        sh: &SpanWord,
+        mut d: [i64; 3],
+    ) {
+        // Accumulators at processor `lo`, then + dZ / + dI per processor: identical to the
+        // closed form (exact integer sums).
+        let mut z = w.zl as i64 + (self.base as i64 + lo as i64 - w.xl as i64) * w.dz;
         for s in &mut self.procs[lo..=hi] {
             let zp = (z >> Z_FRAC) as u32;
             s.won = crate::raster::depth::passes(zp, s.zb, w.decal);
@@ -256,12 +265,60 @@ impl PixelArray {
                 s.zb = zp;
                 s.nclass = w.nclass;
                 s.rgb = pack_rgb(c.map(|v| (v >> I_FRAC).clamp(0, 255) as u8));
-                s.sh = pack_rgb(d.map(|v| (v >> I_FRAC).clamp(0, 255) as u8));
+                if SH {
+                    s.sh = pack_rgb(d.map(|v| (v >> I_FRAC).clamp(0, 255) as u8));
+                }
             }
             z += w.dz;
             for k in 0..3 {
                 c[k] += w.di[k] as i64;
-                d[k] += sh.di[k] as i64;
+                if SH {
+                    d[k] += sh.di[k] as i64;
+                }
+            }
+        }
+    }
+
+    /// [`PixelArray::op_loop`] where [`in_range`] has shown that no channel's
+    /// `v >> I_FRAC` leaves 0..=255 over the run: the clamp is the identity, and every
+    /// accumulator value used lies in `0 .. 256 << I_FRAC`, so 32-bit lanes stepped with
+    /// wrapping adds hold it exactly (only the step past the last processor may wrap, and
+    /// it is not used). The six lanes (and two idle ones) step together.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn op_loop_in_range<const SH: bool>(
+        &mut self,
+        w: &SpanWord,
+        lo: usize,
+        hi: usize,
+        c: [i64; 3],
+        sh: &SpanWord,
+        d: [i64; 3],
+    ) {
+        let mut z = w.zl as i64 + (self.base as i64 + lo as i64 - w.xl as i64) * w.dz;
+        let mut v = [c[0] as i32, c[1] as i32, c[2] as i32, 0, 0, 0, 0, 0];
+        let mut dv = [w.di[0], w.di[1], w.di[2], 0, 0, 0, 0, 0];
+        if SH {
+            (v[4], v[5], v[6]) = (d[0] as i32, d[1] as i32, d[2] as i32);
+            (dv[4], dv[5], dv[6]) = (sh.di[0], sh.di[1], sh.di[2]);
+        }
+        let pack = |a: i32, b: i32, c: i32| {
+            ((a >> I_FRAC) as u32) << 16 | ((b >> I_FRAC) as u32) << 8 | (c >> I_FRAC) as u32
+        };
+        for s in &mut self.procs[lo..=hi] {
+            let zp = (z >> Z_FRAC) as u32;
+            s.won = crate::raster::depth::passes(zp, s.zb, w.decal);
+            if s.won {
+                s.zb = zp;
+                s.nclass = w.nclass;
+                s.rgb = pack(v[0], v[1], v[2]);
+                if SH {
+                    s.sh = pack(v[4], v[5], v[6]);
+                }
+            }
+            z += w.dz;
+            for k in 0..8 {
+                v[k] = v[k].wrapping_add(dv[k]);
             }
         }
     }
@@ -277,7 +334,7 @@ impl PixelArray {
             self.more = vec![0; self.procs.len() * MORE_SHADE];
         }
         let off = self.base as i64 + lo as i64 - w.xl as i64;
-        let mut c: [i64; 3] = std::array::from_fn(|k| w.il[k] as i64 + off * w.di[k] as i64);
+        let mut c = accumulators(w, off);
         for p in lo..=hi {
             if self.procs[p].won {
                 let v = pack_rgb(c.map(|v| (v >> I_FRAC).clamp(0, 255) as u8));
@@ -323,6 +380,25 @@ impl PixelArray {
             self.step(c);
         }
     }
+}
+
+/// A span's intensity accumulators `IL + off·dI` at the processor `off` columns right of
+/// `XL`.
+#[inline]
+fn accumulators(w: &SpanWord, off: i64) -> [i64; 3] {
+    std::array::from_fn(|k| w.il[k] as i64 + off * w.di[k] as i64)
+}
+
+/// Whether every channel's `v >> I_FRAC` stays in 0..=255 over the `n + 1` processors
+/// starting at accumulators `c`: the values are linear in the column, so their extremes
+/// are the two ends, and `>>` is monotonic.
+#[inline]
+fn in_range(c: &[i64; 3], w: &SpanWord, n: usize) -> bool {
+    (0..3).all(|k| {
+        let end = c[k] + n as i64 * w.di[k] as i64;
+        let (a, b) = ((c[k].min(end)) >> I_FRAC, (c[k].max(end)) >> I_FRAC);
+        a >= 0 && b <= 255
+    })
 }
 
 #[cfg(test)]
@@ -415,6 +491,92 @@ mod tests {
             assert_eq!(one.shade_regs(), two.shade_regs(), "round {round}");
         }
         assert!(fused > 500, "{fused}");
+    }
+
+    /// OP spans and their channel-1 copies, paired (one pass) and alone, against the
+    /// module header's rules written out here per processor: `Z = (ZL + (p − XL)·dZ) >> 12`,
+    /// `I(p) = clamp((IL + (p − XL)·dI) >> I_FRAC, 0, 255)`, the copy writing `SH` where
+    /// the span won. Intensities start near 0, mid-range and near 255 with slopes of
+    /// either sign, so runs that stay inside the range, touch its ends and leave it all
+    /// occur, on tiles that cut the spans.
+    #[test]
+    fn op_spans_follow_the_closed_form() {
+        let mut rng = crate::rng::Lcg64(0x0c1a_3b5e);
+        let (mut inside, mut outside) = (0, 0);
+        for round in 0..3_000 {
+            let mut r = |m: u64| rng.step() % m;
+            let base = [0u32, 8, 16][round % 3];
+            let mut word = |r: &mut dyn FnMut(u64) -> u64, chan: u8| {
+                let xl = r(28) as u16;
+                let one = 1i64 << I_FRAC;
+                let il = [0; 3].map(|_| {
+                    let start = [0, 128, 255][r(3) as usize] * one + r(one as u64) as i64;
+                    (start - one / 2).max(0) as u32
+                });
+                let di = [0; 3].map(|_| r(16 * one as u64) as i32 - 8 * one as i32);
+                SpanWord {
+                    attr: Attr::Op,
+                    xl,
+                    xr: xl + r(10) as u16,
+                    zl: r(1 << 30) + (1 << 20),
+                    dz: r(1 << 16) as i64 - (1 << 15),
+                    il,
+                    di,
+                    decal: r(4) == 0,
+                    nclass: r(8) as u8,
+                    chan,
+                    ..Default::default()
+                }
+            };
+            let mut a0 = PixelArray::new(16, base);
+            let earlier = word(&mut r, 0);
+            a0.step_span(&earlier);
+            let a = word(&mut r, 0);
+            let b = SpanWord {
+                xl: a.xl,
+                xr: a.xr,
+                ..word(&mut r, 1)
+            };
+            // The rules, per processor.
+            let at = |w: &SpanWord, k: usize, x: i64| {
+                (w.il[k] as i64 + (x - w.xl as i64) * w.di[k] as i64) >> I_FRAC
+            };
+            let colour =
+                |w: &SpanWord, x: i64| pack_rgb([0, 1, 2].map(|k| at(w, k, x).clamp(0, 255) as u8));
+            let mut want = a0.state().to_vec();
+            let mut leaves = false;
+            for (p, st) in want.iter_mut().enumerate() {
+                let x = base as i64 + p as i64;
+                if x < a.xl as i64 || x > a.xr as i64 {
+                    continue;
+                }
+                leaves |= (0..3).any(|k| !(0..=255).contains(&at(&a, k, x)));
+                leaves |= (0..3).any(|k| !(0..=255).contains(&at(&b, k, x)));
+                let z = ((a.zl as i64 + (x - a.xl as i64) * a.dz) >> Z_FRAC) as u32;
+                st.won = if a.decal { z <= st.zb } else { z < st.zb };
+                if st.won {
+                    st.zb = z;
+                    st.nclass = a.nclass;
+                    st.rgb = colour(&a, x);
+                    st.sh = colour(&b, x);
+                }
+            }
+            if leaves {
+                outside += 1;
+            } else {
+                inside += 1;
+            }
+            let (mut one, mut two) = (a0.clone(), a0);
+            one.step_span_pair(&a, &b);
+            assert_eq!(one.state(), &want[..], "round {round}: {a:?} {b:?}");
+            two.step_span(&a);
+            two.step_span(&b);
+            assert_eq!(two.state(), &want[..], "round {round}: {a:?} {b:?}");
+        }
+        assert!(
+            inside > 300 && outside > 300,
+            "{inside} inside, {outside} outside"
+        );
     }
 
     #[test]
