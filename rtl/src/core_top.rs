@@ -68,6 +68,10 @@ const X_W: usize = SPAN_XL.width;
 pub const READOUT_WAIT: u32 = 4;
 /// Address bits of the output FIFO (16 pixels).
 pub const OUT_FIFO_ABITS: usize = 4;
+/// Slices of the input FIFO's RAM, each with its own copy of the FIFO's pointers
+/// (`lut_ram::SlicedLutRam`): a 260-bit beat in slices of 32 or 36 bits, so one read
+/// pointer copy addresses 16 or 18 LUT RAM primitives instead of 130.
+pub const IN_FIFO_SLICES: usize = 8;
 /// Edges from the array sampling a readout address to the pixel being in the output FIFO.
 pub const READ_TO_FIFO: u32 = 3 + pixelproc_formats::core_stream::SHADE_STAGES as u32;
 
@@ -194,7 +198,7 @@ impl<const IA: usize, const IA1: usize> PixelprocCore<IA, IA1> {
             m_axis_tlast: Default::default(),
             proto_err: Default::default(),
             in_level: Default::default(),
-            in_fifo: Default::default(),
+            in_fifo: StreamFifo::with_slices(IN_FIFO_SLICES),
             array,
             shade: ShadeUnit::new(shadows),
             out_fifo: Default::default(),

@@ -1,5 +1,5 @@
 //! A first-word-fall-through stream FIFO on one RAM with a combinational read port
-//! ([`crate::lut_ram::LutRam`]) and its own head register, with valid/ready handshakes on
+//! ([`crate::lut_ram::SlicedLutRam`]) and its own head register, with valid/ready handshakes on
 //! both sides (AXI4-Stream rules: a beat moves on a rising edge where
 //! `valid` and `ready` are both 1; `out_data` is stable while `out_valid` and not
 //! `out_ready`).
@@ -20,8 +20,9 @@
 //! address and a wrap bit), the head register `head` (`out_data`) and `dv` (`head` holds
 //! the head entry). With `pop = dv ∧ out_ready`, `fetch = (wr ≠ rd) ∧ (¬dv ∨ pop)`,
 //! `push = in_valid ∧ in_ready`:
-//! - the RAM reads address `rd` (always: the address comes straight from the pointer
-//!   register), and `head := mem[rd]` if `fetch`, else `head` holds (a clock enable);
+//! - the RAM reads address `rd` (always: the address comes from registers equal to the
+//!   pointer, one copy per RAM slice), and `head := mem[rd]` if `fetch`, else `head`
+//!   holds (a clock enable);
 //! - `rd += fetch`, `dv := fetch ∨ (dv ∧ ¬pop)`, `wr += push`, `mem[wr] := in_data` if
 //!   `push`;
 //! - `level = wr − rd + dv`, `in_ready = ¬rst ∧ level ≠ 2^A`.
@@ -29,7 +30,17 @@
 //! `level ≠ 2^A` is read from a register, `full`, kept equal to `level = 2^A` after every
 //! edge: `full := level = 2^A − 1` on a push without a pop, `0` on a pop without a push,
 //! unchanged otherwise (`level' = level + push − pop`). So no pointer arithmetic sits
-//! between the pointers and the write enable.
+//! between the pointers and the write enable. Likewise `wr ≠ rd` is read from a register,
+//! `ne`, kept equal to it after every edge: `1` after a push, `0` after a fetch without a
+//! push from `wr = rd + 1`, unchanged otherwise (and `0` after `rst`); so the fetch
+//! decision, the head register's clock enable, reads a flip-flop instead of comparing
+//! the pointers.
+//!
+//! The RAM is a [`crate::lut_ram::SlicedLutRam`]: cut by data bits into
+//! [`StreamFifo::with_slices`] slices (one by default; 8 for the core's 260-bit command
+//! FIFO), each with its own registered copy of the read and write addresses, loaded with
+//! the pointers' next values. A copy drives the address pins of its slice only, instead
+//! of one pointer register driving every LUT RAM primitive of the word.
 //!
 //! A beat written at edge `E` is presented (`out_valid`) from edge `E + 1` on if the FIFO
 //! was empty; in steady state one beat moves on each side on every edge. The head entry
@@ -38,9 +49,10 @@
 //! Earlier the head register was the RAM's own registered read port, which had to re-read
 //! `rd − 1` to hold: the choice of address then depended on `out_ready`, and that choice
 //! fanned out to the address of every RAM slice (the core's critical path, `docs/fpga.md`).
-//! The behaviour on the ports, cycle for cycle, is the same.
+//! The pointer copies and `ne` came next, for the same path. The behaviour on the ports,
+//! cycle for cycle, is the same.
 
-use crate::lut_ram::LutRam;
+use crate::lut_ram::SlicedLutRam;
 use rust_hdl::prelude::*;
 
 /// The FIFO: `D` data, `2^A` entries, `A1 = A + 1` (pointer width). Each pointer is
@@ -65,7 +77,7 @@ pub struct StreamFifo<D: Synth, const A: usize, const A1: usize> {
     pub out_ready: Signal<In, Bit>,
     /// Entries held.
     pub level: Signal<Out, Bits<A1>>,
-    ram: LutRam<D, A>,
+    ram: SlicedLutRam<D, A>,
     head: DFF<D>,
     wa: DFF<Bits<A>>,
     ww: DFF<Bit>,
@@ -73,6 +85,7 @@ pub struct StreamFifo<D: Synth, const A: usize, const A1: usize> {
     rw: DFF<Bit>,
     dv: DFF<Bit>,
     full: DFF<Bit>,
+    ne: DFF<Bit>,
     l_pop: Signal<Local, Bit>,
     l_fetch: Signal<Local, Bit>,
     l_push: Signal<Local, Bit>,
@@ -80,6 +93,10 @@ pub struct StreamFifo<D: Synth, const A: usize, const A1: usize> {
     l_rd: Signal<Local, Bits<A1>>,
     l_level: Signal<Local, Bits<A1>>,
     l_dv: Signal<Local, Bits<A1>>,
+    l_ra_inc: Signal<Local, Bits<A>>,
+    l_ra_next: Signal<Local, Bits<A>>,
+    l_wa_next: Signal<Local, Bits<A>>,
+    l_one: Signal<Local, Bit>,
     k_one: Constant<Bits<A1>>,
     k_zero: Constant<Bits<A1>>,
     k_full: Constant<Bits<A1>>,
@@ -91,6 +108,14 @@ pub struct StreamFifo<D: Synth, const A: usize, const A1: usize> {
 
 impl<D: Synth, const A: usize, const A1: usize> Default for StreamFifo<D, A, A1> {
     fn default() -> Self {
+        Self::with_slices(1)
+    }
+}
+
+impl<D: Synth, const A: usize, const A1: usize> StreamFifo<D, A, A1> {
+    /// A FIFO whose RAM is cut into `slices` slices by data bits, each with its own copy
+    /// of the pointers ([`SlicedLutRam`]); `Default` is one slice.
+    pub fn with_slices(slices: usize) -> Self {
         assert!(
             A1 == A + 1 && A >= 1 && A < 16,
             "StreamFifo needs A1 = A + 1"
@@ -105,7 +130,7 @@ impl<D: Synth, const A: usize, const A1: usize> Default for StreamFifo<D, A, A1>
             out_data: Default::default(),
             out_ready: Default::default(),
             level: Default::default(),
-            ram: Default::default(),
+            ram: SlicedLutRam::new(slices),
             head: Default::default(),
             wa: Default::default(),
             ww: Default::default(),
@@ -113,6 +138,7 @@ impl<D: Synth, const A: usize, const A1: usize> Default for StreamFifo<D, A, A1>
             rw: Default::default(),
             dv: Default::default(),
             full: Default::default(),
+            ne: Default::default(),
             l_pop: Default::default(),
             l_fetch: Default::default(),
             l_push: Default::default(),
@@ -120,6 +146,10 @@ impl<D: Synth, const A: usize, const A1: usize> Default for StreamFifo<D, A, A1>
             l_rd: Default::default(),
             l_level: Default::default(),
             l_dv: Default::default(),
+            l_ra_inc: Default::default(),
+            l_ra_next: Default::default(),
+            l_wa_next: Default::default(),
+            l_one: Default::default(),
             k_one: Constant::new(1u64.to_bits()),
             k_zero: Constant::new(0u64.to_bits()),
             k_full: Constant::new((1u64 << A).to_bits()),
@@ -129,9 +159,7 @@ impl<D: Synth, const A: usize, const A1: usize> Default for StreamFifo<D, A, A1>
             k_last_a: Constant::new(((1u64 << A) - 1).to_bits()),
         }
     }
-}
 
-impl<D: Synth, const A: usize, const A1: usize> StreamFifo<D, A, A1> {
     /// Number of entries.
     pub const DEPTH: usize = 1 << A;
 
@@ -150,8 +178,8 @@ impl<D: Synth, const A: usize, const A1: usize> StreamFifo<D, A, A1> {
 impl<D: Synth, const A: usize, const A1: usize> Logic for StreamFifo<D, A, A1> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, head, wa, ww, ra, rw, dv, full);
-        self.ram.write_clock.next = self.clock.val();
+        dff_setup!(self, clock, head, wa, ww, ra, rw, dv, full, ne);
+        self.ram.clock.next = self.clock.val();
         // The two pointers as `A + 1`-bit numbers.
         self.l_wr.next = bit_cast::<A1, A>(self.wa.q.val());
         if self.ww.q.val() {
@@ -169,8 +197,7 @@ impl<D: Synth, const A: usize, const A1: usize> Logic for StreamFifo<D, A, A1> {
         self.level.next = self.l_level.val();
         self.in_ready.next = !self.full.q.val() & !self.rst.val();
         self.l_pop.next = self.dv.q.val() & self.out_ready.val();
-        self.l_fetch.next =
-            (self.l_wr.val() != self.l_rd.val()) & (!self.dv.q.val() | self.l_pop.val());
+        self.l_fetch.next = self.ne.q.val() & (!self.dv.q.val() | self.l_pop.val());
         self.l_push.next = self.in_valid.val() & self.in_ready.val();
         if self.l_push.val() & !self.l_pop.val() {
             self.full.d.next = self.l_level.val() == self.k_almost.val();
@@ -178,11 +205,13 @@ impl<D: Synth, const A: usize, const A1: usize> Logic for StreamFifo<D, A, A1> {
         if !self.l_push.val() & self.l_pop.val() {
             self.full.d.next = false;
         }
-        // Read side.
-        self.ram.read_address.next = self.ra.q.val();
+        // Read side: the RAM's address registers load the pointer's next value, so
+        // they read `mem[rd]` as the pointer register does.
+        self.l_ra_inc.next = self.ra.q.val() + self.k_one_a.val();
+        self.l_ra_next.next = self.ra.q.val();
         if self.l_fetch.val() {
             self.head.d.next = self.ram.read_data.val();
-            self.ra.d.next = self.ra.q.val() + self.k_one_a.val();
+            self.l_ra_next.next = self.l_ra_inc.val();
             if self.ra.q.val() == self.k_last_a.val() {
                 self.rw.d.next = !self.rw.q.val();
             }
@@ -190,24 +219,40 @@ impl<D: Synth, const A: usize, const A1: usize> Logic for StreamFifo<D, A, A1> {
         self.dv.d.next = self.l_fetch.val() | (self.dv.q.val() & !self.l_pop.val());
         self.out_valid.next = self.dv.q.val();
         self.out_data.next = self.head.q.val();
+        // `ne = (wr != rd)`: a push leaves an entry behind the read pointer; a fetch
+        // without a push empties the RAM part iff it held one entry, `wr = rd + 1`.
+        // (A fetch needs `wr != rd`, and `wr - rd <= 2^A`, so the `A`-bit addresses
+        // decide: `wa = ra + 1` only at `wr - rd = 1`.)
+        self.l_one.next = self.wa.q.val() == self.l_ra_inc.val();
+        if self.l_fetch.val() & !self.l_push.val() & self.l_one.val() {
+            self.ne.d.next = false;
+        }
+        if self.l_push.val() {
+            self.ne.d.next = true;
+        }
         // Write side.
-        self.ram.write_address.next = self.wa.q.val();
         self.ram.write_data.next = self.in_data.val();
         self.ram.write_enable.next = self.l_push.val();
+        self.l_wa_next.next = self.wa.q.val();
         if self.l_push.val() {
-            self.wa.d.next = self.wa.q.val() + self.k_one_a.val();
+            self.l_wa_next.next = self.wa.q.val() + self.k_one_a.val();
             if self.wa.q.val() == self.k_last_a.val() {
                 self.ww.d.next = !self.ww.q.val();
             }
         }
         if self.rst.val() {
-            self.wa.d.next = self.k_zero_a.val();
+            self.l_wa_next.next = self.k_zero_a.val();
             self.ww.d.next = false;
-            self.ra.d.next = self.k_zero_a.val();
+            self.l_ra_next.next = self.k_zero_a.val();
             self.rw.d.next = false;
             self.dv.d.next = false;
             self.full.d.next = false;
+            self.ne.d.next = false;
         }
+        self.wa.d.next = self.l_wa_next.val();
+        self.ra.d.next = self.l_ra_next.val();
+        self.ram.next_write_address.next = self.l_wa_next.val();
+        self.ram.next_read_address.next = self.l_ra_next.val();
     }
 }
 
@@ -216,22 +261,24 @@ mod tests {
     use super::*;
     use std::collections::VecDeque;
 
-    type F = StreamFifo<Bits<8>, 2, 3>;
-
-    fn edge(uut: &mut F) {
-        uut.clock.next = Clock { clk: true };
-        assert!(simulate(uut, 50));
-        uut.clock.next = Clock { clk: false };
-        assert!(simulate(uut, 50));
+    /// The data of beat `n`: a hash, so that every slice of the RAM sees its own bits.
+    fn beat(n: u64, bits: usize) -> u64 {
+        n.wrapping_mul(0x9e37_79b9_7f4a_7c15).rotate_left(17) & ((1u64 << bits) - 1)
     }
 
     /// Random valid and ready patterns: every beat comes out once, in order, data stable
-    /// while stalled, and the level matches a queue model.
-    #[test]
-    fn no_beat_lost_duplicated_or_reordered() {
-        let mut uut = F::default();
+    /// while stalled, the level matches a queue model, and the non-empty flag equals
+    /// `wr != rd` after every edge.
+    fn no_beat_lost<const W: usize, const A: usize, const A1: usize>(slices: usize, seed: u64) {
+        let mut uut = StreamFifo::<Bits<W>, A, A1>::with_slices(slices);
         uut.connect_all();
-        let mut seed = 0x1234_5678_9abc_def1u64;
+        let edge = |uut: &mut StreamFifo<Bits<W>, A, A1>| {
+            uut.clock.next = Clock { clk: true };
+            assert!(simulate(uut, 50));
+            uut.clock.next = Clock { clk: false };
+            assert!(simulate(uut, 50));
+        };
+        let mut seed = seed;
         let mut rnd = || crate::xorshift64(&mut seed);
         uut.rst.next = true;
         edge(&mut uut);
@@ -239,36 +286,75 @@ mod tests {
         let (mut next_in, mut next_out) = (0u64, 0u64);
         let mut model: VecDeque<u64> = VecDeque::new();
         let mut held: Option<u64> = None;
-        for _ in 0..4000 {
+        let (mut empty_clocks, mut full_clocks) = (0, 0);
+        for i in 0..4000 {
             let r = rnd();
-            let valid = r & 3 != 0;
+            // Phases of mostly filling and mostly draining, so the FIFO runs full and
+            // empty often.
+            let valid = if (i / 200) % 2 == 0 {
+                r & 3 != 0
+            } else {
+                r & 3 == 0
+            };
             let ready = (r >> 2) & 3 == 0 || (r >> 8) & 1 == 1;
+            // A reset now and then, in any state.
+            let rst = (r >> 12) & 255 == 0;
+            uut.rst.next = rst;
             uut.in_valid.next = valid;
-            uut.in_data.next = (next_in & 0xFF).to_bits();
+            uut.in_data.next = beat(next_in, W).to_bits();
             uut.out_ready.next = ready;
             assert!(simulate(&mut uut, 50));
-            assert_eq!(uut.level.val().index(), model.len());
+            let (wr, rd, dv) = uut.probe();
+            assert_eq!(uut.ne.q.val(), wr != rd, "clock {i}: ne, wr {wr}, rd {rd}");
+            assert_eq!(uut.level.val().index(), model.len(), "clock {i}");
+            assert_eq!(uut.out_valid.val(), dv);
             let in_ready = uut.in_ready.val();
-            assert_eq!(in_ready, model.len() < 4);
+            assert_eq!(in_ready, !rst && model.len() < (1 << A));
+            full_clocks += (model.len() == 1 << A) as u32;
+            empty_clocks += (wr == rd && !dv) as u32;
             let out_valid = uut.out_valid.val();
             if out_valid {
-                let d = uut.out_data.val().index() as u64;
-                assert_eq!(d, next_out & 0xFF);
+                let d = uut.out_data.val().to_u64();
+                assert_eq!(d, beat(next_out, W), "clock {i}");
                 if let Some(h) = held {
                     assert_eq!(h, d, "data changed while stalled");
                 }
                 held = if ready { None } else { Some(d) };
             }
-            if out_valid && ready {
-                model.pop_front();
-                next_out += 1;
-            }
-            if valid && in_ready {
-                model.push_back(next_in);
-                next_in += 1;
+            if rst {
+                model.clear();
+                held = None;
+                next_out = next_in;
+            } else {
+                if out_valid && ready {
+                    model.pop_front();
+                    next_out += 1;
+                }
+                if valid && in_ready {
+                    model.push_back(next_in);
+                    next_in += 1;
+                }
             }
             edge(&mut uut);
         }
-        assert!(next_out > 1000, "the pattern moved {next_out} beats");
+        assert!(next_in > 1000, "the pattern moved {next_in} beats");
+        assert!(
+            full_clocks > 100 && empty_clocks > 100,
+            "{full_clocks} {empty_clocks}"
+        );
+    }
+
+    #[test]
+    fn no_beat_lost_duplicated_or_reordered() {
+        no_beat_lost::<8, 2, 3>(1, 0x1234_5678_9abc_def1);
+        no_beat_lost::<8, 2, 3>(2, 0x0fed_cba9_8765_4321);
+    }
+
+    /// The same with a RAM of several slices and a deeper FIFO (wrap of the pointers).
+    #[test]
+    fn sliced_ram_keeps_every_beat() {
+        for (slices, seed) in [(1, 11), (3, 12), (6, 13)] {
+            no_beat_lost::<24, 3, 4>(slices, seed);
+        }
     }
 }

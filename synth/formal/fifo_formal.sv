@@ -16,6 +16,10 @@
 //   A3 out_valid implies level != 0
 //   A4 out_valid, not out_ready -> next clock out_valid and the same out_data
 //      (AXI4-Stream: valid stays up and data is stable until taken)
+//   A6 ne == (level != out_valid): the FIFO's registered non-empty flag `ne` (read by
+//      its fetch decision) equals `wr != rd` (level = wr - rd + out_valid). The flag is
+//      internal state no port shows, so fifo.sby exposes it as a port (`expose`) and
+//      the induction needs A6 as an invariant.
 //   A5 (DATA) out_valid -> out_data == tag(delivered): the head is the next beat in
 //      order, so content and order are right. Memory contents are not visible in the
 //      induction's free start state, so A5 is checked bounded only (task `data`).
@@ -33,6 +37,7 @@ module fifo_formal #(
     wire in_ready, out_valid;
     wire [W-1:0] out_data;
     wire [LW-1:0] level;
+    wire ne;
     reg [15:0] n_in = 16'd0;   // beats accepted since the last reset (mod 2^16)
     reg [15:0] n_out = 16'd0;  // beats delivered since the last reset (mod 2^16)
 
@@ -46,7 +51,7 @@ module fifo_formal #(
         .clock(clock), .rst(rst),
         .in_valid(in_valid), .in_data(in_data), .in_ready(in_ready),
         .out_valid(out_valid), .out_data(out_data), .out_ready(out_ready),
-        .level(level)
+        .level(level), .\ne$q (ne)
     );
 
     always @(posedge clock) begin
@@ -80,6 +85,7 @@ module fifo_formal #(
         A2_bound: assert (level <= DEPTH);
         A2_ready: assert (in_ready == (!rst && level != DEPTH));
         A3_valid: assert (!out_valid || level != 0);
+        A6_nonempty: assert (ne == (level != {{(LW - 1){1'b0}}, out_valid}));
 `ifdef DATA
         A5_order: assert (!out_valid || out_data == tag(n_out));
 `endif

@@ -2385,11 +2385,11 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
     localparam  k_last_a = 5'b11111;
     
     // Stub signals
-    reg  ram$write_clock;
+    reg  ram$clock;
     reg  ram$write_enable;
-    reg  [4:0] ram$write_address;
     reg  [259:0] ram$write_data;
-    reg  [4:0] ram$read_address;
+    reg  [4:0] ram$next_write_address;
+    reg  [4:0] ram$next_read_address;
     wire  [259:0] ram$read_data;
     reg  [259:0] head$d;
     wire  [259:0] head$q;
@@ -2412,6 +2412,9 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
     reg  full$d;
     wire  full$q;
     reg  full$clock;
+    reg  ne$d;
+    wire  ne$q;
+    reg  ne$clock;
     
     // Local signals
     reg  l_pop;
@@ -2421,14 +2424,18 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
     reg  [5:0] l_rd;
     reg  [5:0] l_level;
     reg  [5:0] l_dv;
+    reg  [4:0] l_ra_inc;
+    reg  [4:0] l_ra_next;
+    reg  [4:0] l_wa_next;
+    reg  l_one;
     
     // Sub module instances
     pixelproc_top$in_fifo$ram ram(
-        .write_clock(ram$write_clock),
+        .clock(ram$clock),
         .write_enable(ram$write_enable),
-        .write_address(ram$write_address),
         .write_data(ram$write_data),
-        .read_address(ram$read_address),
+        .next_write_address(ram$next_write_address),
+        .next_read_address(ram$next_read_address),
         .read_data(ram$read_data)
     );
     pixelproc_top$in_fifo$head head(
@@ -2466,6 +2473,11 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         .q(full$q),
         .clock(full$clock)
     );
+    pixelproc_top$array$procs$b_covered ne(
+        .d(ne$d),
+        .q(ne$q),
+        .clock(ne$clock)
+    );
     
     // Update code
     always @(*) begin
@@ -2476,6 +2488,7 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         rw$clock = clock;
         dv$clock = clock;
         full$clock = clock;
+        ne$clock = clock;
         head$d = head$q;
         wa$d = wa$q;
         ww$d = ww$q;
@@ -2483,7 +2496,8 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         rw$d = rw$q;
         dv$d = dv$q;
         full$d = full$q;
-        ram$write_clock = clock;
+        ne$d = ne$q;
+        ram$clock = clock;
         l_wr = {{1{1'b0}}, wa$q};
         if (ww$q) begin
             l_wr = {{1{1'b0}}, wa$q} | k_full;
@@ -2500,7 +2514,7 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         level = l_level;
         in_ready = ~full$q & ~rst;
         l_pop = dv$q & out_ready;
-        l_fetch = (l_wr != l_rd) & (~dv$q | l_pop);
+        l_fetch = ne$q & (~dv$q | l_pop);
         l_push = in_valid & in_ready;
         if (l_push & ~l_pop) begin
             full$d = l_level == k_almost;
@@ -2508,10 +2522,11 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         if (~l_push & l_pop) begin
             full$d = 1'b0;
         end
-        ram$read_address = ra$q;
+        l_ra_inc = ra$q + k_one_a;
+        l_ra_next = ra$q;
         if (l_fetch) begin
             head$d = ram$read_data;
-            ra$d = ra$q + k_one_a;
+            l_ra_next = l_ra_inc;
             if (ra$q == k_last_a) begin
                 rw$d = ~rw$q;
             end
@@ -2519,23 +2534,35 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         dv$d = l_fetch | (dv$q & ~l_pop);
         out_valid = dv$q;
         out_data = head$q;
-        ram$write_address = wa$q;
+        l_one = wa$q == l_ra_inc;
+        if (l_fetch & ~l_push & l_one) begin
+            ne$d = 1'b0;
+        end
+        if (l_push) begin
+            ne$d = 1'b1;
+        end
         ram$write_data = in_data;
         ram$write_enable = l_push;
+        l_wa_next = wa$q;
         if (l_push) begin
-            wa$d = wa$q + k_one_a;
+            l_wa_next = wa$q + k_one_a;
             if (wa$q == k_last_a) begin
                 ww$d = ~ww$q;
             end
         end
         if (rst) begin
-            wa$d = k_zero_a;
+            l_wa_next = k_zero_a;
             ww$d = 1'b0;
-            ra$d = k_zero_a;
+            l_ra_next = k_zero_a;
             rw$d = 1'b0;
             dv$d = 1'b0;
             full$d = 1'b0;
+            ne$d = 1'b0;
         end
+        wa$d = l_wa_next;
+        ra$d = l_ra_next;
+        ram$next_write_address = l_wa_next;
+        ram$next_read_address = l_ra_next;
     end
     
 endmodule // pixelproc_top$in_fifo
@@ -2579,25 +2606,122 @@ module pixelproc_top$in_fifo$ra(d,q,clock);
 endmodule // pixelproc_top$in_fifo$ra
 
 
-module pixelproc_top$in_fifo$ram(write_clock,write_enable,write_address,write_data,read_address,read_data);
+module pixelproc_top$in_fifo$ram(clock,write_enable,write_data,next_write_address,next_read_address,read_data);
     
     // Module arguments
-    input wire  write_clock;
+    input wire  clock;
     input wire  write_enable;
-    input wire  [4:0] write_address;
     input wire  [259:0] write_data;
-    input wire  [4:0] read_address;
+    input wire  [4:0] next_write_address;
+    input wire  [4:0] next_read_address;
     output reg  [259:0] read_data;
     
     // Update code (custom)
-    reg [259:0] mem [0:31];
-    wire [259:0] read_word = mem[read_address];
+    // slice 0: bits 31:0, with its own copies of the two addresses
+    (* keep *) reg [4:0] ra_0;
+    (* keep *) reg [4:0] wa_0;
+    reg [31:0] mem_0 [0:31];
+    wire [31:0] rd_0 = mem_0[ra_0];
+    // slice 1: bits 63:32, with its own copies of the two addresses
+    (* keep *) reg [4:0] ra_1;
+    (* keep *) reg [4:0] wa_1;
+    reg [31:0] mem_1 [0:31];
+    wire [31:0] rd_1 = mem_1[ra_1];
+    // slice 2: bits 95:64, with its own copies of the two addresses
+    (* keep *) reg [4:0] ra_2;
+    (* keep *) reg [4:0] wa_2;
+    reg [31:0] mem_2 [0:31];
+    wire [31:0] rd_2 = mem_2[ra_2];
+    // slice 3: bits 127:96, with its own copies of the two addresses
+    (* keep *) reg [4:0] ra_3;
+    (* keep *) reg [4:0] wa_3;
+    reg [31:0] mem_3 [0:31];
+    wire [31:0] rd_3 = mem_3[ra_3];
+    // slice 4: bits 159:128, with its own copies of the two addresses
+    (* keep *) reg [4:0] ra_4;
+    (* keep *) reg [4:0] wa_4;
+    reg [31:0] mem_4 [0:31];
+    wire [31:0] rd_4 = mem_4[ra_4];
+    // slice 5: bits 191:160, with its own copies of the two addresses
+    (* keep *) reg [4:0] ra_5;
+    (* keep *) reg [4:0] wa_5;
+    reg [31:0] mem_5 [0:31];
+    wire [31:0] rd_5 = mem_5[ra_5];
+    // slice 6: bits 223:192, with its own copies of the two addresses
+    (* keep *) reg [4:0] ra_6;
+    (* keep *) reg [4:0] wa_6;
+    reg [31:0] mem_6 [0:31];
+    wire [31:0] rd_6 = mem_6[ra_6];
+    // slice 7: bits 259:224, with its own copies of the two addresses
+    (* keep *) reg [4:0] ra_7;
+    (* keep *) reg [4:0] wa_7;
+    reg [35:0] mem_7 [0:31];
+    wire [35:0] rd_7 = mem_7[ra_7];
     
-    always @(*) read_data = read_word;
+    initial begin
+       ra_0 = 5'd0;
+       wa_0 = 5'd0;
+       ra_1 = 5'd0;
+       wa_1 = 5'd0;
+       ra_2 = 5'd0;
+       wa_2 = 5'd0;
+       ra_3 = 5'd0;
+       wa_3 = 5'd0;
+       ra_4 = 5'd0;
+       wa_4 = 5'd0;
+       ra_5 = 5'd0;
+       wa_5 = 5'd0;
+       ra_6 = 5'd0;
+       wa_6 = 5'd0;
+       ra_7 = 5'd0;
+       wa_7 = 5'd0;
+    end
     
-    always @(posedge write_clock) begin
+    always @(*) read_data = {rd_7, rd_6, rd_5, rd_4, rd_3, rd_2, rd_1, rd_0};
+    
+    (* keep *) always @(posedge clock) begin
+       ra_0 <= next_read_address;
+       wa_0 <= next_write_address;
+    end
+    (* keep *) always @(posedge clock) begin
+       ra_1 <= next_read_address;
+       wa_1 <= next_write_address;
+    end
+    (* keep *) always @(posedge clock) begin
+       ra_2 <= next_read_address;
+       wa_2 <= next_write_address;
+    end
+    (* keep *) always @(posedge clock) begin
+       ra_3 <= next_read_address;
+       wa_3 <= next_write_address;
+    end
+    (* keep *) always @(posedge clock) begin
+       ra_4 <= next_read_address;
+       wa_4 <= next_write_address;
+    end
+    (* keep *) always @(posedge clock) begin
+       ra_5 <= next_read_address;
+       wa_5 <= next_write_address;
+    end
+    (* keep *) always @(posedge clock) begin
+       ra_6 <= next_read_address;
+       wa_6 <= next_write_address;
+    end
+    (* keep *) always @(posedge clock) begin
+       ra_7 <= next_read_address;
+       wa_7 <= next_write_address;
+    end
+    
+    always @(posedge clock) begin
        if (write_enable) begin
-          mem[write_address] <= write_data;
+          mem_0[wa_0] <= write_data[31:0];
+          mem_1[wa_1] <= write_data[63:32];
+          mem_2[wa_2] <= write_data[95:64];
+          mem_3[wa_3] <= write_data[127:96];
+          mem_4[wa_4] <= write_data[159:128];
+          mem_5[wa_5] <= write_data[191:160];
+          mem_6[wa_6] <= write_data[223:192];
+          mem_7[wa_7] <= write_data[259:224];
        end
     end
 endmodule // pixelproc_top$in_fifo$ram
@@ -2626,11 +2750,11 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
     localparam  k_last_a = 4'hf;
     
     // Stub signals
-    reg  ram$write_clock;
+    reg  ram$clock;
     reg  ram$write_enable;
-    reg  [3:0] ram$write_address;
     reg  [75:0] ram$write_data;
-    reg  [3:0] ram$read_address;
+    reg  [3:0] ram$next_write_address;
+    reg  [3:0] ram$next_read_address;
     wire  [75:0] ram$read_data;
     reg  [75:0] head$d;
     wire  [75:0] head$q;
@@ -2653,6 +2777,9 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
     reg  full$d;
     wire  full$q;
     reg  full$clock;
+    reg  ne$d;
+    wire  ne$q;
+    reg  ne$clock;
     
     // Local signals
     reg  l_pop;
@@ -2662,14 +2789,18 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
     reg  [4:0] l_rd;
     reg  [4:0] l_level;
     reg  [4:0] l_dv;
+    reg  [3:0] l_ra_inc;
+    reg  [3:0] l_ra_next;
+    reg  [3:0] l_wa_next;
+    reg  l_one;
     
     // Sub module instances
     pixelproc_top$out_fifo$ram ram(
-        .write_clock(ram$write_clock),
+        .clock(ram$clock),
         .write_enable(ram$write_enable),
-        .write_address(ram$write_address),
         .write_data(ram$write_data),
-        .read_address(ram$read_address),
+        .next_write_address(ram$next_write_address),
+        .next_read_address(ram$next_read_address),
         .read_data(ram$read_data)
     );
     pixelproc_top$out_fifo$head head(
@@ -2707,6 +2838,11 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         .q(full$q),
         .clock(full$clock)
     );
+    pixelproc_top$array$procs$b_covered ne(
+        .d(ne$d),
+        .q(ne$q),
+        .clock(ne$clock)
+    );
     
     // Update code
     always @(*) begin
@@ -2717,6 +2853,7 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         rw$clock = clock;
         dv$clock = clock;
         full$clock = clock;
+        ne$clock = clock;
         head$d = head$q;
         wa$d = wa$q;
         ww$d = ww$q;
@@ -2724,7 +2861,8 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         rw$d = rw$q;
         dv$d = dv$q;
         full$d = full$q;
-        ram$write_clock = clock;
+        ne$d = ne$q;
+        ram$clock = clock;
         l_wr = {{1{1'b0}}, wa$q};
         if (ww$q) begin
             l_wr = {{1{1'b0}}, wa$q} | k_full;
@@ -2741,7 +2879,7 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         level = l_level;
         in_ready = ~full$q & ~rst;
         l_pop = dv$q & out_ready;
-        l_fetch = (l_wr != l_rd) & (~dv$q | l_pop);
+        l_fetch = ne$q & (~dv$q | l_pop);
         l_push = in_valid & in_ready;
         if (l_push & ~l_pop) begin
             full$d = l_level == k_almost;
@@ -2749,10 +2887,11 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         if (~l_push & l_pop) begin
             full$d = 1'b0;
         end
-        ram$read_address = ra$q;
+        l_ra_inc = ra$q + k_one_a;
+        l_ra_next = ra$q;
         if (l_fetch) begin
             head$d = ram$read_data;
-            ra$d = ra$q + k_one_a;
+            l_ra_next = l_ra_inc;
             if (ra$q == k_last_a) begin
                 rw$d = ~rw$q;
             end
@@ -2760,23 +2899,35 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         dv$d = l_fetch | (dv$q & ~l_pop);
         out_valid = dv$q;
         out_data = head$q;
-        ram$write_address = wa$q;
+        l_one = wa$q == l_ra_inc;
+        if (l_fetch & ~l_push & l_one) begin
+            ne$d = 1'b0;
+        end
+        if (l_push) begin
+            ne$d = 1'b1;
+        end
         ram$write_data = in_data;
         ram$write_enable = l_push;
+        l_wa_next = wa$q;
         if (l_push) begin
-            wa$d = wa$q + k_one_a;
+            l_wa_next = wa$q + k_one_a;
             if (wa$q == k_last_a) begin
                 ww$d = ~ww$q;
             end
         end
         if (rst) begin
-            wa$d = k_zero_a;
+            l_wa_next = k_zero_a;
             ww$d = 1'b0;
-            ra$d = k_zero_a;
+            l_ra_next = k_zero_a;
             rw$d = 1'b0;
             dv$d = 1'b0;
             full$d = 1'b0;
+            ne$d = 1'b0;
         end
+        wa$d = l_wa_next;
+        ra$d = l_ra_next;
+        ram$next_write_address = l_wa_next;
+        ram$next_read_address = l_ra_next;
     end
     
 endmodule // pixelproc_top$out_fifo
@@ -2820,25 +2971,38 @@ module pixelproc_top$out_fifo$ra(d,q,clock);
 endmodule // pixelproc_top$out_fifo$ra
 
 
-module pixelproc_top$out_fifo$ram(write_clock,write_enable,write_address,write_data,read_address,read_data);
+module pixelproc_top$out_fifo$ram(clock,write_enable,write_data,next_write_address,next_read_address,read_data);
     
     // Module arguments
-    input wire  write_clock;
+    input wire  clock;
     input wire  write_enable;
-    input wire  [3:0] write_address;
     input wire  [75:0] write_data;
-    input wire  [3:0] read_address;
+    input wire  [3:0] next_write_address;
+    input wire  [3:0] next_read_address;
     output reg  [75:0] read_data;
     
     // Update code (custom)
-    reg [75:0] mem [0:15];
-    wire [75:0] read_word = mem[read_address];
+    // slice 0: bits 75:0, with its own copies of the two addresses
+    (* keep *) reg [3:0] ra_0;
+    (* keep *) reg [3:0] wa_0;
+    reg [75:0] mem_0 [0:15];
+    wire [75:0] rd_0 = mem_0[ra_0];
     
-    always @(*) read_data = read_word;
+    initial begin
+       ra_0 = 4'd0;
+       wa_0 = 4'd0;
+    end
     
-    always @(posedge write_clock) begin
+    always @(*) read_data = {rd_0};
+    
+    (* keep *) always @(posedge clock) begin
+       ra_0 <= next_read_address;
+       wa_0 <= next_write_address;
+    end
+    
+    always @(posedge clock) begin
        if (write_enable) begin
-          mem[write_address] <= write_data;
+          mem_0[wa_0] <= write_data[75:0];
        end
     end
 endmodule // pixelproc_top$out_fifo$ram
