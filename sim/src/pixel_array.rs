@@ -219,9 +219,9 @@ impl PixelArray {
         let off = self.base as i64 + lo as i64 - w.xl as i64;
         let c = accumulators(w, off);
         if in_range(&c, w, hi - lo) {
-            self.op_loop_in_range::<false>(w, lo, hi, c, w, c);
+            self.op_loop(w, lo, hi, Lanes::<false>::new(c, w, c, w));
         } else {
-            self.op_loop::<false>(w, lo, hi, c, w, c);
+            self.op_loop(w, lo, hi, Wide::<false>::new(c, w, c, w));
         }
     }
 
@@ -235,28 +235,18 @@ impl PixelArray {
         let off = self.base as i64 + lo as i64 - w.xl as i64;
         let (c, d) = (accumulators(w, off), accumulators(sh, off));
         if in_range(&c, w, hi - lo) && in_range(&d, sh, hi - lo) {
-            self.op_loop_in_range::<true>(w, lo, hi, c, sh, d);
+            self.op_loop(w, lo, hi, Lanes::<true>::new(c, w, d, sh));
         } else {
-            self.op_loop::<true>(w, lo, hi, c, sh, d);
+            self.op_loop(w, lo, hi, Wide::<true>::new(c, w, d, sh));
         }
     }
 
     /// The OP span's pass over processors `lo..=hi`: the depth test, and where it passes
-    /// `ZB`, the normal class, the intensity from accumulators `c` and, if `SH`, shade
-    /// register 1 from `d` (the channel-1 copy `sh`'s accumulators).
+    /// `ZB`, the normal class and the intensities `i` holds (the span's, and its
+    /// channel-1 copy's if it carries one). `Z` starts at processor `lo` and steps by `dZ`
+    /// per processor: identical to the closed form (exact integer sums).
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    fn op_loop<const SH: bool>(
-        &mut self,
-        w: &SpanWord,
-        lo: usize,
-        hi: usize,
-        mut c: [i64; 3],
-        sh: &SpanWord,
-        mut d: [i64; 3],
-    ) {
-        // Accumulators at processor `lo`, then + dZ / + dI per processor: identical to the
-        // closed form (exact integer sums).
+    fn op_loop<I: Intensities>(&mut self, w: &SpanWord, lo: usize, hi: usize, mut i: I) {
         let mut z = w.zl as i64 + (self.base as i64 + lo as i64 - w.xl as i64) * w.dz;
         for s in &mut self.procs[lo..=hi] {
             let zp = (z >> Z_FRAC) as u32;
@@ -264,62 +254,10 @@ impl PixelArray {
             if s.won {
                 s.zb = zp;
                 s.nclass = w.nclass;
-                s.rgb = pack_rgb(c.map(|v| (v >> I_FRAC).clamp(0, 255) as u8));
-                if SH {
-                    s.sh = pack_rgb(d.map(|v| (v >> I_FRAC).clamp(0, 255) as u8));
-                }
+                i.write(s);
             }
             z += w.dz;
-            for k in 0..3 {
-                c[k] += w.di[k] as i64;
-                if SH {
-                    d[k] += sh.di[k] as i64;
-                }
-            }
-        }
-    }
-
-    /// [`PixelArray::op_loop`] where [`in_range`] has shown that no channel's
-    /// `v >> I_FRAC` leaves 0..=255 over the run: the clamp is the identity, and every
-    /// accumulator value used lies in `0 .. 256 << I_FRAC`, so 32-bit lanes stepped with
-    /// wrapping adds hold it exactly (only the step past the last processor may wrap, and
-    /// it is not used). The six lanes (and two idle ones) step together.
-    #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    fn op_loop_in_range<const SH: bool>(
-        &mut self,
-        w: &SpanWord,
-        lo: usize,
-        hi: usize,
-        c: [i64; 3],
-        sh: &SpanWord,
-        d: [i64; 3],
-    ) {
-        let mut z = w.zl as i64 + (self.base as i64 + lo as i64 - w.xl as i64) * w.dz;
-        let mut v = [c[0] as i32, c[1] as i32, c[2] as i32, 0, 0, 0, 0, 0];
-        let mut dv = [w.di[0], w.di[1], w.di[2], 0, 0, 0, 0, 0];
-        if SH {
-            (v[4], v[5], v[6]) = (d[0] as i32, d[1] as i32, d[2] as i32);
-            (dv[4], dv[5], dv[6]) = (sh.di[0], sh.di[1], sh.di[2]);
-        }
-        let pack = |a: i32, b: i32, c: i32| {
-            ((a >> I_FRAC) as u32) << 16 | ((b >> I_FRAC) as u32) << 8 | (c >> I_FRAC) as u32
-        };
-        for s in &mut self.procs[lo..=hi] {
-            let zp = (z >> Z_FRAC) as u32;
-            s.won = crate::raster::depth::passes(zp, s.zb, w.decal);
-            if s.won {
-                s.zb = zp;
-                s.nclass = w.nclass;
-                s.rgb = pack(v[0], v[1], v[2]);
-                if SH {
-                    s.sh = pack(v[4], v[5], v[6]);
-                }
-            }
-            z += w.dz;
-            for k in 0..8 {
-                v[k] = v[k].wrapping_add(dv[k]);
-            }
+            i.step();
         }
     }
 
@@ -399,6 +337,104 @@ fn in_range(c: &[i64; 3], w: &SpanWord, n: usize) -> bool {
         let (a, b) = ((c[k].min(end)) >> I_FRAC, (c[k].max(end)) >> I_FRAC);
         a >= 0 && b <= 255
     })
+}
+
+/// The intensities an OP span writes as [`PixelArray::op_loop`] walks its processors:
+/// the span's `I(p) = clamp((IL + (p − XL)·dI) >> I_FRAC, 0, 255)` and, with `SH`, its
+/// channel-1 copy's into `SH`.
+trait Intensities {
+    /// Writes the current processor's intensities into `s`.
+    fn write(&self, s: &mut ProcState);
+    /// Moves to the next processor.
+    fn step(&mut self);
+}
+
+/// The general case: 64-bit accumulators and the clamp.
+struct Wide<const SH: bool> {
+    c: [i64; 3],
+    dc: [i32; 3],
+    d: [i64; 3],
+    dd: [i32; 3],
+}
+
+impl<const SH: bool> Wide<SH> {
+    #[inline(always)]
+    fn new(c: [i64; 3], w: &SpanWord, d: [i64; 3], sh: &SpanWord) -> Self {
+        Wide {
+            c,
+            dc: w.di,
+            d,
+            dd: sh.di,
+        }
+    }
+}
+
+impl<const SH: bool> Intensities for Wide<SH> {
+    #[inline(always)]
+    fn write(&self, s: &mut ProcState) {
+        s.rgb = pack_rgb(self.c.map(|v| (v >> I_FRAC).clamp(0, 255) as u8));
+        if SH {
+            s.sh = pack_rgb(self.d.map(|v| (v >> I_FRAC).clamp(0, 255) as u8));
+        }
+    }
+
+    #[inline(always)]
+    fn step(&mut self) {
+        for k in 0..3 {
+            self.c[k] += self.dc[k] as i64;
+            if SH {
+                self.d[k] += self.dd[k] as i64;
+            }
+        }
+    }
+}
+
+/// A run where [`in_range`] has shown that no channel's `v >> I_FRAC` leaves 0..=255:
+/// the clamp is the identity, and every accumulator value used lies in
+/// `0 .. 256 << I_FRAC`, so 32-bit lanes stepped with wrapping adds hold it exactly (only
+/// the step past the last processor may wrap, and it is not used). The six lanes (and two
+/// idle ones) step together.
+struct Lanes<const SH: bool> {
+    v: [i32; 8],
+    dv: [i32; 8],
+}
+
+impl<const SH: bool> Lanes<SH> {
+    #[inline(always)]
+    fn new(c: [i64; 3], w: &SpanWord, d: [i64; 3], sh: &SpanWord) -> Self {
+        let mut l = Lanes {
+            v: [c[0] as i32, c[1] as i32, c[2] as i32, 0, 0, 0, 0, 0],
+            dv: [w.di[0], w.di[1], w.di[2], 0, 0, 0, 0, 0],
+        };
+        if SH {
+            (l.v[4], l.v[5], l.v[6]) = (d[0] as i32, d[1] as i32, d[2] as i32);
+            (l.dv[4], l.dv[5], l.dv[6]) = (sh.di[0], sh.di[1], sh.di[2]);
+        }
+        l
+    }
+
+    #[inline(always)]
+    fn pack(&self, k: usize) -> u32 {
+        let v = &self.v[k..k + 3];
+        ((v[0] >> I_FRAC) as u32) << 16 | ((v[1] >> I_FRAC) as u32) << 8 | (v[2] >> I_FRAC) as u32
+    }
+}
+
+impl<const SH: bool> Intensities for Lanes<SH> {
+    #[inline(always)]
+    fn write(&self, s: &mut ProcState) {
+        s.rgb = self.pack(0);
+        if SH {
+            s.sh = self.pack(4);
+        }
+    }
+
+    #[inline(always)]
+    fn step(&mut self) {
+        for k in 0..8 {
+            self.v[k] = self.v[k].wrapping_add(self.dv[k]);
+        }
+    }
 }
 
 #[cfg(test)]
@@ -506,7 +542,7 @@ mod tests {
         for round in 0..3_000 {
             let mut r = |m: u64| rng.step() % m;
             let base = [0u32, 8, 16][round % 3];
-            let mut word = |r: &mut dyn FnMut(u64) -> u64, chan: u8| {
+            let word = |r: &mut dyn FnMut(u64) -> u64, chan: u8| {
                 let xl = r(28) as u16;
                 let one = 1i64 << I_FRAC;
                 let il = [0; 3].map(|_| {
