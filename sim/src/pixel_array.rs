@@ -506,7 +506,7 @@ mod tests {
         for round in 0..3_000 {
             let mut r = |m: u64| rng.step() % m;
             let base = [0u32, 8, 16][round % 3];
-            let mut word = |r: &mut dyn FnMut(u64) -> u64, chan: u8| {
+            let word = |r: &mut dyn FnMut(u64) -> u64, chan: u8| {
                 let xl = r(28) as u16;
                 let one = 1i64 << I_FRAC;
                 let il = [0; 3].map(|_| {
