@@ -161,7 +161,7 @@ pub struct ShadeUnit {
     /// The flags.
     pub out_meta: Signal<Out, Bits<META_W>>,
     banks: Vec<BankRam>,
-    tw_we: DFF<Bits<BANKS>>,
+    tw_we: Vec<DFF<Bit>>,
     tw_a: Vec<DFF<Bits<BANK_BITS>>>,
     tw_d: Vec<DFF<Bits<ENTRY_W>>>,
     s1_v: DFF<Bit>,
@@ -194,7 +194,6 @@ pub struct ShadeUnit {
     l_rgb3: Signal<Local, Bits<24>>,
     l_q: Signal<Local, Bits<PROD_W>>,
     l_addr: Signal<Local, Bits<SHADE_ADDR_BITS>>,
-    l_we: Signal<Local, Bits<BANKS>>,
     l_e: Signal<Local, Bits<ENTRY_W>>,
     l_f: Signal<Local, Bits<16>>,
     l_g: Signal<Local, Bits<16>>,
@@ -213,7 +212,6 @@ pub struct ShadeUnit {
     k_far: Constant<Bits<24>>,
     k_one: Constant<Bits<16>>,
     k_zero_addr: Constant<Bits<SHADE_ADDR_BITS>>,
-    k_zero_we: Constant<Bits<BANKS>>,
     k_zero24: Constant<Bits<24>>,
     k_zero16: Constant<Bits<16>>,
     k_zero8: Constant<Bits<8>>,
@@ -241,7 +239,7 @@ impl ShadeUnit {
             out_word: Default::default(),
             out_meta: Default::default(),
             banks: (0..BANKS).map(|_| Default::default()).collect(),
-            tw_we: Default::default(),
+            tw_we: (0..BANKS).map(|_| Default::default()).collect(),
             tw_a: (0..TW_GROUPS).map(|_| Default::default()).collect(),
             tw_d: (0..TW_GROUPS).map(|_| Default::default()).collect(),
             s1_v: Default::default(),
@@ -274,7 +272,6 @@ impl ShadeUnit {
             l_rgb3: Default::default(),
             l_q: Default::default(),
             l_addr: Default::default(),
-            l_we: Default::default(),
             l_e: Default::default(),
             l_f: Default::default(),
             l_g: Default::default(),
@@ -293,7 +290,6 @@ impl ShadeUnit {
             k_far: Constant::new((Z_FAR as u64).to_bits()),
             k_one: Constant::new(256u64.to_bits()),
             k_zero_addr: Constant::new(0u64.to_bits()),
-            k_zero_we: Constant::new(0u64.to_bits()),
             k_zero24: Constant::new(0u64.to_bits()),
             k_zero16: Constant::new(0u64.to_bits()),
             k_zero8: Constant::new(0u64.to_bits()),
@@ -325,17 +321,12 @@ impl Logic for ShadeUnit {
         // the address and data per group of banks, loaded whenever `tw_addr` names the
         // group, write or not (the bank writes only with its enable, and a write's
         // address and data are the ones loaded at the edge that loads its enable).
-        self.tw_we.clock.next = self.clock.val();
-        self.l_we.next = self.k_zero_we.val();
-        for i in 0..self.banks.len() {
-            self.l_we.next = self.l_we.val().replace_bit(
-                i,
-                self.tw_en.val()
-                    & self.k_on.val()
-                    & (self.tw_addr.val().get_bits::<HI_W>(10).index() == i),
-            );
+        for i in 0..self.tw_we.len() {
+            self.tw_we[i].clock.next = self.clock.val();
+            self.tw_we[i].d.next = self.tw_en.val()
+                & self.k_on.val()
+                & (self.tw_addr.val().get_bits::<HI_W>(10).index() == i);
         }
-        self.tw_we.d.next = self.l_we.val();
         for g in 0..self.tw_a.len() {
             self.tw_a[g].clock.next = self.clock.val();
             self.tw_d[g].clock.next = self.clock.val();
@@ -349,7 +340,7 @@ impl Logic for ShadeUnit {
         for g in 0..self.tw_a.len() {
             for j in 0..8 {
                 self.banks[8 * g + j].clock.next = self.clock.val();
-                self.banks[8 * g + j].write_enable.next = self.tw_we.q.val().get_bit(8 * g + j);
+                self.banks[8 * g + j].write_enable.next = self.tw_we[8 * g + j].q.val();
                 self.banks[8 * g + j].write_address.next = self.tw_a[g].q.val();
                 self.banks[8 * g + j].write_data.next = self.tw_d[g].q.val();
                 self.banks[8 * g + j].read_address.next =

@@ -3029,7 +3029,6 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     localparam  k_far = 24'hffffff;
     localparam  k_one = 16'h100;
     localparam  k_zero_addr = 15'b0;
-    localparam  k_zero_we = 32'h0;
     localparam  k_zero24 = 24'h0;
     localparam  k_zero16 = 16'h0;
     localparam  k_zero8 = 8'h0;
@@ -3228,9 +3227,102 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  [17:0] banks$31$write_data;
     reg  [9:0] banks$31$read_address;
     wire  [17:0] banks$31$read_data;
-    reg  [31:0] tw_we$d;
-    wire  [31:0] tw_we$q;
-    reg  tw_we$clock;
+    reg  tw_we$0$d;
+    wire  tw_we$0$q;
+    reg  tw_we$0$clock;
+    reg  tw_we$1$d;
+    wire  tw_we$1$q;
+    reg  tw_we$1$clock;
+    reg  tw_we$2$d;
+    wire  tw_we$2$q;
+    reg  tw_we$2$clock;
+    reg  tw_we$3$d;
+    wire  tw_we$3$q;
+    reg  tw_we$3$clock;
+    reg  tw_we$4$d;
+    wire  tw_we$4$q;
+    reg  tw_we$4$clock;
+    reg  tw_we$5$d;
+    wire  tw_we$5$q;
+    reg  tw_we$5$clock;
+    reg  tw_we$6$d;
+    wire  tw_we$6$q;
+    reg  tw_we$6$clock;
+    reg  tw_we$7$d;
+    wire  tw_we$7$q;
+    reg  tw_we$7$clock;
+    reg  tw_we$8$d;
+    wire  tw_we$8$q;
+    reg  tw_we$8$clock;
+    reg  tw_we$9$d;
+    wire  tw_we$9$q;
+    reg  tw_we$9$clock;
+    reg  tw_we$10$d;
+    wire  tw_we$10$q;
+    reg  tw_we$10$clock;
+    reg  tw_we$11$d;
+    wire  tw_we$11$q;
+    reg  tw_we$11$clock;
+    reg  tw_we$12$d;
+    wire  tw_we$12$q;
+    reg  tw_we$12$clock;
+    reg  tw_we$13$d;
+    wire  tw_we$13$q;
+    reg  tw_we$13$clock;
+    reg  tw_we$14$d;
+    wire  tw_we$14$q;
+    reg  tw_we$14$clock;
+    reg  tw_we$15$d;
+    wire  tw_we$15$q;
+    reg  tw_we$15$clock;
+    reg  tw_we$16$d;
+    wire  tw_we$16$q;
+    reg  tw_we$16$clock;
+    reg  tw_we$17$d;
+    wire  tw_we$17$q;
+    reg  tw_we$17$clock;
+    reg  tw_we$18$d;
+    wire  tw_we$18$q;
+    reg  tw_we$18$clock;
+    reg  tw_we$19$d;
+    wire  tw_we$19$q;
+    reg  tw_we$19$clock;
+    reg  tw_we$20$d;
+    wire  tw_we$20$q;
+    reg  tw_we$20$clock;
+    reg  tw_we$21$d;
+    wire  tw_we$21$q;
+    reg  tw_we$21$clock;
+    reg  tw_we$22$d;
+    wire  tw_we$22$q;
+    reg  tw_we$22$clock;
+    reg  tw_we$23$d;
+    wire  tw_we$23$q;
+    reg  tw_we$23$clock;
+    reg  tw_we$24$d;
+    wire  tw_we$24$q;
+    reg  tw_we$24$clock;
+    reg  tw_we$25$d;
+    wire  tw_we$25$q;
+    reg  tw_we$25$clock;
+    reg  tw_we$26$d;
+    wire  tw_we$26$q;
+    reg  tw_we$26$clock;
+    reg  tw_we$27$d;
+    wire  tw_we$27$q;
+    reg  tw_we$27$clock;
+    reg  tw_we$28$d;
+    wire  tw_we$28$q;
+    reg  tw_we$28$clock;
+    reg  tw_we$29$d;
+    wire  tw_we$29$q;
+    reg  tw_we$29$clock;
+    reg  tw_we$30$d;
+    wire  tw_we$30$q;
+    reg  tw_we$30$clock;
+    reg  tw_we$31$d;
+    wire  tw_we$31$q;
+    reg  tw_we$31$clock;
     reg  [9:0] tw_a$0$d;
     wire  [9:0] tw_a$0$q;
     reg  tw_a$0$clock;
@@ -3333,7 +3425,6 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  [23:0] l_rgb3;
     reg  [17:0] l_q;
     reg  [14:0] l_addr;
-    reg  [31:0] l_we;
     reg  [17:0] l_e;
     reg  [15:0] l_f;
     reg  [15:0] l_g;
@@ -3605,10 +3696,165 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .read_address(banks$31$read_address),
         .read_data(banks$31$read_data)
     );
-    pixelproc_top$array$chans$e3_p0 tw_we(
-        .d(tw_we$d),
-        .q(tw_we$q),
-        .clock(tw_we$clock)
+    pixelproc_top$array$procs$b_covered tw_we$0(
+        .d(tw_we$0$d),
+        .q(tw_we$0$q),
+        .clock(tw_we$0$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$1(
+        .d(tw_we$1$d),
+        .q(tw_we$1$q),
+        .clock(tw_we$1$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$2(
+        .d(tw_we$2$d),
+        .q(tw_we$2$q),
+        .clock(tw_we$2$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$3(
+        .d(tw_we$3$d),
+        .q(tw_we$3$q),
+        .clock(tw_we$3$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$4(
+        .d(tw_we$4$d),
+        .q(tw_we$4$q),
+        .clock(tw_we$4$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$5(
+        .d(tw_we$5$d),
+        .q(tw_we$5$q),
+        .clock(tw_we$5$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$6(
+        .d(tw_we$6$d),
+        .q(tw_we$6$q),
+        .clock(tw_we$6$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$7(
+        .d(tw_we$7$d),
+        .q(tw_we$7$q),
+        .clock(tw_we$7$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$8(
+        .d(tw_we$8$d),
+        .q(tw_we$8$q),
+        .clock(tw_we$8$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$9(
+        .d(tw_we$9$d),
+        .q(tw_we$9$q),
+        .clock(tw_we$9$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$10(
+        .d(tw_we$10$d),
+        .q(tw_we$10$q),
+        .clock(tw_we$10$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$11(
+        .d(tw_we$11$d),
+        .q(tw_we$11$q),
+        .clock(tw_we$11$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$12(
+        .d(tw_we$12$d),
+        .q(tw_we$12$q),
+        .clock(tw_we$12$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$13(
+        .d(tw_we$13$d),
+        .q(tw_we$13$q),
+        .clock(tw_we$13$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$14(
+        .d(tw_we$14$d),
+        .q(tw_we$14$q),
+        .clock(tw_we$14$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$15(
+        .d(tw_we$15$d),
+        .q(tw_we$15$q),
+        .clock(tw_we$15$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$16(
+        .d(tw_we$16$d),
+        .q(tw_we$16$q),
+        .clock(tw_we$16$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$17(
+        .d(tw_we$17$d),
+        .q(tw_we$17$q),
+        .clock(tw_we$17$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$18(
+        .d(tw_we$18$d),
+        .q(tw_we$18$q),
+        .clock(tw_we$18$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$19(
+        .d(tw_we$19$d),
+        .q(tw_we$19$q),
+        .clock(tw_we$19$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$20(
+        .d(tw_we$20$d),
+        .q(tw_we$20$q),
+        .clock(tw_we$20$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$21(
+        .d(tw_we$21$d),
+        .q(tw_we$21$q),
+        .clock(tw_we$21$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$22(
+        .d(tw_we$22$d),
+        .q(tw_we$22$q),
+        .clock(tw_we$22$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$23(
+        .d(tw_we$23$d),
+        .q(tw_we$23$q),
+        .clock(tw_we$23$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$24(
+        .d(tw_we$24$d),
+        .q(tw_we$24$q),
+        .clock(tw_we$24$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$25(
+        .d(tw_we$25$d),
+        .q(tw_we$25$q),
+        .clock(tw_we$25$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$26(
+        .d(tw_we$26$d),
+        .q(tw_we$26$q),
+        .clock(tw_we$26$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$27(
+        .d(tw_we$27$d),
+        .q(tw_we$27$q),
+        .clock(tw_we$27$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$28(
+        .d(tw_we$28$d),
+        .q(tw_we$28$q),
+        .clock(tw_we$28$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$29(
+        .d(tw_we$29$d),
+        .q(tw_we$29$q),
+        .clock(tw_we$29$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$30(
+        .d(tw_we$30$d),
+        .q(tw_we$30$q),
+        .clock(tw_we$30$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$31(
+        .d(tw_we$31$d),
+        .q(tw_we$31$q),
+        .clock(tw_we$31$clock)
     );
     pixelproc_top$shade$tw_a tw_a$0(
         .d(tw_a$0$d),
@@ -3818,41 +4064,70 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         l_addr[(32'h0)+:(4)] = in_word[(32'h0)+:(4)];
         l_addr[(32'h4)+:(3)] = in_word[(32'h3a)+:(3)];
         l_addr[(32'h7)+:(8)] = in_word[(32'h42)+:(8)];
-        tw_we$clock = clock;
-        l_we = k_zero_we;
-        l_we = (l_we & ~(1 << (0)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 0)) << (0)));
-        l_we = (l_we & ~(1 << (1)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 1)) << (1)));
-        l_we = (l_we & ~(1 << (2)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 2)) << (2)));
-        l_we = (l_we & ~(1 << (3)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 3)) << (3)));
-        l_we = (l_we & ~(1 << (4)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 4)) << (4)));
-        l_we = (l_we & ~(1 << (5)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 5)) << (5)));
-        l_we = (l_we & ~(1 << (6)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 6)) << (6)));
-        l_we = (l_we & ~(1 << (7)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 7)) << (7)));
-        l_we = (l_we & ~(1 << (8)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 8)) << (8)));
-        l_we = (l_we & ~(1 << (9)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 9)) << (9)));
-        l_we = (l_we & ~(1 << (10)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 10)) << (10)));
-        l_we = (l_we & ~(1 << (11)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 11)) << (11)));
-        l_we = (l_we & ~(1 << (12)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 12)) << (12)));
-        l_we = (l_we & ~(1 << (13)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 13)) << (13)));
-        l_we = (l_we & ~(1 << (14)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 14)) << (14)));
-        l_we = (l_we & ~(1 << (15)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 15)) << (15)));
-        l_we = (l_we & ~(1 << (16)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 16)) << (16)));
-        l_we = (l_we & ~(1 << (17)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 17)) << (17)));
-        l_we = (l_we & ~(1 << (18)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 18)) << (18)));
-        l_we = (l_we & ~(1 << (19)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 19)) << (19)));
-        l_we = (l_we & ~(1 << (20)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 20)) << (20)));
-        l_we = (l_we & ~(1 << (21)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 21)) << (21)));
-        l_we = (l_we & ~(1 << (22)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 22)) << (22)));
-        l_we = (l_we & ~(1 << (23)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 23)) << (23)));
-        l_we = (l_we & ~(1 << (24)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 24)) << (24)));
-        l_we = (l_we & ~(1 << (25)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 25)) << (25)));
-        l_we = (l_we & ~(1 << (26)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 26)) << (26)));
-        l_we = (l_we & ~(1 << (27)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 27)) << (27)));
-        l_we = (l_we & ~(1 << (28)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 28)) << (28)));
-        l_we = (l_we & ~(1 << (29)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 29)) << (29)));
-        l_we = (l_we & ~(1 << (30)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 30)) << (30)));
-        l_we = (l_we & ~(1 << (31)) | ((tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 31)) << (31)));
-        tw_we$d = l_we;
+        tw_we$0$clock = clock;
+        tw_we$0$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 0);
+        tw_we$1$clock = clock;
+        tw_we$1$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 1);
+        tw_we$2$clock = clock;
+        tw_we$2$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 2);
+        tw_we$3$clock = clock;
+        tw_we$3$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 3);
+        tw_we$4$clock = clock;
+        tw_we$4$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 4);
+        tw_we$5$clock = clock;
+        tw_we$5$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 5);
+        tw_we$6$clock = clock;
+        tw_we$6$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 6);
+        tw_we$7$clock = clock;
+        tw_we$7$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 7);
+        tw_we$8$clock = clock;
+        tw_we$8$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 8);
+        tw_we$9$clock = clock;
+        tw_we$9$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 9);
+        tw_we$10$clock = clock;
+        tw_we$10$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 10);
+        tw_we$11$clock = clock;
+        tw_we$11$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 11);
+        tw_we$12$clock = clock;
+        tw_we$12$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 12);
+        tw_we$13$clock = clock;
+        tw_we$13$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 13);
+        tw_we$14$clock = clock;
+        tw_we$14$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 14);
+        tw_we$15$clock = clock;
+        tw_we$15$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 15);
+        tw_we$16$clock = clock;
+        tw_we$16$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 16);
+        tw_we$17$clock = clock;
+        tw_we$17$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 17);
+        tw_we$18$clock = clock;
+        tw_we$18$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 18);
+        tw_we$19$clock = clock;
+        tw_we$19$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 19);
+        tw_we$20$clock = clock;
+        tw_we$20$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 20);
+        tw_we$21$clock = clock;
+        tw_we$21$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 21);
+        tw_we$22$clock = clock;
+        tw_we$22$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 22);
+        tw_we$23$clock = clock;
+        tw_we$23$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 23);
+        tw_we$24$clock = clock;
+        tw_we$24$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 24);
+        tw_we$25$clock = clock;
+        tw_we$25$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 25);
+        tw_we$26$clock = clock;
+        tw_we$26$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 26);
+        tw_we$27$clock = clock;
+        tw_we$27$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 27);
+        tw_we$28$clock = clock;
+        tw_we$28$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 28);
+        tw_we$29$clock = clock;
+        tw_we$29$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 29);
+        tw_we$30$clock = clock;
+        tw_we$30$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 30);
+        tw_we$31$clock = clock;
+        tw_we$31$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 31);
         tw_a$0$clock = clock;
         tw_d$0$clock = clock;
         tw_a$0$d = tw_a$0$q;
@@ -3886,162 +4161,162 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
             tw_d$3$d = tw_data;
         end
         banks$0$clock = clock;
-        banks$0$write_enable = tw_we$q[32'h8 * 0 + 0];
+        banks$0$write_enable = tw_we$0$q;
         banks$0$write_address = tw_a$0$q;
         banks$0$write_data = tw_d$0$q;
         banks$0$read_address = l_addr[(32'h0)+:(10)];
         banks$1$clock = clock;
-        banks$1$write_enable = tw_we$q[32'h8 * 0 + 1];
+        banks$1$write_enable = tw_we$1$q;
         banks$1$write_address = tw_a$0$q;
         banks$1$write_data = tw_d$0$q;
         banks$1$read_address = l_addr[(32'h0)+:(10)];
         banks$2$clock = clock;
-        banks$2$write_enable = tw_we$q[32'h8 * 0 + 2];
+        banks$2$write_enable = tw_we$2$q;
         banks$2$write_address = tw_a$0$q;
         banks$2$write_data = tw_d$0$q;
         banks$2$read_address = l_addr[(32'h0)+:(10)];
         banks$3$clock = clock;
-        banks$3$write_enable = tw_we$q[32'h8 * 0 + 3];
+        banks$3$write_enable = tw_we$3$q;
         banks$3$write_address = tw_a$0$q;
         banks$3$write_data = tw_d$0$q;
         banks$3$read_address = l_addr[(32'h0)+:(10)];
         banks$4$clock = clock;
-        banks$4$write_enable = tw_we$q[32'h8 * 0 + 4];
+        banks$4$write_enable = tw_we$4$q;
         banks$4$write_address = tw_a$0$q;
         banks$4$write_data = tw_d$0$q;
         banks$4$read_address = l_addr[(32'h0)+:(10)];
         banks$5$clock = clock;
-        banks$5$write_enable = tw_we$q[32'h8 * 0 + 5];
+        banks$5$write_enable = tw_we$5$q;
         banks$5$write_address = tw_a$0$q;
         banks$5$write_data = tw_d$0$q;
         banks$5$read_address = l_addr[(32'h0)+:(10)];
         banks$6$clock = clock;
-        banks$6$write_enable = tw_we$q[32'h8 * 0 + 6];
+        banks$6$write_enable = tw_we$6$q;
         banks$6$write_address = tw_a$0$q;
         banks$6$write_data = tw_d$0$q;
         banks$6$read_address = l_addr[(32'h0)+:(10)];
         banks$7$clock = clock;
-        banks$7$write_enable = tw_we$q[32'h8 * 0 + 7];
+        banks$7$write_enable = tw_we$7$q;
         banks$7$write_address = tw_a$0$q;
         banks$7$write_data = tw_d$0$q;
         banks$7$read_address = l_addr[(32'h0)+:(10)];
         banks$8$clock = clock;
-        banks$8$write_enable = tw_we$q[32'h8 * 1 + 0];
+        banks$8$write_enable = tw_we$8$q;
         banks$8$write_address = tw_a$1$q;
         banks$8$write_data = tw_d$1$q;
         banks$8$read_address = l_addr[(32'h0)+:(10)];
         banks$9$clock = clock;
-        banks$9$write_enable = tw_we$q[32'h8 * 1 + 1];
+        banks$9$write_enable = tw_we$9$q;
         banks$9$write_address = tw_a$1$q;
         banks$9$write_data = tw_d$1$q;
         banks$9$read_address = l_addr[(32'h0)+:(10)];
         banks$10$clock = clock;
-        banks$10$write_enable = tw_we$q[32'h8 * 1 + 2];
+        banks$10$write_enable = tw_we$10$q;
         banks$10$write_address = tw_a$1$q;
         banks$10$write_data = tw_d$1$q;
         banks$10$read_address = l_addr[(32'h0)+:(10)];
         banks$11$clock = clock;
-        banks$11$write_enable = tw_we$q[32'h8 * 1 + 3];
+        banks$11$write_enable = tw_we$11$q;
         banks$11$write_address = tw_a$1$q;
         banks$11$write_data = tw_d$1$q;
         banks$11$read_address = l_addr[(32'h0)+:(10)];
         banks$12$clock = clock;
-        banks$12$write_enable = tw_we$q[32'h8 * 1 + 4];
+        banks$12$write_enable = tw_we$12$q;
         banks$12$write_address = tw_a$1$q;
         banks$12$write_data = tw_d$1$q;
         banks$12$read_address = l_addr[(32'h0)+:(10)];
         banks$13$clock = clock;
-        banks$13$write_enable = tw_we$q[32'h8 * 1 + 5];
+        banks$13$write_enable = tw_we$13$q;
         banks$13$write_address = tw_a$1$q;
         banks$13$write_data = tw_d$1$q;
         banks$13$read_address = l_addr[(32'h0)+:(10)];
         banks$14$clock = clock;
-        banks$14$write_enable = tw_we$q[32'h8 * 1 + 6];
+        banks$14$write_enable = tw_we$14$q;
         banks$14$write_address = tw_a$1$q;
         banks$14$write_data = tw_d$1$q;
         banks$14$read_address = l_addr[(32'h0)+:(10)];
         banks$15$clock = clock;
-        banks$15$write_enable = tw_we$q[32'h8 * 1 + 7];
+        banks$15$write_enable = tw_we$15$q;
         banks$15$write_address = tw_a$1$q;
         banks$15$write_data = tw_d$1$q;
         banks$15$read_address = l_addr[(32'h0)+:(10)];
         banks$16$clock = clock;
-        banks$16$write_enable = tw_we$q[32'h8 * 2 + 0];
+        banks$16$write_enable = tw_we$16$q;
         banks$16$write_address = tw_a$2$q;
         banks$16$write_data = tw_d$2$q;
         banks$16$read_address = l_addr[(32'h0)+:(10)];
         banks$17$clock = clock;
-        banks$17$write_enable = tw_we$q[32'h8 * 2 + 1];
+        banks$17$write_enable = tw_we$17$q;
         banks$17$write_address = tw_a$2$q;
         banks$17$write_data = tw_d$2$q;
         banks$17$read_address = l_addr[(32'h0)+:(10)];
         banks$18$clock = clock;
-        banks$18$write_enable = tw_we$q[32'h8 * 2 + 2];
+        banks$18$write_enable = tw_we$18$q;
         banks$18$write_address = tw_a$2$q;
         banks$18$write_data = tw_d$2$q;
         banks$18$read_address = l_addr[(32'h0)+:(10)];
         banks$19$clock = clock;
-        banks$19$write_enable = tw_we$q[32'h8 * 2 + 3];
+        banks$19$write_enable = tw_we$19$q;
         banks$19$write_address = tw_a$2$q;
         banks$19$write_data = tw_d$2$q;
         banks$19$read_address = l_addr[(32'h0)+:(10)];
         banks$20$clock = clock;
-        banks$20$write_enable = tw_we$q[32'h8 * 2 + 4];
+        banks$20$write_enable = tw_we$20$q;
         banks$20$write_address = tw_a$2$q;
         banks$20$write_data = tw_d$2$q;
         banks$20$read_address = l_addr[(32'h0)+:(10)];
         banks$21$clock = clock;
-        banks$21$write_enable = tw_we$q[32'h8 * 2 + 5];
+        banks$21$write_enable = tw_we$21$q;
         banks$21$write_address = tw_a$2$q;
         banks$21$write_data = tw_d$2$q;
         banks$21$read_address = l_addr[(32'h0)+:(10)];
         banks$22$clock = clock;
-        banks$22$write_enable = tw_we$q[32'h8 * 2 + 6];
+        banks$22$write_enable = tw_we$22$q;
         banks$22$write_address = tw_a$2$q;
         banks$22$write_data = tw_d$2$q;
         banks$22$read_address = l_addr[(32'h0)+:(10)];
         banks$23$clock = clock;
-        banks$23$write_enable = tw_we$q[32'h8 * 2 + 7];
+        banks$23$write_enable = tw_we$23$q;
         banks$23$write_address = tw_a$2$q;
         banks$23$write_data = tw_d$2$q;
         banks$23$read_address = l_addr[(32'h0)+:(10)];
         banks$24$clock = clock;
-        banks$24$write_enable = tw_we$q[32'h8 * 3 + 0];
+        banks$24$write_enable = tw_we$24$q;
         banks$24$write_address = tw_a$3$q;
         banks$24$write_data = tw_d$3$q;
         banks$24$read_address = l_addr[(32'h0)+:(10)];
         banks$25$clock = clock;
-        banks$25$write_enable = tw_we$q[32'h8 * 3 + 1];
+        banks$25$write_enable = tw_we$25$q;
         banks$25$write_address = tw_a$3$q;
         banks$25$write_data = tw_d$3$q;
         banks$25$read_address = l_addr[(32'h0)+:(10)];
         banks$26$clock = clock;
-        banks$26$write_enable = tw_we$q[32'h8 * 3 + 2];
+        banks$26$write_enable = tw_we$26$q;
         banks$26$write_address = tw_a$3$q;
         banks$26$write_data = tw_d$3$q;
         banks$26$read_address = l_addr[(32'h0)+:(10)];
         banks$27$clock = clock;
-        banks$27$write_enable = tw_we$q[32'h8 * 3 + 3];
+        banks$27$write_enable = tw_we$27$q;
         banks$27$write_address = tw_a$3$q;
         banks$27$write_data = tw_d$3$q;
         banks$27$read_address = l_addr[(32'h0)+:(10)];
         banks$28$clock = clock;
-        banks$28$write_enable = tw_we$q[32'h8 * 3 + 4];
+        banks$28$write_enable = tw_we$28$q;
         banks$28$write_address = tw_a$3$q;
         banks$28$write_data = tw_d$3$q;
         banks$28$read_address = l_addr[(32'h0)+:(10)];
         banks$29$clock = clock;
-        banks$29$write_enable = tw_we$q[32'h8 * 3 + 5];
+        banks$29$write_enable = tw_we$29$q;
         banks$29$write_address = tw_a$3$q;
         banks$29$write_data = tw_d$3$q;
         banks$29$read_address = l_addr[(32'h0)+:(10)];
         banks$30$clock = clock;
-        banks$30$write_enable = tw_we$q[32'h8 * 3 + 6];
+        banks$30$write_enable = tw_we$30$q;
         banks$30$write_address = tw_a$3$q;
         banks$30$write_data = tw_d$3$q;
         banks$30$read_address = l_addr[(32'h0)+:(10)];
         banks$31$clock = clock;
-        banks$31$write_enable = tw_we$q[32'h8 * 3 + 7];
+        banks$31$write_enable = tw_we$31$q;
         banks$31$write_address = tw_a$3$q;
         banks$31$write_data = tw_d$3$q;
         banks$31$read_address = l_addr[(32'h0)+:(10)];
