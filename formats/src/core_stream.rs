@@ -132,6 +132,12 @@ pub fn shade_addr(nclass: u8, mask: u8, count: u8) -> u32 {
 /// subtraction (`rtl::shade_unit`, the golden `core_model`).
 pub const SHADE_STAGES: usize = 5;
 
+/// Edges a TABLE write spends in the shading step's write registers before its bank
+/// takes it: a TABLE beat issued at edge `E` is in the table at edge `E + 1`, and a
+/// table read at edge `E + 2` or later sees it (a read at the edge of the write gets
+/// the old entry). `docs/core.md`, "Timing".
+pub const TABLE_WRITE_DELAY: usize = 1;
+
 /// A pixel's channels after shading, per channel `c` of `rgb` and `s` of `sh` (shade
 /// register 1), with the table entry's factor `f` and drop weight `g` (both Q0.8):
 ///

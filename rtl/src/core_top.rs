@@ -33,7 +33,8 @@
 //!   If a tile-line was pending in the array, a readout job for it starts (wait counter
 //!   [`READOUT_WAIT`], then addresses `0 ..= LAST`); the new tile-line becomes pending.
 //! - END: the same CLEAR_LINE and job, nothing pending afterwards.
-//! - TABLE: one shading-table write.
+//! - TABLE: one shading-table write, in the table one edge later (the shading unit
+//!   registers it: `shade_unit::TW_DELAY`).
 //!
 //! The sweep sends one address per clock while the output FIFO has room for every pixel
 //! in flight (`level + inflight < 16`, kept in one register, `credit`). A pixel whose
@@ -347,7 +348,11 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
             self.array.tile_base.next = self.l_data.val().get_value_base();
         }
         // ---- Shading-table writes.
-        self.shade.tw_en.next = self.l_issue.val() & self.l_table.val();
+        // `l_issue & l_table`, spelled without the readout hold: a TABLE beat is never a
+        // TILE or END, so it issues whenever it is at the head and `rst` is 0. The
+        // shading unit registers the write with each bank's enable decoded (one edge
+        // late: `shade_unit::TW_DELAY`).
+        self.shade.tw_en.next = self.in_fifo.out_valid.val() & self.l_table.val() & !self.rst.val();
         self.shade.tw_addr.next = self.l_data.val().get_value_taddr();
         self.shade.tw_data.next = self.l_data.val().get_value_tentry();
         // ---- Tile framing: a TILE or END starts the readout of the pending tile-line.

@@ -33,11 +33,27 @@
 //! | `clock` | in | 1 | rising edge |
 //! | `rst` | in | 1 | synchronous: no pixel leaves for the next five edges |
 //! | `in_valid`, `in_word`, `in_meta` | in | 1, 99, 2 | a pixel: readout word, and two flags carried along |
-//! | `tw_en`, `tw_addr`, `tw_data` | in | 1, 15, 18 | table write `{G, F}` (ignored without shading) |
+//! | `tw_en`, `tw_addr`, `tw_data` | in | 1, 15, 18 | table write `{G, F}` (ignored without shading); a write on these before edge `E` is in its bank at edge `E + 1` |
 //! | `out_valid`, `out_word`, `out_meta` | out | 1, 99, 2 | the pixel five edges later, its RGB shaded |
 //!
 //! Latency: a pixel on the inputs before edge `E` is on the outputs after edge `E + 4`
 //! ([`LATENCY`] edges).
+//!
+//! # Table writes
+//!
+//! A write is registered on its way to the banks ([`TW_DELAY`] = 1 edge): edge `E` loads
+//! one write-enable flip-flop per bank, already decoded from the address's top bits, and
+//! the address and data into one of [`TW_GROUPS`] copies, one per group of
+//! [`BANKS`]` / `[`TW_GROUPS`] banks; edge `E + 1` writes the bank. A copy loads whenever
+//! `tw_addr`'s group bits name its group, whether `tw_en` is set or not: its clock enable
+//! is two address bits, not the write decode, and the copies differ in it, so synthesis
+//! keeps them apart. A write's bank is written with the address and data loaded at the
+//! same edge as its enable; what a copy loads without a write is never written. Each bank's write
+//! enable comes straight from a flip-flop and each address and data bit drives 8 banks,
+//! not 32: on an ECP5 the decode of the input FIFO's head beat in front of all 32 block
+//! RAMs' write ports was the core's critical path (`docs/fpga.md`). A pixel entering stage
+//! 1 at edge `E + 1` reads the old word (a bank reads the old value of a word written at
+//! the same edge), one entering at `E + 2` or later the new one.
 
 use crate::bank_ram::BankRam;
 use crate::layout::{ReadoutFields, ReadoutLowFields, ShadeAddrFields, READOUT_W};
@@ -61,6 +77,18 @@ const _: () = assert!(BANK_BITS == 10);
 pub const BANKS: usize = 1 << (SHADE_ADDR_BITS - BANK_BITS);
 /// Width of the bank number (the table address's top bits).
 const HI_W: usize = SHADE_ADDR_BITS - BANK_BITS;
+/// Edges a table write spends in the unit's write registers before its bank takes it
+/// (`pixelproc_formats::core_stream::TABLE_WRITE_DELAY`, which the golden core model uses).
+pub const TW_DELAY: usize = pixelproc_formats::core_stream::TABLE_WRITE_DELAY;
+const _: () = assert!(TW_DELAY == 1);
+/// Copies of the write address and data registers, each driving one group of banks.
+pub const TW_GROUPS: usize = 4;
+/// Width of the group number (the bank number's top bits).
+const GROUP_W: usize = 2;
+// The kernel spells bank `8·g + j` of group `g` with the literal 8, and the group number's
+// offset in the address as the literal 13.
+const _: () = assert!(TW_GROUPS == 1 << GROUP_W && BANKS == TW_GROUPS << 3);
+const _: () = assert!(BANK_BITS + HI_W - GROUP_W == 13);
 
 /// Width of one product field (`c·F ≤ 255 · 511 < 2^17`). The kernel spells it as the
 /// literal 18 (a kernel takes literal widths and offsets).
@@ -133,6 +161,9 @@ pub struct ShadeUnit {
     /// The flags.
     pub out_meta: Signal<Out, Bits<META_W>>,
     banks: Vec<BankRam>,
+    tw_we: Vec<DFF<Bit>>,
+    tw_a: Vec<DFF<Bits<BANK_BITS>>>,
+    tw_d: Vec<DFF<Bits<ENTRY_W>>>,
     s1_v: DFF<Bit>,
     s1_word: DFF<Bits<READOUT_W>>,
     s1_meta: DFF<Bits<META_W>>,
@@ -208,6 +239,9 @@ impl ShadeUnit {
             out_word: Default::default(),
             out_meta: Default::default(),
             banks: (0..BANKS).map(|_| Default::default()).collect(),
+            tw_we: (0..BANKS).map(|_| Default::default()).collect(),
+            tw_a: (0..TW_GROUPS).map(|_| Default::default()).collect(),
+            tw_d: (0..TW_GROUPS).map(|_| Default::default()).collect(),
             s1_v: Default::default(),
             s1_word: Default::default(),
             s1_meta: Default::default(),
@@ -283,14 +317,35 @@ impl Logic for ShadeUnit {
         self.l_addr
             .next
             .set_value_snclass(self.in_word.val().get_value_nclass());
-        for i in 0..self.banks.len() {
-            self.banks[i].clock.next = self.clock.val();
-            self.banks[i].write_enable.next = self.tw_en.val()
+        // Table writes, registered once (module header): a decoded write enable per bank,
+        // the address and data per group of banks, loaded whenever `tw_addr` names the
+        // group, write or not (the bank writes only with its enable, and a write's
+        // address and data are the ones loaded at the edge that loads its enable).
+        for i in 0..self.tw_we.len() {
+            self.tw_we[i].clock.next = self.clock.val();
+            self.tw_we[i].d.next = self.tw_en.val()
                 & self.k_on.val()
                 & (self.tw_addr.val().get_bits::<HI_W>(10).index() == i);
-            self.banks[i].write_address.next = self.tw_addr.val().get_bits::<BANK_BITS>(0);
-            self.banks[i].write_data.next = self.tw_data.val();
-            self.banks[i].read_address.next = self.l_addr.val().get_bits::<BANK_BITS>(0);
+        }
+        for g in 0..self.tw_a.len() {
+            self.tw_a[g].clock.next = self.clock.val();
+            self.tw_d[g].clock.next = self.clock.val();
+            self.tw_a[g].d.next = self.tw_a[g].q.val();
+            self.tw_d[g].d.next = self.tw_d[g].q.val();
+            if self.tw_addr.val().get_bits::<GROUP_W>(13).index() == g {
+                self.tw_a[g].d.next = self.tw_addr.val().get_bits::<BANK_BITS>(0);
+                self.tw_d[g].d.next = self.tw_data.val();
+            }
+        }
+        for g in 0..self.tw_a.len() {
+            for j in 0..8 {
+                self.banks[8 * g + j].clock.next = self.clock.val();
+                self.banks[8 * g + j].write_enable.next = self.tw_we[8 * g + j].q.val();
+                self.banks[8 * g + j].write_address.next = self.tw_a[g].q.val();
+                self.banks[8 * g + j].write_data.next = self.tw_d[g].q.val();
+                self.banks[8 * g + j].read_address.next =
+                    self.l_addr.val().get_bits::<BANK_BITS>(0);
+            }
         }
         self.s1_v.d.next = self.in_valid.val();
         self.s1_word.d.next = self.in_word.val();
@@ -463,6 +518,74 @@ mod tests {
                         .saturating_sub((d * g + 128) >> 8);
                     assert_eq!(stage5(c * f, d * g), want);
                 }
+            }
+        }
+    }
+
+    /// A table write lands [`TW_DELAY`] = 1 edge late, in every bank: with the write on
+    /// `tw_*` before edge `E`, pixels of that entry entering stage 1 at `E` and `E + 1`
+    /// are shaded with the old entry, from `E + 2` on with the new one; and the write
+    /// reaches only its own word (a pixel of the same low address in the next bank keeps
+    /// its entry).
+    #[test]
+    fn table_write_lands_one_edge_later() {
+        let mut u = ShadeUnit::new(true);
+        u.connect_all();
+        let (old, new, other) = ((100u32, 30u32), (300u32, 200u32), (256u32, 0u32));
+        let px = |nclass: u8| ProcState {
+            zb: 5000,
+            rgb: 0xc8_7b_40,
+            sh: 0x20_10_05,
+            mask: 5,
+            count: 9,
+            nclass,
+            ..Default::default()
+        };
+        let set = |u: &mut ShadeUnit, en: bool, a: u32, (f, g): (u32, u32)| {
+            u.tw_en.next = en;
+            u.tw_addr.next = (a as u64).to_bits();
+            u.tw_data.next = ((g as u64) << FACTOR_BITS | f as u64).to_bits();
+        };
+        for bank in 0..BANKS as u8 {
+            // Bank `bank` holds normal classes 8·bank ..= 8·bank + 7; take a different low
+            // address in each bank, and its neighbour in the next bank.
+            let nc = 8 * bank + bank % 8;
+            let nb = 8 * ((bank + 1) % BANKS as u8) + bank % 8;
+            let a = shade_addr(nc, 5, 9);
+            let b = shade_addr(nb, 5, 9);
+            set(&mut u, true, a, old);
+            edge(&mut u);
+            set(&mut u, true, b, other);
+            edge(&mut u);
+            set(&mut u, false, 0, (0, 0));
+            u.in_valid.next = false;
+            for _ in 0..2 {
+                edge(&mut u);
+            }
+            // Edge E: the new write and the first pixel; then two more pixels of the
+            // entry, one of the neighbour, and the pipeline drains.
+            let seq = [nc, nc, nc, nb];
+            let want = [old, old, new, other];
+            let mut got = Vec::new();
+            for k in 0..seq.len() + LATENCY {
+                if k == 0 {
+                    set(&mut u, true, a, new);
+                } else {
+                    set(&mut u, false, 0, (0, 0));
+                }
+                u.in_valid.next = k < seq.len();
+                u.in_word.next = word(&px(seq[k.min(seq.len() - 1)]));
+                u.in_meta.next = 0u64.to_bits();
+                edge(&mut u);
+                if u.out_valid.val() {
+                    got.push(u.out_word.val());
+                }
+            }
+            assert_eq!(got.len(), seq.len());
+            for (k, ((nc, (f, g)), w)) in seq.iter().zip(want).zip(got).enumerate() {
+                let mut s = px(*nc);
+                s.rgb = shade_rgb(s.rgb, s.sh, f, g);
+                assert_eq!(w, word(&s), "bank {bank}, pixel {k}");
             }
         }
     }

@@ -357,7 +357,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         if (l_tile) begin
             array$tile_base = l_data[(32'h18)+:(12)];
         end
-        shade$tw_en = l_issue & l_table;
+        shade$tw_en = in_fifo$out_valid & l_table & ~rst;
         shade$tw_addr = l_data[(32'h0)+:(15)];
         shade$tw_data = l_data[(32'hf)+:(18)];
         if (l_issue & l_tile) begin
@@ -3227,6 +3227,126 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  [17:0] banks$31$write_data;
     reg  [9:0] banks$31$read_address;
     wire  [17:0] banks$31$read_data;
+    reg  tw_we$0$d;
+    wire  tw_we$0$q;
+    reg  tw_we$0$clock;
+    reg  tw_we$1$d;
+    wire  tw_we$1$q;
+    reg  tw_we$1$clock;
+    reg  tw_we$2$d;
+    wire  tw_we$2$q;
+    reg  tw_we$2$clock;
+    reg  tw_we$3$d;
+    wire  tw_we$3$q;
+    reg  tw_we$3$clock;
+    reg  tw_we$4$d;
+    wire  tw_we$4$q;
+    reg  tw_we$4$clock;
+    reg  tw_we$5$d;
+    wire  tw_we$5$q;
+    reg  tw_we$5$clock;
+    reg  tw_we$6$d;
+    wire  tw_we$6$q;
+    reg  tw_we$6$clock;
+    reg  tw_we$7$d;
+    wire  tw_we$7$q;
+    reg  tw_we$7$clock;
+    reg  tw_we$8$d;
+    wire  tw_we$8$q;
+    reg  tw_we$8$clock;
+    reg  tw_we$9$d;
+    wire  tw_we$9$q;
+    reg  tw_we$9$clock;
+    reg  tw_we$10$d;
+    wire  tw_we$10$q;
+    reg  tw_we$10$clock;
+    reg  tw_we$11$d;
+    wire  tw_we$11$q;
+    reg  tw_we$11$clock;
+    reg  tw_we$12$d;
+    wire  tw_we$12$q;
+    reg  tw_we$12$clock;
+    reg  tw_we$13$d;
+    wire  tw_we$13$q;
+    reg  tw_we$13$clock;
+    reg  tw_we$14$d;
+    wire  tw_we$14$q;
+    reg  tw_we$14$clock;
+    reg  tw_we$15$d;
+    wire  tw_we$15$q;
+    reg  tw_we$15$clock;
+    reg  tw_we$16$d;
+    wire  tw_we$16$q;
+    reg  tw_we$16$clock;
+    reg  tw_we$17$d;
+    wire  tw_we$17$q;
+    reg  tw_we$17$clock;
+    reg  tw_we$18$d;
+    wire  tw_we$18$q;
+    reg  tw_we$18$clock;
+    reg  tw_we$19$d;
+    wire  tw_we$19$q;
+    reg  tw_we$19$clock;
+    reg  tw_we$20$d;
+    wire  tw_we$20$q;
+    reg  tw_we$20$clock;
+    reg  tw_we$21$d;
+    wire  tw_we$21$q;
+    reg  tw_we$21$clock;
+    reg  tw_we$22$d;
+    wire  tw_we$22$q;
+    reg  tw_we$22$clock;
+    reg  tw_we$23$d;
+    wire  tw_we$23$q;
+    reg  tw_we$23$clock;
+    reg  tw_we$24$d;
+    wire  tw_we$24$q;
+    reg  tw_we$24$clock;
+    reg  tw_we$25$d;
+    wire  tw_we$25$q;
+    reg  tw_we$25$clock;
+    reg  tw_we$26$d;
+    wire  tw_we$26$q;
+    reg  tw_we$26$clock;
+    reg  tw_we$27$d;
+    wire  tw_we$27$q;
+    reg  tw_we$27$clock;
+    reg  tw_we$28$d;
+    wire  tw_we$28$q;
+    reg  tw_we$28$clock;
+    reg  tw_we$29$d;
+    wire  tw_we$29$q;
+    reg  tw_we$29$clock;
+    reg  tw_we$30$d;
+    wire  tw_we$30$q;
+    reg  tw_we$30$clock;
+    reg  tw_we$31$d;
+    wire  tw_we$31$q;
+    reg  tw_we$31$clock;
+    reg  [9:0] tw_a$0$d;
+    wire  [9:0] tw_a$0$q;
+    reg  tw_a$0$clock;
+    reg  [9:0] tw_a$1$d;
+    wire  [9:0] tw_a$1$q;
+    reg  tw_a$1$clock;
+    reg  [9:0] tw_a$2$d;
+    wire  [9:0] tw_a$2$q;
+    reg  tw_a$2$clock;
+    reg  [9:0] tw_a$3$d;
+    wire  [9:0] tw_a$3$q;
+    reg  tw_a$3$clock;
+    reg  [17:0] tw_d$0$d;
+    wire  [17:0] tw_d$0$q;
+    reg  tw_d$0$clock;
+    reg  [17:0] tw_d$1$d;
+    wire  [17:0] tw_d$1$q;
+    reg  tw_d$1$clock;
+    reg  [17:0] tw_d$2$d;
+    wire  [17:0] tw_d$2$q;
+    reg  tw_d$2$clock;
+    reg  [17:0] tw_d$3$d;
+    wire  [17:0] tw_d$3$q;
+    reg  tw_d$3$clock;
     reg  s1_v$d;
     wire  s1_v$q;
     reg  s1_v$clock;
@@ -3576,6 +3696,206 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .read_address(banks$31$read_address),
         .read_data(banks$31$read_data)
     );
+    pixelproc_top$array$procs$b_covered tw_we$0(
+        .d(tw_we$0$d),
+        .q(tw_we$0$q),
+        .clock(tw_we$0$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$1(
+        .d(tw_we$1$d),
+        .q(tw_we$1$q),
+        .clock(tw_we$1$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$2(
+        .d(tw_we$2$d),
+        .q(tw_we$2$q),
+        .clock(tw_we$2$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$3(
+        .d(tw_we$3$d),
+        .q(tw_we$3$q),
+        .clock(tw_we$3$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$4(
+        .d(tw_we$4$d),
+        .q(tw_we$4$q),
+        .clock(tw_we$4$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$5(
+        .d(tw_we$5$d),
+        .q(tw_we$5$q),
+        .clock(tw_we$5$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$6(
+        .d(tw_we$6$d),
+        .q(tw_we$6$q),
+        .clock(tw_we$6$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$7(
+        .d(tw_we$7$d),
+        .q(tw_we$7$q),
+        .clock(tw_we$7$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$8(
+        .d(tw_we$8$d),
+        .q(tw_we$8$q),
+        .clock(tw_we$8$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$9(
+        .d(tw_we$9$d),
+        .q(tw_we$9$q),
+        .clock(tw_we$9$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$10(
+        .d(tw_we$10$d),
+        .q(tw_we$10$q),
+        .clock(tw_we$10$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$11(
+        .d(tw_we$11$d),
+        .q(tw_we$11$q),
+        .clock(tw_we$11$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$12(
+        .d(tw_we$12$d),
+        .q(tw_we$12$q),
+        .clock(tw_we$12$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$13(
+        .d(tw_we$13$d),
+        .q(tw_we$13$q),
+        .clock(tw_we$13$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$14(
+        .d(tw_we$14$d),
+        .q(tw_we$14$q),
+        .clock(tw_we$14$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$15(
+        .d(tw_we$15$d),
+        .q(tw_we$15$q),
+        .clock(tw_we$15$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$16(
+        .d(tw_we$16$d),
+        .q(tw_we$16$q),
+        .clock(tw_we$16$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$17(
+        .d(tw_we$17$d),
+        .q(tw_we$17$q),
+        .clock(tw_we$17$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$18(
+        .d(tw_we$18$d),
+        .q(tw_we$18$q),
+        .clock(tw_we$18$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$19(
+        .d(tw_we$19$d),
+        .q(tw_we$19$q),
+        .clock(tw_we$19$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$20(
+        .d(tw_we$20$d),
+        .q(tw_we$20$q),
+        .clock(tw_we$20$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$21(
+        .d(tw_we$21$d),
+        .q(tw_we$21$q),
+        .clock(tw_we$21$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$22(
+        .d(tw_we$22$d),
+        .q(tw_we$22$q),
+        .clock(tw_we$22$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$23(
+        .d(tw_we$23$d),
+        .q(tw_we$23$q),
+        .clock(tw_we$23$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$24(
+        .d(tw_we$24$d),
+        .q(tw_we$24$q),
+        .clock(tw_we$24$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$25(
+        .d(tw_we$25$d),
+        .q(tw_we$25$q),
+        .clock(tw_we$25$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$26(
+        .d(tw_we$26$d),
+        .q(tw_we$26$q),
+        .clock(tw_we$26$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$27(
+        .d(tw_we$27$d),
+        .q(tw_we$27$q),
+        .clock(tw_we$27$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$28(
+        .d(tw_we$28$d),
+        .q(tw_we$28$q),
+        .clock(tw_we$28$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$29(
+        .d(tw_we$29$d),
+        .q(tw_we$29$q),
+        .clock(tw_we$29$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$30(
+        .d(tw_we$30$d),
+        .q(tw_we$30$q),
+        .clock(tw_we$30$clock)
+    );
+    pixelproc_top$array$procs$b_covered tw_we$31(
+        .d(tw_we$31$d),
+        .q(tw_we$31$q),
+        .clock(tw_we$31$clock)
+    );
+    pixelproc_top$shade$tw_a tw_a$0(
+        .d(tw_a$0$d),
+        .q(tw_a$0$q),
+        .clock(tw_a$0$clock)
+    );
+    pixelproc_top$shade$tw_a tw_a$1(
+        .d(tw_a$1$d),
+        .q(tw_a$1$q),
+        .clock(tw_a$1$clock)
+    );
+    pixelproc_top$shade$tw_a tw_a$2(
+        .d(tw_a$2$d),
+        .q(tw_a$2$q),
+        .clock(tw_a$2$clock)
+    );
+    pixelproc_top$shade$tw_a tw_a$3(
+        .d(tw_a$3$d),
+        .q(tw_a$3$q),
+        .clock(tw_a$3$clock)
+    );
+    pixelproc_top$shade$tw_d tw_d$0(
+        .d(tw_d$0$d),
+        .q(tw_d$0$q),
+        .clock(tw_d$0$clock)
+    );
+    pixelproc_top$shade$tw_d tw_d$1(
+        .d(tw_d$1$d),
+        .q(tw_d$1$q),
+        .clock(tw_d$1$clock)
+    );
+    pixelproc_top$shade$tw_d tw_d$2(
+        .d(tw_d$2$d),
+        .q(tw_d$2$q),
+        .clock(tw_d$2$clock)
+    );
+    pixelproc_top$shade$tw_d tw_d$3(
+        .d(tw_d$3$d),
+        .q(tw_d$3$q),
+        .clock(tw_d$3$clock)
+    );
     pixelproc_top$array$procs$b_covered s1_v(
         .d(s1_v$d),
         .q(s1_v$q),
@@ -3744,165 +4064,261 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         l_addr[(32'h0)+:(4)] = in_word[(32'h0)+:(4)];
         l_addr[(32'h4)+:(3)] = in_word[(32'h3a)+:(3)];
         l_addr[(32'h7)+:(8)] = in_word[(32'h42)+:(8)];
+        tw_we$0$clock = clock;
+        tw_we$0$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 0);
+        tw_we$1$clock = clock;
+        tw_we$1$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 1);
+        tw_we$2$clock = clock;
+        tw_we$2$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 2);
+        tw_we$3$clock = clock;
+        tw_we$3$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 3);
+        tw_we$4$clock = clock;
+        tw_we$4$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 4);
+        tw_we$5$clock = clock;
+        tw_we$5$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 5);
+        tw_we$6$clock = clock;
+        tw_we$6$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 6);
+        tw_we$7$clock = clock;
+        tw_we$7$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 7);
+        tw_we$8$clock = clock;
+        tw_we$8$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 8);
+        tw_we$9$clock = clock;
+        tw_we$9$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 9);
+        tw_we$10$clock = clock;
+        tw_we$10$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 10);
+        tw_we$11$clock = clock;
+        tw_we$11$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 11);
+        tw_we$12$clock = clock;
+        tw_we$12$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 12);
+        tw_we$13$clock = clock;
+        tw_we$13$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 13);
+        tw_we$14$clock = clock;
+        tw_we$14$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 14);
+        tw_we$15$clock = clock;
+        tw_we$15$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 15);
+        tw_we$16$clock = clock;
+        tw_we$16$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 16);
+        tw_we$17$clock = clock;
+        tw_we$17$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 17);
+        tw_we$18$clock = clock;
+        tw_we$18$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 18);
+        tw_we$19$clock = clock;
+        tw_we$19$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 19);
+        tw_we$20$clock = clock;
+        tw_we$20$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 20);
+        tw_we$21$clock = clock;
+        tw_we$21$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 21);
+        tw_we$22$clock = clock;
+        tw_we$22$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 22);
+        tw_we$23$clock = clock;
+        tw_we$23$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 23);
+        tw_we$24$clock = clock;
+        tw_we$24$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 24);
+        tw_we$25$clock = clock;
+        tw_we$25$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 25);
+        tw_we$26$clock = clock;
+        tw_we$26$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 26);
+        tw_we$27$clock = clock;
+        tw_we$27$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 27);
+        tw_we$28$clock = clock;
+        tw_we$28$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 28);
+        tw_we$29$clock = clock;
+        tw_we$29$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 29);
+        tw_we$30$clock = clock;
+        tw_we$30$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 30);
+        tw_we$31$clock = clock;
+        tw_we$31$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 31);
+        tw_a$0$clock = clock;
+        tw_d$0$clock = clock;
+        tw_a$0$d = tw_a$0$q;
+        tw_d$0$d = tw_d$0$q;
+        if (tw_addr[(32'hd)+:(2)] == 0) begin
+            tw_a$0$d = tw_addr[(32'h0)+:(10)];
+            tw_d$0$d = tw_data;
+        end
+        tw_a$1$clock = clock;
+        tw_d$1$clock = clock;
+        tw_a$1$d = tw_a$1$q;
+        tw_d$1$d = tw_d$1$q;
+        if (tw_addr[(32'hd)+:(2)] == 1) begin
+            tw_a$1$d = tw_addr[(32'h0)+:(10)];
+            tw_d$1$d = tw_data;
+        end
+        tw_a$2$clock = clock;
+        tw_d$2$clock = clock;
+        tw_a$2$d = tw_a$2$q;
+        tw_d$2$d = tw_d$2$q;
+        if (tw_addr[(32'hd)+:(2)] == 2) begin
+            tw_a$2$d = tw_addr[(32'h0)+:(10)];
+            tw_d$2$d = tw_data;
+        end
+        tw_a$3$clock = clock;
+        tw_d$3$clock = clock;
+        tw_a$3$d = tw_a$3$q;
+        tw_d$3$d = tw_d$3$q;
+        if (tw_addr[(32'hd)+:(2)] == 3) begin
+            tw_a$3$d = tw_addr[(32'h0)+:(10)];
+            tw_d$3$d = tw_data;
+        end
         banks$0$clock = clock;
-        banks$0$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 0);
-        banks$0$write_address = tw_addr[(32'h0)+:(10)];
-        banks$0$write_data = tw_data;
+        banks$0$write_enable = tw_we$0$q;
+        banks$0$write_address = tw_a$0$q;
+        banks$0$write_data = tw_d$0$q;
         banks$0$read_address = l_addr[(32'h0)+:(10)];
         banks$1$clock = clock;
-        banks$1$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 1);
-        banks$1$write_address = tw_addr[(32'h0)+:(10)];
-        banks$1$write_data = tw_data;
+        banks$1$write_enable = tw_we$1$q;
+        banks$1$write_address = tw_a$0$q;
+        banks$1$write_data = tw_d$0$q;
         banks$1$read_address = l_addr[(32'h0)+:(10)];
         banks$2$clock = clock;
-        banks$2$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 2);
-        banks$2$write_address = tw_addr[(32'h0)+:(10)];
-        banks$2$write_data = tw_data;
+        banks$2$write_enable = tw_we$2$q;
+        banks$2$write_address = tw_a$0$q;
+        banks$2$write_data = tw_d$0$q;
         banks$2$read_address = l_addr[(32'h0)+:(10)];
         banks$3$clock = clock;
-        banks$3$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 3);
-        banks$3$write_address = tw_addr[(32'h0)+:(10)];
-        banks$3$write_data = tw_data;
+        banks$3$write_enable = tw_we$3$q;
+        banks$3$write_address = tw_a$0$q;
+        banks$3$write_data = tw_d$0$q;
         banks$3$read_address = l_addr[(32'h0)+:(10)];
         banks$4$clock = clock;
-        banks$4$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 4);
-        banks$4$write_address = tw_addr[(32'h0)+:(10)];
-        banks$4$write_data = tw_data;
+        banks$4$write_enable = tw_we$4$q;
+        banks$4$write_address = tw_a$0$q;
+        banks$4$write_data = tw_d$0$q;
         banks$4$read_address = l_addr[(32'h0)+:(10)];
         banks$5$clock = clock;
-        banks$5$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 5);
-        banks$5$write_address = tw_addr[(32'h0)+:(10)];
-        banks$5$write_data = tw_data;
+        banks$5$write_enable = tw_we$5$q;
+        banks$5$write_address = tw_a$0$q;
+        banks$5$write_data = tw_d$0$q;
         banks$5$read_address = l_addr[(32'h0)+:(10)];
         banks$6$clock = clock;
-        banks$6$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 6);
-        banks$6$write_address = tw_addr[(32'h0)+:(10)];
-        banks$6$write_data = tw_data;
+        banks$6$write_enable = tw_we$6$q;
+        banks$6$write_address = tw_a$0$q;
+        banks$6$write_data = tw_d$0$q;
         banks$6$read_address = l_addr[(32'h0)+:(10)];
         banks$7$clock = clock;
-        banks$7$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 7);
-        banks$7$write_address = tw_addr[(32'h0)+:(10)];
-        banks$7$write_data = tw_data;
+        banks$7$write_enable = tw_we$7$q;
+        banks$7$write_address = tw_a$0$q;
+        banks$7$write_data = tw_d$0$q;
         banks$7$read_address = l_addr[(32'h0)+:(10)];
         banks$8$clock = clock;
-        banks$8$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 8);
-        banks$8$write_address = tw_addr[(32'h0)+:(10)];
-        banks$8$write_data = tw_data;
+        banks$8$write_enable = tw_we$8$q;
+        banks$8$write_address = tw_a$1$q;
+        banks$8$write_data = tw_d$1$q;
         banks$8$read_address = l_addr[(32'h0)+:(10)];
         banks$9$clock = clock;
-        banks$9$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 9);
-        banks$9$write_address = tw_addr[(32'h0)+:(10)];
-        banks$9$write_data = tw_data;
+        banks$9$write_enable = tw_we$9$q;
+        banks$9$write_address = tw_a$1$q;
+        banks$9$write_data = tw_d$1$q;
         banks$9$read_address = l_addr[(32'h0)+:(10)];
         banks$10$clock = clock;
-        banks$10$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 10);
-        banks$10$write_address = tw_addr[(32'h0)+:(10)];
-        banks$10$write_data = tw_data;
+        banks$10$write_enable = tw_we$10$q;
+        banks$10$write_address = tw_a$1$q;
+        banks$10$write_data = tw_d$1$q;
         banks$10$read_address = l_addr[(32'h0)+:(10)];
         banks$11$clock = clock;
-        banks$11$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 11);
-        banks$11$write_address = tw_addr[(32'h0)+:(10)];
-        banks$11$write_data = tw_data;
+        banks$11$write_enable = tw_we$11$q;
+        banks$11$write_address = tw_a$1$q;
+        banks$11$write_data = tw_d$1$q;
         banks$11$read_address = l_addr[(32'h0)+:(10)];
         banks$12$clock = clock;
-        banks$12$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 12);
-        banks$12$write_address = tw_addr[(32'h0)+:(10)];
-        banks$12$write_data = tw_data;
+        banks$12$write_enable = tw_we$12$q;
+        banks$12$write_address = tw_a$1$q;
+        banks$12$write_data = tw_d$1$q;
         banks$12$read_address = l_addr[(32'h0)+:(10)];
         banks$13$clock = clock;
-        banks$13$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 13);
-        banks$13$write_address = tw_addr[(32'h0)+:(10)];
-        banks$13$write_data = tw_data;
+        banks$13$write_enable = tw_we$13$q;
+        banks$13$write_address = tw_a$1$q;
+        banks$13$write_data = tw_d$1$q;
         banks$13$read_address = l_addr[(32'h0)+:(10)];
         banks$14$clock = clock;
-        banks$14$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 14);
-        banks$14$write_address = tw_addr[(32'h0)+:(10)];
-        banks$14$write_data = tw_data;
+        banks$14$write_enable = tw_we$14$q;
+        banks$14$write_address = tw_a$1$q;
+        banks$14$write_data = tw_d$1$q;
         banks$14$read_address = l_addr[(32'h0)+:(10)];
         banks$15$clock = clock;
-        banks$15$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 15);
-        banks$15$write_address = tw_addr[(32'h0)+:(10)];
-        banks$15$write_data = tw_data;
+        banks$15$write_enable = tw_we$15$q;
+        banks$15$write_address = tw_a$1$q;
+        banks$15$write_data = tw_d$1$q;
         banks$15$read_address = l_addr[(32'h0)+:(10)];
         banks$16$clock = clock;
-        banks$16$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 16);
-        banks$16$write_address = tw_addr[(32'h0)+:(10)];
-        banks$16$write_data = tw_data;
+        banks$16$write_enable = tw_we$16$q;
+        banks$16$write_address = tw_a$2$q;
+        banks$16$write_data = tw_d$2$q;
         banks$16$read_address = l_addr[(32'h0)+:(10)];
         banks$17$clock = clock;
-        banks$17$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 17);
-        banks$17$write_address = tw_addr[(32'h0)+:(10)];
-        banks$17$write_data = tw_data;
+        banks$17$write_enable = tw_we$17$q;
+        banks$17$write_address = tw_a$2$q;
+        banks$17$write_data = tw_d$2$q;
         banks$17$read_address = l_addr[(32'h0)+:(10)];
         banks$18$clock = clock;
-        banks$18$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 18);
-        banks$18$write_address = tw_addr[(32'h0)+:(10)];
-        banks$18$write_data = tw_data;
+        banks$18$write_enable = tw_we$18$q;
+        banks$18$write_address = tw_a$2$q;
+        banks$18$write_data = tw_d$2$q;
         banks$18$read_address = l_addr[(32'h0)+:(10)];
         banks$19$clock = clock;
-        banks$19$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 19);
-        banks$19$write_address = tw_addr[(32'h0)+:(10)];
-        banks$19$write_data = tw_data;
+        banks$19$write_enable = tw_we$19$q;
+        banks$19$write_address = tw_a$2$q;
+        banks$19$write_data = tw_d$2$q;
         banks$19$read_address = l_addr[(32'h0)+:(10)];
         banks$20$clock = clock;
-        banks$20$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 20);
-        banks$20$write_address = tw_addr[(32'h0)+:(10)];
-        banks$20$write_data = tw_data;
+        banks$20$write_enable = tw_we$20$q;
+        banks$20$write_address = tw_a$2$q;
+        banks$20$write_data = tw_d$2$q;
         banks$20$read_address = l_addr[(32'h0)+:(10)];
         banks$21$clock = clock;
-        banks$21$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 21);
-        banks$21$write_address = tw_addr[(32'h0)+:(10)];
-        banks$21$write_data = tw_data;
+        banks$21$write_enable = tw_we$21$q;
+        banks$21$write_address = tw_a$2$q;
+        banks$21$write_data = tw_d$2$q;
         banks$21$read_address = l_addr[(32'h0)+:(10)];
         banks$22$clock = clock;
-        banks$22$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 22);
-        banks$22$write_address = tw_addr[(32'h0)+:(10)];
-        banks$22$write_data = tw_data;
+        banks$22$write_enable = tw_we$22$q;
+        banks$22$write_address = tw_a$2$q;
+        banks$22$write_data = tw_d$2$q;
         banks$22$read_address = l_addr[(32'h0)+:(10)];
         banks$23$clock = clock;
-        banks$23$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 23);
-        banks$23$write_address = tw_addr[(32'h0)+:(10)];
-        banks$23$write_data = tw_data;
+        banks$23$write_enable = tw_we$23$q;
+        banks$23$write_address = tw_a$2$q;
+        banks$23$write_data = tw_d$2$q;
         banks$23$read_address = l_addr[(32'h0)+:(10)];
         banks$24$clock = clock;
-        banks$24$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 24);
-        banks$24$write_address = tw_addr[(32'h0)+:(10)];
-        banks$24$write_data = tw_data;
+        banks$24$write_enable = tw_we$24$q;
+        banks$24$write_address = tw_a$3$q;
+        banks$24$write_data = tw_d$3$q;
         banks$24$read_address = l_addr[(32'h0)+:(10)];
         banks$25$clock = clock;
-        banks$25$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 25);
-        banks$25$write_address = tw_addr[(32'h0)+:(10)];
-        banks$25$write_data = tw_data;
+        banks$25$write_enable = tw_we$25$q;
+        banks$25$write_address = tw_a$3$q;
+        banks$25$write_data = tw_d$3$q;
         banks$25$read_address = l_addr[(32'h0)+:(10)];
         banks$26$clock = clock;
-        banks$26$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 26);
-        banks$26$write_address = tw_addr[(32'h0)+:(10)];
-        banks$26$write_data = tw_data;
+        banks$26$write_enable = tw_we$26$q;
+        banks$26$write_address = tw_a$3$q;
+        banks$26$write_data = tw_d$3$q;
         banks$26$read_address = l_addr[(32'h0)+:(10)];
         banks$27$clock = clock;
-        banks$27$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 27);
-        banks$27$write_address = tw_addr[(32'h0)+:(10)];
-        banks$27$write_data = tw_data;
+        banks$27$write_enable = tw_we$27$q;
+        banks$27$write_address = tw_a$3$q;
+        banks$27$write_data = tw_d$3$q;
         banks$27$read_address = l_addr[(32'h0)+:(10)];
         banks$28$clock = clock;
-        banks$28$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 28);
-        banks$28$write_address = tw_addr[(32'h0)+:(10)];
-        banks$28$write_data = tw_data;
+        banks$28$write_enable = tw_we$28$q;
+        banks$28$write_address = tw_a$3$q;
+        banks$28$write_data = tw_d$3$q;
         banks$28$read_address = l_addr[(32'h0)+:(10)];
         banks$29$clock = clock;
-        banks$29$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 29);
-        banks$29$write_address = tw_addr[(32'h0)+:(10)];
-        banks$29$write_data = tw_data;
+        banks$29$write_enable = tw_we$29$q;
+        banks$29$write_address = tw_a$3$q;
+        banks$29$write_data = tw_d$3$q;
         banks$29$read_address = l_addr[(32'h0)+:(10)];
         banks$30$clock = clock;
-        banks$30$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 30);
-        banks$30$write_address = tw_addr[(32'h0)+:(10)];
-        banks$30$write_data = tw_data;
+        banks$30$write_enable = tw_we$30$q;
+        banks$30$write_address = tw_a$3$q;
+        banks$30$write_data = tw_d$3$q;
         banks$30$read_address = l_addr[(32'h0)+:(10)];
         banks$31$clock = clock;
-        banks$31$write_enable = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 31);
-        banks$31$write_address = tw_addr[(32'h0)+:(10)];
-        banks$31$write_data = tw_data;
+        banks$31$write_enable = tw_we$31$q;
+        banks$31$write_address = tw_a$3$q;
+        banks$31$write_data = tw_d$3$q;
         banks$31$read_address = l_addr[(32'h0)+:(10)];
         s1_v$d = in_valid;
         s1_word$d = in_word;
@@ -4172,6 +4588,44 @@ module pixelproc_top$shade$s4_pd(d,q,clock);
     end
           
 endmodule // pixelproc_top$shade$s4_pd
+
+
+module pixelproc_top$shade$tw_a(d,q,clock);
+    
+    // Module arguments
+    input wire  [9:0] d;
+    output reg  [9:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 10'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // pixelproc_top$shade$tw_a
+
+
+module pixelproc_top$shade$tw_d(d,q,clock);
+    
+    // Module arguments
+    input wire  [17:0] d;
+    output reg  [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // pixelproc_top$shade$tw_d
 
 
 

@@ -83,3 +83,87 @@ fn default_scene_with_shadows_and_stalls() {
 fn no_shadows_width_not_a_multiple_of_n() {
     run("default", 23, 6, 5, false, 10, 60);
 }
+
+/// TABLE beats in the middle of readouts: after every TILE and END beat, 24 TABLE beats
+/// rewrite the entries the frame's covered pixels use, round robin, each with a value
+/// never written before. They issue one per clock while the previous tile-line is swept
+/// out, so pixels read the table at the clocks right before and after writes to their
+/// own entry: a write that landed one edge earlier or later than the model's
+/// `TABLE_WRITE_DELAY` (or in the wrong bank, or with another group's address or data)
+/// changes a pixel. RTL against the model only (the rewritten table is not the golden
+/// renderer's), with and without stalls.
+#[test]
+fn table_writes_during_readout_land_when_the_model_says() {
+    use pixelproc_formats::core_stream::{
+        shade_addr, KIND_END, KIND_TABLE, KIND_TILE, SHADE_ADDR_BITS, TABLE_ADDR, TABLE_DROP,
+        TABLE_FACTOR,
+    };
+    use pixelproc_formats::Z_FAR;
+    use pixelproc_sim::core_model::Beat;
+    let (w, h, n) = (36, 10, 8);
+    let mut ls = load_builtin("default").unwrap();
+    ls.scene.width = w;
+    ls.scene.height = h;
+    let fx = Effects::resolve(&ls, &Overrides::default()).unwrap();
+    let golden = pixelproc_sim::pipeline::render(&ls, &fx).unwrap();
+    let frame = golden.frame.unwrap();
+    let s = SceneStream::of_scene(&ls, &fx.shadow_lights, fx.shadow_form, fx.shading).unwrap();
+    let table = FactorTable::for_mode(
+        &ls,
+        &shadow_lights(&ls, &fx.shadow_lights).unwrap(),
+        fx.shading,
+    );
+    let cs = CoreStream::of_scene(&s, n, Some(&table)).unwrap();
+    let mut used: Vec<u64> = frame
+        .px
+        .iter()
+        .filter(|p| p.zb != Z_FAR)
+        .map(|p| (shade_addr(p.nclass, p.mask, p.count) & ((1 << SHADE_ADDR_BITS) - 1)) as u64)
+        .collect();
+    used.sort_unstable();
+    used.dedup();
+    // Entries in more than one bank group (address bits 14:13), so the group copies of the
+    // write registers are all exercised.
+    let groups: std::collections::BTreeSet<u64> = used.iter().map(|a| a >> 13).collect();
+    assert!(used.len() >= 2 && groups.len() >= 2, "{used:?}");
+    let mut beats = Vec::new();
+    let mut k = 0u64;
+    for b in &cs.beats {
+        beats.push(*b);
+        if b.kind as u64 == KIND_TILE || b.kind as u64 == KIND_END {
+            for _ in 0..24 {
+                k += 1;
+                beats.push(Beat::with_fields(
+                    KIND_TABLE,
+                    &[
+                        (TABLE_ADDR, used[k as usize % used.len()]),
+                        (TABLE_FACTOR, (37 * k + 11) % 512),
+                        (TABLE_DROP, (101 * k + 3) % 512),
+                    ],
+                ));
+            }
+        }
+    }
+    for (seed, gap, stall) in [(1, 0, 0), (5, 25, 30)] {
+        let mut uut = PixelprocCore::<3, 4>::new(n, true, true).unwrap();
+        uut.connect_all();
+        let mut model = CoreModel::new(n, true, true, SMALL_IN_ABITS).unwrap();
+        let mut st = Stalls::new(seed, gap, stall);
+        let r = compare_core(
+            &mut uut,
+            &mut model,
+            &beats,
+            cs.pixels(),
+            &mut st,
+            2_000_000,
+        )
+        .unwrap();
+        if let Some(m) = &r.mismatch {
+            panic!(
+                "gap {gap} stall {stall}: after cycle {}: {}",
+                m.cycle, m.what
+            );
+        }
+        assert_eq!(r.pixels.len(), cs.pixels());
+    }
+}

@@ -18,7 +18,9 @@
 //! array inside is the golden [`PixelArray`]: commands take effect when issued, and a
 //! tile-line's pixels are the array state at the TILE or END that ends it. That is what
 //! the RTL sweep reads, because its timing ([`READOUT_WAIT`]) is chosen so that every
-//! read follows the CLEAR_LINE wavefront (proof in `pixelproc_rtl::core_top`).
+//! read follows the CLEAR_LINE wavefront (proof in `pixelproc_rtl::core_top`). A TABLE
+//! write lands one edge after its beat issues ([`TABLE_WRITE_DELAY`]: the shading step
+//! registers it on its way to the block RAMs), after that edge's table read.
 
 use crate::pixel_array::{Command, PixelArray, ProcState};
 use crate::rng::XorShift64Star;

@@ -3,6 +3,9 @@
 
 use super::*;
 
+// `table_write` holds one write: the model's delay is one edge.
+const _: () = assert!(TABLE_WRITE_DELAY == 1);
+
 /// A readout job: the tile-line being streamed out.
 #[derive(Clone, Debug, Default)]
 struct Job {
@@ -72,6 +75,10 @@ pub struct CoreModel {
     inflight: u32,
     pub(super) err: bool,
     table: Vec<(u16, u16)>,
+    /// The TABLE write issued at the last edge (address, entry): the shading step's write
+    /// registers hold it for one edge (`TABLE_WRITE_DELAY`), and it lands in the table at
+    /// the next edge, after that edge's table read.
+    table_write: Option<(usize, (u16, u16))>,
     /// A pixel reached a full output FIFO (the credit logic failed): never in a correct
     /// design; the testbenches check it.
     pub overflow: bool,
@@ -99,6 +106,7 @@ impl CoreModel {
             inflight: 0,
             err: false,
             table: vec![(0, 0); 1 << SHADE_ADDR_BITS],
+            table_write: None,
             overflow: false,
         })
     }
@@ -189,6 +197,11 @@ impl CoreModel {
         let s2_out = self.s[SHADE_STAGES - 1];
         let mut s1_new = self.track[2];
         (s1_new.factor, s1_new.drop) = old_table_entry(&s1_new, &self.table, self.shadows);
+        // The TABLE write issued at the last edge lands now, after the read: a write issued
+        // at edge E is seen by table reads at E + 2 and later (reset does not cancel it).
+        if let Some((a, e)) = self.table_write.take() {
+            self.table[a] = e;
+        }
         let mut t1_new = Track::default();
         if go {
             let a = self.job.addr;
@@ -257,10 +270,13 @@ impl CoreModel {
             } else if table {
                 if self.shadows {
                     let a = TABLE_ADDR.get(&b.data) as usize & ((1 << SHADE_ADDR_BITS) - 1);
-                    self.table[a] = (
-                        TABLE_FACTOR.get(&b.data) as u16,
-                        TABLE_DROP.get(&b.data) as u16,
-                    );
+                    self.table_write = Some((
+                        a,
+                        (
+                            TABLE_FACTOR.get(&b.data) as u16,
+                            TABLE_DROP.get(&b.data) as u16,
+                        ),
+                    ));
                 }
             } else {
                 self.err = true;
