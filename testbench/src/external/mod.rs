@@ -80,6 +80,18 @@ pub fn skip_or_fail(tool: &str) -> Result<Outcome, TbError> {
     }
 }
 
+/// A mutant of Verilog `text` for a test that must catch it: `from` replaced by `to`.
+/// Panics (naming the mutant `what`) unless `from` occurs exactly once, so a mutant that
+/// silently stops applying after an export change fails the test instead of passing it.
+pub fn mutant(text: &str, what: &str, from: &str, to: &str) -> String {
+    assert_eq!(
+        text.matches(from).count(),
+        1,
+        "{what}: `{from}` not found once"
+    );
+    text.replace(from, to)
+}
+
 /// The port fields of a `stim.hex` line above the span word (`cmd_word[255:0]`), named
 /// as the array's input ports.
 const STIM_BG: Field = Field {
