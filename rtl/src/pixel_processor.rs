@@ -20,14 +20,19 @@
 //! at column `col + 1`: one adder per quantity per processor, no multiplier.
 //!
 //! **Decide, then write (two stages).** In stage A the processor also *decides*: range
-//! test, `Z < ZB` / `Z <= ZB`, intensity clamp. The decision is registered (stage B,
-//! 64 flip-flops) and applied at the next edge: `ZB`, RGB, `NCLASS`, the parity flags.
-//! The depth compare therefore drives one flip-flop instead of the enables of 56 state
-//! flip-flops. A token directly behind another one sees the `ZB` its predecessor is about
-//! to write: stage A compares against `zb_next`, the value `ZB` takes at the coming edge
-//! (the bypass), so back-to-back spans at one processor are exact. The bypass sits behind
-//! the compare, not in front of it: `Z` is compared with the held `ZB`, the depth being
-//! written and `Z_FAR` in parallel, and the registered stage-B state selects the result.
+//! test, `Z < ZB` / `Z <= ZB`, intensity clamp. The decision is registered (stage B) and
+//! applied at the next edge: `ZB`, RGB, `NCLASS`, the parity flags. A token directly
+//! behind another one must see the `ZB` its predecessor is about to write (the bypass),
+//! so back-to-back spans at one processor are exact. ZB can take one of three values by
+//! the time the token reaches stage B: the ZB held now, the depth stage B is writing now,
+//! or `Z_FAR` (stage B holds CLEAR_LINE or RESET). Stage A compares `Z` with each of them,
+//! straight from flip-flops, and registers the three results as they leave the carry
+//! chains; stage B selects one with two registered flags of the token ahead (it wrote;
+//! it was CLEAR_LINE or RESET) and ANDs it with the registered rest of the condition
+//! (OP span, channel 0, covered, `z[43:36] = 0`) into the write enable. Nothing sits
+//! between a compare and its register, and the write enable is one LUT level from
+//! flip-flops. `Z < ZB` and `Z <= ZB` share one carry chain: `{Z, 1} < {ZB, 1}` and
+//! `{Z, 0} < {ZB, 1}`, the low bit set by the token's decal flag.
 //!
 //! **OP span** (`op = SPAN`, `attr = OP`): if `XL <= col <= XR` and `Z < ZB` (`Z <= ZB`
 //! for a decal span), `ZB := Z`, `RGB := clamp(I >> 12, 0, 255)` per channel,
@@ -83,6 +88,8 @@ const ATTR_W: usize = SPAN_ATTR.width;
 const NCLASS_W: usize = SPAN_NCLASS.width;
 /// Width of a depth register.
 const ZB_W: usize = Z_BITS as usize;
+/// A depth with the compare's tie bit below it.
+const ZB2_W: usize = ZB_W + 1;
 /// Width of the three packed intensity accumulators of a token.
 pub const I3_W: usize = 3 * IACC_W;
 /// Width of the three packed `dI` of a token.
@@ -139,8 +146,19 @@ pub struct PixelProcessor {
     b_op: DFF<Bits<OP_BITS>>,
     b_attr: DFF<Bits<ATTR_W>>,
     b_covered: DFF<Bit>,
-    b_zlt: DFF<Bit>,
-    b_write: DFF<Bit>,
+    /// The depth test registered three ways (see "Decide, then write"): against the held
+    /// ZB, against the depth stage B is writing, against `Z_FAR`.
+    b_p_held: DFF<Bit>,
+    b_p_new: DFF<Bit>,
+    b_p_far: DFF<Bit>,
+    /// Which of the three applies: the token ahead wrote (`b_sel_new`), the token ahead
+    /// was CLEAR_LINE or RESET (`b_sel_far`).
+    b_sel_new: DFF<Bit>,
+    b_sel_far: DFF<Bit>,
+    /// An OP span of channel 0 that covers the column with `z[43:36] = 0`: it writes if
+    /// it passes the depth test.
+    b_gate: DFF<Bit>,
+    b_hi_ok: DFF<Bit>,
     b_z: DFF<Bits<ZB_W>>,
     b_rgb: DFF<Bits<RGB_BITS>>,
     b_nclass: DFF<Bits<NCLASS_W>>,
@@ -176,17 +194,18 @@ pub struct PixelProcessor {
     covered: Signal<Local, Bit>,
     zv: Signal<Local, Bits<ZB_W>>,
     z_hi_ok: Signal<Local, Bit>,
-    z_lt: Signal<Local, Bit>,
-    z_pass: Signal<Local, Bit>,
     zb_next: Signal<Local, Bits<ZB_W>>,
-    /// `Z < ZB`, `Z <= ZB` against the held ZB and the value being written; `Z < Z_FAR`.
-    lt_held: Signal<Local, Bit>,
-    le_held: Signal<Local, Bit>,
-    lt_new: Signal<Local, Bit>,
-    le_new: Signal<Local, Bit>,
-    lt_far: Signal<Local, Bit>,
-    /// Stage B holds CLEAR_LINE or RESET (ZB becomes Z_FAR at the coming edge).
-    sel_far: Signal<Local, Bit>,
+    /// `Z ≤ ZB` is the test (an OP span of a decal), else `Z < ZB`.
+    le_mode: Signal<Local, Bit>,
+    /// `{Z, ¬le_mode}` and `{ZB, 1}`, `{ZB_B, 1}`: `Z < ZB` iff `{Z, 1} < {ZB, 1}` and
+    /// `Z ≤ ZB` iff `{Z, 0} < {ZB, 1}`, so one carry chain serves both tests.
+    zv2: Signal<Local, Bits<ZB2_W>>,
+    zb2_held: Signal<Local, Bits<ZB2_W>>,
+    zb2_new: Signal<Local, Bits<ZB2_W>>,
+    k_one25: Constant<Bits<ZB2_W>>,
+    /// Stage B: the selected depth test, and the write enable of the state registers.
+    pass_b: Signal<Local, Bit>,
+    write_b: Signal<Local, Bit>,
     l_i: Signal<Local, Bits<I3_W>>,
     l_rgb: Signal<Local, Bits<RGB_BITS>>,
     l_lane_i: Signal<Local, Bits<IACC_W>>,
@@ -231,8 +250,13 @@ impl PixelProcessor {
             b_op: Default::default(),
             b_attr: Default::default(),
             b_covered: Default::default(),
-            b_zlt: Default::default(),
-            b_write: Default::default(),
+            b_p_held: Default::default(),
+            b_p_new: Default::default(),
+            b_p_far: Default::default(),
+            b_sel_new: Default::default(),
+            b_sel_far: Default::default(),
+            b_gate: Default::default(),
+            b_hi_ok: Default::default(),
             b_z: Default::default(),
             b_rgb: Default::default(),
             b_nclass: Default::default(),
@@ -274,15 +298,14 @@ impl PixelProcessor {
             covered: Default::default(),
             zv: Default::default(),
             z_hi_ok: Default::default(),
-            z_lt: Default::default(),
-            z_pass: Default::default(),
             zb_next: Default::default(),
-            lt_held: Default::default(),
-            le_held: Default::default(),
-            lt_new: Default::default(),
-            le_new: Default::default(),
-            lt_far: Default::default(),
-            sel_far: Default::default(),
+            le_mode: Default::default(),
+            zv2: Default::default(),
+            zb2_held: Default::default(),
+            zb2_new: Default::default(),
+            k_one25: Constant::new(1u64.to_bits()),
+            pass_b: Default::default(),
+            write_b: Default::default(),
             l_i: Default::default(),
             l_rgb: Default::default(),
             l_lane_i: Default::default(),
@@ -331,9 +354,9 @@ impl Logic for PixelProcessor {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, tok_head, tok_z, tok_dz, tok_i, tok_di, b_op, b_attr, b_covered, b_zlt,
-            b_write, b_z, b_rgb, b_nclass, zb_r, rgb_r, nclass_r, cap_r, rdsel_r, b_won_upd,
-            b_sh_write, won_r, sh_r
+            self, clock, tok_head, tok_z, tok_dz, tok_i, tok_di, b_op, b_attr, b_covered,
+            b_p_held, b_p_new, b_p_far, b_sel_new, b_sel_far, b_gate, b_hi_ok, b_z, b_rgb,
+            b_nclass, zb_r, rgb_r, nclass_r, cap_r, rdsel_r, b_won_upd, b_sh_write, won_r, sh_r
         );
         // ---- Stage A: the token register, loaded every clock.
         self.tok_head.d.next = self.t_head.val();
@@ -382,17 +405,25 @@ impl Logic for PixelProcessor {
         if self.right_of_xl.val() {
             self.o_z.next = self.tok_z.q.val() + self.dz_x.val();
         }
-        // ---- Stage B: apply the decision registered at the last edge. `zb_next` is the
-        // value ZB takes at the coming edge.
+        // ---- Stage B: select the depth test registered at the last edge, then apply the
+        // decision. `zb_next` is the value ZB takes at the coming edge.
+        self.pass_b.next = self.b_p_held.q.val();
+        if self.b_sel_new.q.val() {
+            self.pass_b.next = self.b_p_new.q.val();
+        }
+        if self.b_sel_far.q.val() {
+            self.pass_b.next = self.b_p_far.q.val();
+        }
+        self.write_b.next = self.b_gate.q.val() & self.pass_b.val();
         // Shade channel: WON after a polygon span, SH from a channel-1 span where WON.
         if self.b_won_upd.q.val() & self.k_shade.val() {
-            self.won_r.d.next = self.b_write.q.val();
+            self.won_r.d.next = self.write_b.val();
         }
         if self.b_sh_write.q.val() & self.won_r.q.val() & self.k_shade.val() {
             self.sh_r.d.next = self.b_rgb.q.val();
         }
         self.zb_next.next = self.zb_r.q.val();
-        if self.b_write.q.val() {
+        if self.write_b.val() {
             self.zb_next.next = self.b_z.q.val();
             self.rgb_r.d.next = self.b_rgb.q.val();
             self.nclass_r.d.next = self.b_nclass.q.val();
@@ -408,7 +439,7 @@ impl Logic for PixelProcessor {
             self.parity[i].op.next = self.b_op.q.val();
             self.parity[i].attr.next = self.b_attr.q.val();
             self.parity[i].covered.next = self.b_covered.q.val();
-            self.parity[i].z_lt.next = self.b_zlt.q.val();
+            self.parity[i].z_lt.next = self.pass_b.val() & self.b_hi_ok.q.val();
             self.parity[i].light.next = self.b_rgb.q.val().get_bits::<3>(0);
             self.dsf_now.next = self.parity[i].dsf.val();
             self.fsf_now.next = self.parity[i].fsf.val();
@@ -444,44 +475,37 @@ impl Logic for PixelProcessor {
             self.cap_r.d.next = self.k_cap_reset.val();
         }
         self.zb_r.d.next = self.zb_next.val();
-        // ---- Stage A, decision: depth test against the next-state ZB (bypass), golden
-        // `((z >> 12) as u32) < ZB` (or `<=` for decals); intensity clamp.
+        // ---- Stage A, decision: the golden `((z >> 12) as u32) < ZB` (or `<=` for a
+        // decal's OP span), against each value ZB can hold when this token reaches stage
+        // B: the held ZB, the depth stage B is writing now, `Z_FAR` after CLEAR_LINE or
+        // RESET. Each compare runs straight from flip-flops and is registered; stage B
+        // picks one with the registered state of the token ahead (the bypass), so no
+        // multiplexer or gate sits between a carry chain and its register.
         self.zv.next = self.tok_z.q.val().get_bits::<ZB_W>(12);
         self.z_hi_ok.next = self.tok_z.q.val().get_bits::<CH_W>(36) == self.k_zero8.val();
-        // The compares run in parallel against the three values `zb_next` can take, all
-        // straight from flip-flops (or constant), and the registered stage-B state picks
-        // one: no multiplexer in front of the carry chains.
-        self.lt_held.next = self.zv.val() < self.zb_r.q.val();
-        self.le_held.next = self.zv.val() <= self.zb_r.q.val();
-        self.lt_new.next = self.zv.val() < self.b_z.q.val();
-        self.le_new.next = self.zv.val() <= self.b_z.q.val();
-        self.lt_far.next = self.zv.val() < self.k_zfar.val();
-        self.sel_far.next = (self.b_op.q.val() == self.k_clear_line.val())
+        self.is_op_span.next = (self.tok_head.q.val().get_value_op() == self.k_span.val())
+            & (self.tok_head.q.val().get_value_attr() == self.k_attr_op.val());
+        self.le_mode.next = self.is_op_span.val() & self.tok_head.q.val().get_value_decal();
+        self.zv2.next = bit_cast::<ZB2_W, ZB_W>(self.zv.val()) << 1;
+        if !self.le_mode.val() {
+            self.zv2.next = self.zv2.val() | self.k_one25.val();
+        }
+        self.zb2_held.next = (bit_cast::<ZB2_W, ZB_W>(self.zb_r.q.val()) << 1) | self.k_one25.val();
+        self.zb2_new.next = (bit_cast::<ZB2_W, ZB_W>(self.b_z.q.val()) << 1) | self.k_one25.val();
+        self.b_p_held.d.next = self.zv2.val() < self.zb2_held.val();
+        self.b_p_new.d.next = self.zv2.val() < self.zb2_new.val();
+        // `Z < Z_FAR` iff `Z ≠ Z_FAR`; `Z <= Z_FAR` always.
+        self.b_p_far.d.next = self.le_mode.val() | (self.zv.val() != self.k_zfar.val());
+        self.b_sel_new.d.next = self.write_b.val();
+        self.b_sel_far.d.next = (self.b_op.q.val() == self.k_clear_line.val())
             | (self.b_op.q.val() == self.k_reset.val());
-        self.z_lt.next = self.lt_held.val();
-        self.z_pass.next = self.le_held.val();
-        if self.b_write.q.val() {
-            self.z_lt.next = self.lt_new.val();
-            self.z_pass.next = self.le_new.val();
-        }
-        if self.sel_far.val() {
-            // (`Z <= Z_FAR` holds for every 24-bit Z.)
-            self.z_lt.next = self.lt_far.val();
-            self.z_pass.next = true;
-        }
-        if !self.tok_head.q.val().get_value_decal() {
-            self.z_pass.next = self.z_lt.val();
-        }
+        self.b_hi_ok.d.next = self.z_hi_ok.val();
         self.b_op.d.next = self.tok_head.q.val().get_value_op();
         self.b_attr.d.next = self.tok_head.q.val().get_value_attr();
         self.b_covered.d.next = self.covered.val();
-        self.b_zlt.d.next = self.z_lt.val() & self.z_hi_ok.val();
-        self.is_op_span.next = (self.tok_head.q.val().get_value_op() == self.k_span.val())
-            & (self.tok_head.q.val().get_value_attr() == self.k_attr_op.val());
-        self.b_write.d.next = self.is_op_span.val()
+        self.b_gate.d.next = self.is_op_span.val()
             & (self.tok_head.q.val().get_value_chan() == self.k_chan0.val())
             & self.covered.val()
-            & self.z_pass.val()
             & self.z_hi_ok.val();
         self.b_won_upd.d.next = self.is_op_span.val()
             & (self.tok_head.q.val().get_value_chan() == self.k_chan0.val())

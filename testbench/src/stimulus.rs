@@ -248,6 +248,16 @@ pub fn corner_cases(n: u16) -> Vec<Command> {
             ..Default::default()
         })
     };
+    let sh_decal = |attr: Attr, xl: u16, xr: u16, zl: u64| {
+        Command::Span(SpanWord {
+            attr,
+            xl,
+            xr,
+            zl,
+            decal: true,
+            ..Default::default()
+        })
+    };
     let last = n - 1;
     let mut v = vec![
         Command::ClearLine { bg: 0x123456 },
@@ -295,6 +305,29 @@ pub fn corner_cases(n: u16) -> Vec<Command> {
     v.push(op(4, 7, 2000 << 12, 0, 11 << 12, 0, false));
     v.push(op(4, 7, 2000 << 12, 0, 22 << 12, 0, true));
     v.push(op(4, 7, 2000 << 12, 0, 33 << 12, 0, false));
+    // Directly behind a span that writes, a plain span at its depth and one behind it
+    // (both fail against the depth being written; against the ZB held before the write
+    // they would pass), then a decal at the depth (passes).
+    v.push(op(0, last, 1500 << 12, 0, 44 << 12, 0, false));
+    v.push(op(0, last, 1500 << 12, 0, 55 << 12, 0, false));
+    v.push(op(0, last, 1600 << 12, 0, 66 << 12, 0, false));
+    v.push(op(0, last, 1500 << 12, 0, 88 << 12, 0, true));
+    // Shadow spans flagged decal still test `Z < ZB` strictly (the decal's `Z <= ZB` is
+    // for OP spans): at ZB's depth no toggle, held and directly behind a write.
+    v.push(Command::ClearFlags);
+    v.push(sh_decal(Attr::Sp, 0, last, 1500 << 12));
+    v.push(op(0, last, 1400 << 12, 0, 99 << 12, 0, false));
+    v.push(sh_decal(Attr::Sp, 0, last, 1400 << 12));
+    v.push(sh_decal(Attr::Ev, 0, last, 1400 << 12));
+    v.push(Command::LatchShadow { bit: 1 });
     v.push(Command::ClearLine { bg: 0x010203 });
+    // Directly after CLEAR_LINE, a plain span at Z_FAR over the whole tile: it fails
+    // (`Z_FAR < Z_FAR` is false) at every processor; a shadow span at Z_FAR likewise.
+    v.push(op(0, last, zfar, 0, 12 << 12, 0, false));
+    v.push(Command::ClearLine { bg: 0x040506 });
+    v.push(sh_decal(Attr::If, 0, last, zfar));
+    v.push(sh_decal(Attr::Ev, 0, last, 0));
+    v.push(Command::LatchShadow { bit: 2 });
+    v.push(Command::ClearLine { bg: 0x070809 });
     v
 }
