@@ -31,9 +31,11 @@ check_export() {
     || { echo "the exported Verilog fails Yosys's check -assert: $out/check.log" >&2; grep -E "ERROR|Warning" "$out/check.log" | head -5 >&2; exit 1; }
 }
 
-# The ECP5 definition of the shading table's bank (one DP16KD with its output register),
-# read over the generic one at the end of the export (`read_verilog -overwrite`).
-ECP5_CELLS=synth/ecp5/pixelproc_bank_ram.v
+# The ECP5 definitions of the modules the export carries generically, read over the
+# generic ones at the end of the export (`read_verilog -overwrite`): the shading table's
+# bank (one DP16KD with its output register) and the registered multiplier (one
+# MULT18X18D with its input and output registers).
+ECP5_CELLS="synth/ecp5/pixelproc_bank_ram.v synth/ecp5/pixelproc_mul_reg.v"
 
 # synth_ecp5_core OUT: Yosys synth_ecp5 of OUT/v/pixelproc_top.v (with $ECP5_CELLS) into
 # OUT/top.json.

@@ -21,7 +21,7 @@ for W in "$@"; do
   OUT=target/flow/res_${CFG}_n$W
   mkdir -p "$OUT"
   export_core "$OUT" "$W" "$CFG"
-  h=$(cat "$OUT/v/pixelproc_top.v" "$ECP5_CELLS" | sha256sum | cut -c1-16)
+  h=$(cat "$OUT/v/pixelproc_top.v" $ECP5_CELLS | sha256sum | cut -c1-16)
   if [ -f "$OUT/stat.txt" ] && [ "$(cat "$OUT/hash" 2>/dev/null)" = "$h" ]; then
     echo "N = $W ($CFG): up to date"
   else

@@ -9,6 +9,7 @@
 //! processor 0. The array builds three of these and owns `m` (shared with the depth).
 
 use crate::colour_lane::DI_W;
+use crate::mul_reg::MulReg;
 use crate::pixel_processor::IACC_W;
 use pixelproc_formats::SPAN_IL_R;
 use rust_hdl::prelude::*;
@@ -36,8 +37,8 @@ pub struct EntryChannel {
     pub di: Signal<In, Bits<DI_W>>,
     /// The command in E1 is a SPAN (otherwise `dI` is taken as 0).
     pub span: Signal<In, Bit>,
-    /// The tile offset `m` registered in E2.
-    pub m2: Signal<In, Bits<MUL_W>>,
+    /// The tile offset `m` E2 loads (the multipliers register their own copies).
+    pub m1: Signal<In, Bits<MUL_W>>,
     /// The tile offset `m` registered in E3.
     pub m3: Signal<In, Bits<MUL_W>>,
     /// `IL + m·dI`, Q22.12 two's complement: processor 0's accumulator.
@@ -48,8 +49,11 @@ pub struct EntryChannel {
     e2_di: DFF<Bits<DI_W>>,
     e3_il: DFF<Bits<IL_W>>,
     e3_di: DFF<Bits<DI_W>>,
-    e3_p0: DFF<Bits<PROD_W>>,
-    e3_p1: DFF<Bits<PROD_W>>,
+    /// The partial products m·dI (low 16 bits of dI, the bits above): operands registered
+    /// with E2, products with E3 (on an FPGA the DSP block's own registers).
+    mp: [MulReg; 2],
+    /// The value E2's `dI` register loads.
+    l_di1: Signal<Local, Bits<DI_W>>,
     e4_di: DFF<Bits<DI_W>>,
     e4_a: DFF<Bits<IACC_W>>,
     e4_b: DFF<Bits<IACC_W>>,
@@ -66,7 +70,7 @@ impl EntryChannel {
             il: Default::default(),
             di: Default::default(),
             span: Default::default(),
-            m2: Default::default(),
+            m1: Default::default(),
             m3: Default::default(),
             i: Default::default(),
             o_di: Default::default(),
@@ -74,8 +78,8 @@ impl EntryChannel {
             e2_di: Default::default(),
             e3_il: Default::default(),
             e3_di: Default::default(),
-            e3_p0: Default::default(),
-            e3_p1: Default::default(),
+            mp: Default::default(),
+            l_di1: Default::default(),
             e4_di: Default::default(),
             e4_a: Default::default(),
             e4_b: Default::default(),
@@ -95,28 +99,33 @@ impl Default for EntryChannel {
 impl Logic for EntryChannel {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, e2_il, e2_di, e3_il, e3_di, e3_p0, e3_p1, e4_di, e4_a, e4_b);
+        dff_setup!(self, clock, e2_il, e2_di, e3_il, e3_di, e4_di, e4_a, e4_b);
         // ---- E2: no increment unless SPAN.
         self.e2_il.d.next = self.il.val();
-        self.e2_di.d.next = self.k_zero.val();
+        self.l_di1.next = self.k_zero.val();
         if self.span.val() {
-            self.e2_di.d.next = self.di.val();
+            self.l_di1.next = self.di.val();
         }
-        // ---- E3: partial products m·dI, 16×16 unsigned.
+        self.e2_di.d.next = self.l_di1.val();
+        // ---- E3: partial products m·dI, 16×16 unsigned, of the operands E2 loads.
         self.e3_il.d.next = self.e2_il.q.val();
         self.e3_di.d.next = self.e2_di.q.val();
-        self.l_dihi.next = bit_cast::<MUL_W, DI_HI_W>(self.e2_di.q.val().get_bits::<DI_HI_W>(16));
-        self.e3_p0.d.next = self.m2.val() * self.e2_di.q.val().get_bits::<MUL_W>(0);
-        self.e3_p1.d.next = self.m2.val() * self.l_dihi.val();
+        self.l_dihi.next = bit_cast::<MUL_W, DI_HI_W>(self.l_di1.val().get_bits::<DI_HI_W>(16));
+        for k in 0..2 {
+            self.mp[k].clock.next = self.clock.val();
+            self.mp[k].a.next = self.m1.val();
+        }
+        self.mp[0].b.next = self.l_di1.val().get_bits::<MUL_W>(0);
+        self.mp[1].b.next = self.l_dihi.val();
         // ---- E4: m·dI = m·u21 − s·m·2^21.
         self.e4_di.d.next = self.e3_di.q.val();
         self.l_m34.next = bit_cast::<IACC_W, MUL_W>(self.m3.val());
         self.e4_a.d.next = bit_cast::<IACC_W, IL_W>(self.e3_il.q.val())
-            + bit_cast::<IACC_W, PROD_W>(self.e3_p0.q.val());
-        self.e4_b.d.next = bit_cast::<IACC_W, PROD_W>(self.e3_p1.q.val()) << 16;
+            + bit_cast::<IACC_W, PROD_W>(self.mp[0].p.val());
+        self.e4_b.d.next = bit_cast::<IACC_W, PROD_W>(self.mp[1].p.val()) << 16;
         if self.e3_di.q.val().get_bit(20) {
             self.e4_b.d.next =
-                (bit_cast::<IACC_W, PROD_W>(self.e3_p1.q.val()) << 16) - (self.l_m34.val() << 21);
+                (bit_cast::<IACC_W, PROD_W>(self.mp[1].p.val()) << 16) - (self.l_m34.val() << 21);
         }
         self.i.next = self.e4_a.q.val() + self.e4_b.q.val();
         self.o_di.next = self.e4_di.q.val();

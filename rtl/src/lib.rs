@@ -22,6 +22,7 @@ pub mod entry_channel;
 pub mod layout;
 pub mod lut_ram;
 pub mod mask_search;
+pub mod mul_reg;
 pub mod opcodes;
 pub mod pixel_array;
 pub mod pixel_processor;

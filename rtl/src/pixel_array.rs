@@ -57,10 +57,15 @@
 use crate::colour_lane::DI_W;
 use crate::entry_channel::{EntryChannel, IL_W, MUL_W, PROD_W};
 use crate::layout::{HeadFields, ReadoutFields, SpanFields, HEAD_W, READOUT_W, SPAN_W};
+use crate::mul_reg::MulReg;
 use crate::opcodes::*;
 use crate::pixel_processor::{PixelProcessor, DI3_W, I3_W, IACC_W, REL_W, ZACC_W};
 use pixelproc_formats::regs::{COUNT_BITS, MASK_BITS, RGB_BITS};
-use pixelproc_formats::{MAX_SCREEN, SPAN_DZ, SPAN_NCLASS, SPAN_XL, SPAN_ZL, Z_BITS};
+use pixelproc_formats::{
+    Attr, MAX_SCREEN, SPAN_ATTR, SPAN_DZ, SPAN_NCLASS, SPAN_XL, SPAN_ZL, Z_BITS,
+};
+/// Width of the span attribute.
+const ATTR_W: usize = SPAN_ATTR.width;
 use rust_hdl::prelude::*;
 
 /// Processors whose readout registers are gathered into one group register.
@@ -143,9 +148,9 @@ pub struct PixelProcessorArray {
     e3_m: DFF<Bits<MUL_W>>,
     e3_zl: DFF<Bits<ZL_W>>,
     e3_dz: DFF<Bits<DZ_W>>,
-    e3_pz0: DFF<Bits<PROD_W>>,
-    e3_pz1: DFF<Bits<PROD_W>>,
-    e3_pz2: DFF<Bits<PROD_W>>,
+    /// The partial products m·dZ (low, middle, high 16 bits of dZ): operands registered
+    /// with E2, products with E3 (on an FPGA the DSP block's own registers).
+    mz: [MulReg; 3],
     // E4: two partial sums per quantity.
     e4_head: DFF<Bits<HEAD_W>>,
     e4_dz: DFF<Bits<DZ_W>>,
@@ -159,6 +164,7 @@ pub struct PixelProcessorArray {
     l_rd: Signal<Local, Bits<READOUT_W>>,
     k_nop: Constant<Bits<OP_BITS>>,
     k_span: Constant<Bits<OP_BITS>>,
+    k_attr_op: Constant<Bits<ATTR_W>>,
     k_one14: Constant<Bits<REL_W>>,
     k_zero16: Constant<Bits<MUL_W>>,
     k_zero38: Constant<Bits<DZ_W>>,
@@ -166,7 +172,9 @@ pub struct PixelProcessorArray {
     l_xr: Signal<Local, Bits<REL_W>>,
     l_base: Signal<Local, Bits<REL_W>>,
     l_d: Signal<Local, Bits<REL_W>>,
-    l_dz: Signal<Local, Bits<DZ_W>>,
+    /// The values E2's `m` and `dZ` registers load (the multipliers' operands).
+    l_m1: Signal<Local, Bits<MUL_W>>,
+    l_dz1: Signal<Local, Bits<DZ_W>>,
     l_dzmid: Signal<Local, Bits<MUL_W>>,
     l_dzhi: Signal<Local, Bits<MUL_W>>,
     l_m44: Signal<Local, Bits<ZACC_W>>,
@@ -227,9 +235,7 @@ impl PixelProcessorArray {
             e3_m: Default::default(),
             e3_zl: Default::default(),
             e3_dz: Default::default(),
-            e3_pz0: Default::default(),
-            e3_pz1: Default::default(),
-            e3_pz2: Default::default(),
+            mz: Default::default(),
             e4_head: Default::default(),
             e4_dz: Default::default(),
             e4_za: Default::default(),
@@ -245,6 +251,7 @@ impl PixelProcessorArray {
             l_rd: Default::default(),
             k_nop: Constant::new(OP_NOP.to_bits()),
             k_span: Constant::new(OP_SPAN.to_bits()),
+            k_attr_op: Constant::new((Attr::Op.code() as u64).to_bits()),
             k_one14: k(1),
             k_zero16: k(0),
             k_zero38: k(0),
@@ -252,7 +259,8 @@ impl PixelProcessorArray {
             l_xr: Default::default(),
             l_base: Default::default(),
             l_d: Default::default(),
-            l_dz: Default::default(),
+            l_m1: Default::default(),
+            l_dz1: Default::default(),
             l_dzmid: Default::default(),
             l_dzhi: Default::default(),
             l_m44: Default::default(),
@@ -287,7 +295,7 @@ impl Logic for PixelProcessorArray {
     fn update(&mut self) {
         dff_setup!(
             self, clock, e1_op, e1_bg, e1_word, e1_base, e1_rd, e2_head, e2_m, e2_zl, e2_dz,
-            e3_head, e3_m, e3_zl, e3_dz, e3_pz0, e3_pz1, e3_pz2, e4_head, e4_dz, e4_za, e4_zb
+            e3_head, e3_m, e3_zl, e3_dz, e4_head, e4_dz, e4_za, e4_zb
         );
         // ---- E1: register every input.
         self.e1_op.d.next = self.k_nop.val();
@@ -329,18 +337,20 @@ impl Logic for PixelProcessorArray {
             .set_value_rel_r(self.l_xr.val() - self.l_base.val());
         self.e2_head.d.next = self.l_head.val();
         self.e2_zl.d.next = self.e1_word.q.val().get_value_zl();
-        self.e2_dz.d.next = self.e1_word.q.val().get_value_dz();
+        self.l_dz1.next = self.e1_word.q.val().get_value_dz();
         // Tile offset: the span started `base − XL` columns before this tile.
-        self.e2_m.d.next = self.k_zero16.val();
+        self.l_m1.next = self.k_zero16.val();
         if !self.l_d.val().get_bit(13) {
-            self.e2_m.d.next = bit_cast::<MUL_W, REL_W>(self.l_d.val());
+            self.l_m1.next = bit_cast::<MUL_W, REL_W>(self.l_d.val());
         }
         if self.e1_op.q.val() != self.k_span.val() {
             // No increments; CLEAR_LINE carries the background in the Z accumulator.
-            self.e2_m.d.next = self.k_zero16.val();
-            self.e2_dz.d.next = self.k_zero38.val();
+            self.l_m1.next = self.k_zero16.val();
+            self.l_dz1.next = self.k_zero38.val();
             self.e2_zl.d.next = bit_cast::<ZL_W, RGB_BITS>(self.e1_bg.q.val());
         }
+        self.e2_m.d.next = self.l_m1.val();
+        self.e2_dz.d.next = self.l_dz1.val();
         // ---- E2..E4 of the colour channels, one block each; their results packed red
         // first for processor 0 (`bit_cast` cannot take the loop index: go through locals).
         self.l_span.next = self.e1_op.q.val() == self.k_span.val();
@@ -353,7 +363,7 @@ impl Logic for PixelProcessorArray {
             self.chans[c].il.next = self.l_il3.val().get_bits::<IL_W>(20 * c);
             self.chans[c].di.next = self.l_di3.val().get_bits::<DI_W>(21 * c);
             self.chans[c].span.next = self.l_span.val();
-            self.chans[c].m2.next = self.e2_m.q.val();
+            self.chans[c].m1.next = self.l_m1.val();
             self.chans[c].m3.next = self.e3_m.q.val();
             self.l_ch_i.next = self.chans[c].i.val();
             self.l_ch_di.next = self.chans[c].o_di.val();
@@ -362,28 +372,32 @@ impl Logic for PixelProcessorArray {
             self.l_tdi.next =
                 (self.l_tdi.val() >> 21) | (bit_cast::<DI3_W, DI_W>(self.l_ch_di.val()) << 42);
         }
-        // ---- E3: partial products m·dZ (3), 16×16 unsigned.
+        // ---- E3: partial products m·dZ (3), 16×16 unsigned, of the operands E2 loads
+        // (each multiplier registers its own copy with E2 and its product with E3).
         self.e3_head.d.next = self.e2_head.q.val();
         self.e3_m.d.next = self.e2_m.q.val();
         self.e3_zl.d.next = self.e2_zl.q.val();
         self.e3_dz.d.next = self.e2_dz.q.val();
-        self.l_dz.next = self.e2_dz.q.val();
-        self.l_dzmid.next = self.l_dz.val().get_bits::<MUL_W>(16);
-        self.l_dzhi.next = bit_cast::<MUL_W, DZ_HI_W>(self.l_dz.val().get_bits::<DZ_HI_W>(32));
-        self.e3_pz0.d.next = self.e2_m.q.val() * self.l_dz.val().get_bits::<MUL_W>(0);
-        self.e3_pz1.d.next = self.e2_m.q.val() * self.l_dzmid.val();
-        self.e3_pz2.d.next = self.e2_m.q.val() * self.l_dzhi.val();
+        self.l_dzmid.next = self.l_dz1.val().get_bits::<MUL_W>(16);
+        self.l_dzhi.next = bit_cast::<MUL_W, DZ_HI_W>(self.l_dz1.val().get_bits::<DZ_HI_W>(32));
+        for k in 0..3 {
+            self.mz[k].clock.next = self.clock.val();
+            self.mz[k].a.next = self.l_m1.val();
+        }
+        self.mz[0].b.next = self.l_dz1.val().get_bits::<MUL_W>(0);
+        self.mz[1].b.next = self.l_dzmid.val();
+        self.mz[2].b.next = self.l_dzhi.val();
         // ---- E4: m·dZ = m·u38 − s·m·2^38 (u38 = dZ as unsigned).
         self.e4_head.d.next = self.e3_head.q.val();
         self.e4_dz.d.next = self.e3_dz.q.val();
         self.l_m44.next = bit_cast::<ZACC_W, MUL_W>(self.e3_m.q.val());
         self.e4_za.d.next = bit_cast::<ZACC_W, ZL_W>(self.e3_zl.q.val())
-            + bit_cast::<ZACC_W, PROD_W>(self.e3_pz0.q.val());
-        self.e4_zb.d.next = (bit_cast::<ZACC_W, PROD_W>(self.e3_pz1.q.val()) << 16)
-            + (bit_cast::<ZACC_W, PROD_W>(self.e3_pz2.q.val()) << 32);
+            + bit_cast::<ZACC_W, PROD_W>(self.mz[0].p.val());
+        self.e4_zb.d.next = (bit_cast::<ZACC_W, PROD_W>(self.mz[1].p.val()) << 16)
+            + (bit_cast::<ZACC_W, PROD_W>(self.mz[2].p.val()) << 32);
         if self.e3_dz.q.val().get_bit(37) {
-            self.e4_zb.d.next = ((bit_cast::<ZACC_W, PROD_W>(self.e3_pz1.q.val()) << 16)
-                + (bit_cast::<ZACC_W, PROD_W>(self.e3_pz2.q.val()) << 32))
+            self.e4_zb.d.next = ((bit_cast::<ZACC_W, PROD_W>(self.mz[1].p.val()) << 16)
+                + (bit_cast::<ZACC_W, PROD_W>(self.mz[2].p.val()) << 32))
                 - (self.l_m44.val() << 38);
         }
         // ---- The systolic chain: E4 feeds processor 0, processor p feeds p + 1.
@@ -391,12 +405,17 @@ impl Logic for PixelProcessorArray {
             self.procs[i].clock.next = self.clock.val();
         }
         self.procs[0].t_head.next = self.e4_head.q.val();
+        // The depth test is `Z <= ZB` for an OP span of a decal.
+        self.procs[0].t_le.next = (self.e4_head.q.val().get_value_op() == self.k_span.val())
+            & (self.e4_head.q.val().get_value_attr() == self.k_attr_op.val())
+            & self.e4_head.q.val().get_value_decal();
         self.procs[0].t_z.next = self.e4_za.q.val() + self.e4_zb.q.val();
         self.procs[0].t_dz.next = self.e4_dz.q.val();
         self.procs[0].t_i.next = self.l_ti.val();
         self.procs[0].t_di.next = self.l_tdi.val();
         for i in 1..self.procs.len() {
             self.procs[i].t_head.next = self.procs[i - 1].o_head.val();
+            self.procs[i].t_le.next = self.procs[i - 1].o_le.val();
             self.procs[i].t_z.next = self.procs[i - 1].o_z.val();
             self.procs[i].t_dz.next = self.procs[i - 1].o_dz.val();
             self.procs[i].t_i.next = self.procs[i - 1].o_i.val();

@@ -32,7 +32,8 @@
 //! (OP span, channel 0, covered, `z[43:36] = 0`) into the write enable. Nothing sits
 //! between a compare and its register, and the write enable is one LUT level from
 //! flip-flops. `Z < ZB` and `Z <= ZB` share one carry chain: `{Z, 1} < {ZB, 1}` and
-//! `{Z, 0} < {ZB, 1}`, the low bit set by the token's decal flag.
+//! `{Z, 0} < {ZB, 1}`, the low bit from the token's `le` flag (an OP span of a decal),
+//! decoded once at the array's entry and carried from processor to processor.
 //!
 //! **OP span** (`op = SPAN`, `attr = OP`): if `XL <= col <= XR` and `Z < ZB` (`Z <= ZB`
 //! for a decal span), `ZB := Z`, `RGB := clamp(I >> 12, 0, 255)` per channel,
@@ -117,6 +118,10 @@ pub struct PixelProcessor {
     pub t_i: Signal<In, Bits<I3_W>>,
     /// Token in: `dI` red, green, blue (Q9.12 two's complement), red in the low bits.
     pub t_di: Signal<In, Bits<DI3_W>>,
+    /// Token in: the depth test is `Z <= ZB` (an OP span of a decal), else `Z < ZB`:
+    /// decoded once at the array's entry and carried along, so that no decode of the
+    /// header sits in front of the compare's carry chain.
+    pub t_le: Signal<In, Bit>,
     /// Readout select (this processor is addressed), registered here.
     pub rd_sel: Signal<In, Bit>,
     /// Readout registers, packed `{WON, SH, NCLASS, MASK, ZB, RGB, DSF, FSF, COUNT}` (99 bits), if
@@ -132,6 +137,8 @@ pub struct PixelProcessor {
     pub o_i: Signal<Out, Bits<I3_W>>,
     /// Token out: `dI`, the three channels.
     pub o_di: Signal<Out, Bits<DI3_W>>,
+    /// Token out: the `Z <= ZB` flag.
+    pub o_le: Signal<Out, Bit>,
     /// The shadow logic: one element with shadows, none without.
     pub parity: Vec<SpanParity>,
     tok_head: DFF<Bits<HEAD_W>>,
@@ -141,6 +148,7 @@ pub struct PixelProcessor {
     tok_dz: DFF<Bits<DZ_W>>,
     tok_i: DFF<Bits<I3_W>>,
     tok_di: DFF<Bits<DI3_W>>,
+    tok_le: DFF<Bit>,
     /// Step and clamp of the red, green and blue channels.
     lanes: [ColourLane; 3],
     b_op: DFF<Bits<OP_BITS>>,
@@ -195,7 +203,7 @@ pub struct PixelProcessor {
     zv: Signal<Local, Bits<ZB_W>>,
     z_hi_ok: Signal<Local, Bit>,
     zb_next: Signal<Local, Bits<ZB_W>>,
-    /// `Z ≤ ZB` is the test (an OP span of a decal), else `Z < ZB`.
+    /// `Z ≤ ZB` is the test (an OP span of a decal), else `Z < ZB` (the token's flag).
     le_mode: Signal<Local, Bit>,
     /// `{Z, ¬le_mode}` and `{ZB, 1}`, `{ZB_B, 1}`: `Z < ZB` iff `{Z, 1} < {ZB, 1}` and
     /// `Z ≤ ZB` iff `{Z, 0} < {ZB, 1}`, so one carry chain serves both tests.
@@ -231,6 +239,7 @@ impl PixelProcessor {
             t_dz: Default::default(),
             t_i: Default::default(),
             t_di: Default::default(),
+            t_le: Default::default(),
             rd_sel: Default::default(),
             rdo: Default::default(),
             o_head: Default::default(),
@@ -238,6 +247,7 @@ impl PixelProcessor {
             o_dz: Default::default(),
             o_i: Default::default(),
             o_di: Default::default(),
+            o_le: Default::default(),
             parity,
             tok_head: Default::default(),
             l_rel_l: Default::default(),
@@ -246,6 +256,7 @@ impl PixelProcessor {
             tok_dz: Default::default(),
             tok_i: Default::default(),
             tok_di: Default::default(),
+            tok_le: Default::default(),
             lanes: std::array::from_fn(|_| ColourLane::new()),
             b_op: Default::default(),
             b_attr: Default::default(),
@@ -354,7 +365,7 @@ impl Logic for PixelProcessor {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, tok_head, tok_z, tok_dz, tok_i, tok_di, b_op, b_attr, b_covered,
+            self, clock, tok_head, tok_z, tok_dz, tok_i, tok_di, tok_le, b_op, b_attr, b_covered,
             b_p_held, b_p_new, b_p_far, b_sel_new, b_sel_far, b_gate, b_hi_ok, b_z, b_rgb,
             b_nclass, zb_r, rgb_r, nclass_r, cap_r, rdsel_r, b_won_upd, b_sh_write, won_r, sh_r
         );
@@ -366,6 +377,7 @@ impl Logic for PixelProcessor {
         self.tok_dz.d.next = self.t_dz.val();
         self.tok_i.d.next = self.t_i.val();
         self.tok_di.d.next = self.t_di.val();
+        self.tok_le.d.next = self.t_le.val();
         // Sign-extended increments.
         self.dz_x.next = bit_cast::<ZACC_W, DZ_W>(self.tok_dz.q.val());
         if self.tok_dz.q.val().get_bit(37) {
@@ -401,6 +413,7 @@ impl Logic for PixelProcessor {
             .set_value_rel_r(self.l_rel_r.val() - self.k_one14.val());
         self.o_dz.next = self.tok_dz.q.val();
         self.o_di.next = self.tok_di.q.val();
+        self.o_le.next = self.tok_le.q.val();
         self.o_z.next = self.tok_z.q.val();
         if self.right_of_xl.val() {
             self.o_z.next = self.tok_z.q.val() + self.dz_x.val();
@@ -485,7 +498,7 @@ impl Logic for PixelProcessor {
         self.z_hi_ok.next = self.tok_z.q.val().get_bits::<CH_W>(36) == self.k_zero8.val();
         self.is_op_span.next = (self.tok_head.q.val().get_value_op() == self.k_span.val())
             & (self.tok_head.q.val().get_value_attr() == self.k_attr_op.val());
-        self.le_mode.next = self.is_op_span.val() & self.tok_head.q.val().get_value_decal();
+        self.le_mode.next = self.tok_le.q.val();
         self.zv2.next = bit_cast::<ZB2_W, ZB_W>(self.zv.val()) << 1;
         if !self.le_mode.val() {
             self.zv2.next = self.zv2.val() | self.k_one25.val();

@@ -2,7 +2,7 @@
 //! it in the frame buffer"; section 6 for the table indexed by the normal class and the
 //! light mask or counter), on the core's readout path.
 //!
-//! Each pixel read out of the array passes through five registers. The shading table
+//! Each pixel read out of the array passes through seven registers. The shading table
 //! (2^15 × 18 bits holding `{G, F}`, written through `tw_*`, indexed by
 //! `{NCLASS, MASK[2:0], COUNT[3:0]}`: `pixelproc_formats::core_stream::SHADE_ADDR_FIELDS`)
 //! is [`BANKS`] banks of 2^[`BANK_BITS`] entries ([`crate::bank_ram::BankRam`], one ECP5
@@ -10,17 +10,24 @@
 //! reads every bank; stage 2 registers every bank's output (inside the bank: on an ECP5 the
 //! block RAM's own output register), and per
 //! channel `d = max(0, c − s)` (`c` a colour channel, `s` the same channel of shade
-//! register `SH`); stage 3 picks the entry of the addressed bank (the top address bits,
-//! carried along) and applies the override below; stage 4 registers the raw products
-//! `c·F` and `d·G` (nothing after the multiplier: on an ECP5 the `+ 128` of the rounding
-//! behind the MULT18X18D was the critical path, 9.6–10.3 ns); stage 5 rounds them,
+//! register `SH`); stage 3 picks, in each group of 8 banks, the entry of the addressed
+//! bank, and decides the override below; stage 4 picks the addressed group's entry,
+//! applies the override and loads `F`, `G` and each channel's `c` and `d` into the
+//! multipliers' operand registers; stage 5 registers the raw products `c·F` and `d·G`
+//! ([`crate::mul_reg::MulReg`]: on an ECP5 both registers are the MULT18X18D's own, and
+//! nothing sits after the multiplier: the `+ 128` of the rounding behind it was once the
+//! critical path, 9.6–10.3 ns); stage 6 rounds them into fabric registers,
 //! `(p + 128) >> 8` computed as `(p >> 8) + p[7]` (the same number for every `p ≥ 0`:
-//! [`round_q8`]), and forms `max(0, min(round(c·F), 255) − round(d·G))`: the clamp, the
+//! [`round_q8`]; from the DSP blocks' output registers the route alone took 2.8 ns, too
+//! long for the rounding and the subtraction behind it); stage 7 forms
+//! `max(0, min(round(c·F), 255) − round(d·G))`: the clamp, the
 //! subtraction and the floor at 0, with the clamp decided beside the subtraction rather
-//! than before it ([`stage5`]). No step is longer than one block RAM read, one 32-way
-//! multiplexer, one multiply, or one increment, one subtraction and one multiplexer (a
-//! single 2^15-entry RAM put the block RAMs' read, their 32-way output multiplexer and the
-//! override in one clock: 12.1 ns on an ECP5). This is the seed's factor `F` (table mode, `G = 0`) or the
+//! than before it ([`stage5`]). No step is longer than one block RAM read, one 8-way
+//! multiplexer, one 4-way multiplexer, one multiply, one increment, or one subtraction and
+//! one multiplexer (a single 2^15-entry RAM put the block RAMs' read, their 32-way output
+//! multiplexer and the override in one clock: 12.1 ns on an ECP5; the 32-way multiplexer
+//! alone in one clock, from block RAMs spread over the die, 8.5 ns). This is the seed's
+//! factor `F` (table mode, `G = 0`) or the
 //! exact removal of the shadowed share `G` of light 0 (exact mode, `F = 256`). A
 //! background pixel (`ZB = Z_FAR`) and every pixel of a unit built without shading keep
 //! their colour. This is `pixelproc_formats::core_stream::shade_rgb`, the golden model's
@@ -31,12 +38,12 @@
 //! | port | dir | width | meaning |
 //! |---|---|---|---|
 //! | `clock` | in | 1 | rising edge |
-//! | `rst` | in | 1 | synchronous: no pixel leaves for the next five edges |
+//! | `rst` | in | 1 | synchronous: no pixel leaves for the next seven edges |
 //! | `in_valid`, `in_word`, `in_meta` | in | 1, 99, 2 | a pixel: readout word, and two flags carried along |
 //! | `tw_en`, `tw_addr`, `tw_data` | in | 1, 15, 18 | table write `{G, F}` (ignored without shading); a write on these before edge `E` is in its bank at edge `E + 1` |
-//! | `out_valid`, `out_word`, `out_meta` | out | 1, 99, 2 | the pixel five edges later, its RGB shaded |
+//! | `out_valid`, `out_word`, `out_meta` | out | 1, 99, 2 | the pixel seven edges later, its RGB shaded |
 //!
-//! Latency: a pixel on the inputs before edge `E` is on the outputs after edge `E + 4`
+//! Latency: a pixel on the inputs before edge `E` is on the outputs after edge `E + 6`
 //! ([`LATENCY`] edges).
 //!
 //! # Table writes
@@ -57,6 +64,7 @@
 
 use crate::bank_ram::BankRam;
 use crate::layout::{ReadoutFields, ReadoutLowFields, ShadeAddrFields, READOUT_W};
+use crate::mul_reg::MulReg;
 use pixelproc_formats::core_stream::{FACTOR_BITS, SHADE_ADDR_BITS};
 use pixelproc_formats::Z_FAR;
 use rust_hdl::prelude::*;
@@ -67,7 +75,7 @@ pub const META_W: usize = 2;
 /// Rising edges from a pixel on the inputs to the same pixel on the outputs
 /// (`pixelproc_formats::core_stream::SHADE_STAGES`, which the golden core model uses).
 pub const LATENCY: usize = pixelproc_formats::core_stream::SHADE_STAGES;
-const _: () = assert!(LATENCY == 5);
+const _: () = assert!(LATENCY == 7);
 
 /// Address bits of one table bank (2^10 × 18 bits: one ECP5 DP16KD).
 pub const BANK_BITS: usize = crate::bank_ram::BANK_BITS;
@@ -96,7 +104,7 @@ const PROD_W: usize = 18;
 const _: () = assert!(PROD_W == 18);
 const _: () = assert!(255 * ((1 << FACTOR_BITS) - 1) < 1 << PROD_W);
 
-/// The rounding of stage 5: `(p + 128) >> 8`, as the kernel computes it, `(p >> 8) + p[7]`,
+/// The rounding of stage 7: `(p + 128) >> 8`, as the kernel computes it, `(p >> 8) + p[7]`,
 /// with no add before the shift (the product goes into a register straight from the
 /// multiplier).
 ///
@@ -110,7 +118,7 @@ pub fn round_q8(p: u32) -> u32 {
     (p >> 8) + ((p >> 7) & 1)
 }
 
-/// Stage 5 of one channel on integers, step for step as the kernel does it, from the two
+/// Stage 7 of one channel on integers, step for step as the kernel does it, from the two
 /// products `pf = c·F` and `pd = d·G` (each at most `255 · 511`, so each rounded value is
 /// at most 509 and fits the kernel's 9 bits): `max(0, min(round(pf), 255) − round(pd))`.
 pub fn stage5(pf: u32, pd: u32) -> u32 {
@@ -140,7 +148,7 @@ fn stage5_rounded(lit: u32, drop: u32) -> u32 {
 pub struct ShadeUnit {
     /// Clock.
     pub clock: Signal<In, Clock>,
-    /// Synchronous reset: empties the four stages.
+    /// Synchronous reset: empties the seven stages.
     pub rst: Signal<In, Bit>,
     /// A pixel is on `in_word`.
     pub in_valid: Signal<In, Bit>,
@@ -176,17 +184,36 @@ pub struct ShadeUnit {
     s3_v: DFF<Bit>,
     s3_word: DFF<Bits<READOUT_W>>,
     s3_meta: DFF<Bits<META_W>>,
-    s3_f: DFF<Bits<16>>,
-    s3_g: DFF<Bits<16>>,
     s3_d: DFF<Bits<24>>,
+    /// Stage 3: the entry of the addressed bank within each group of 8, the group bits,
+    /// and whether the override applies.
+    s3_e: Vec<DFF<Bits<ENTRY_W>>>,
+    s3_grp: DFF<Bits<GROUP_W>>,
+    s3_over: DFF<Bit>,
     s4_v: DFF<Bit>,
     s4_word: DFF<Bits<READOUT_W>>,
     s4_meta: DFF<Bits<META_W>>,
-    s4_pf: DFF<Bits<{ 3 * PROD_W }>>,
-    s4_pd: DFF<Bits<{ 3 * PROD_W }>>,
+    /// The products c·F and d·G per channel: operands registered with stage 4, products
+    /// with stage 5 (on an FPGA the DSP block's own registers).
+    mf: [MulReg; 3],
+    md: [MulReg; 3],
     s5_v: DFF<Bit>,
     s5_word: DFF<Bits<READOUT_W>>,
     s5_meta: DFF<Bits<META_W>>,
+    s6_v: DFF<Bit>,
+    s6_word: DFF<Bits<READOUT_W>>,
+    s6_meta: DFF<Bits<META_W>>,
+    /// Stage 6: the rounded products `round(c·F)`, `round(d·G)` per channel (9 bits each,
+    /// red in the low bits), in the fabric: the route from the DSP blocks' output
+    /// registers to the rounding was 2.8 ns, too long to put the subtraction behind it too.
+    s6_lit: DFF<Bits<27>>,
+    s6_drop: DFF<Bits<27>>,
+    l_lits: Signal<Local, Bits<27>>,
+    l_drops: Signal<Local, Bits<27>>,
+    s7_v: DFF<Bit>,
+    s7_word: DFF<Bits<READOUT_W>>,
+    s7_meta: DFF<Bits<META_W>>,
+    l_eg: Signal<Local, Bits<ENTRY_W>>,
     l_pf: Signal<Local, Bits<{ 3 * PROD_W }>>,
     l_pd: Signal<Local, Bits<{ 3 * PROD_W }>>,
     l_p: Signal<Local, Bits<32>>,
@@ -216,6 +243,7 @@ pub struct ShadeUnit {
     k_zero16: Constant<Bits<16>>,
     k_zero8: Constant<Bits<8>>,
     k_zero54: Constant<Bits<{ 3 * PROD_W }>>,
+    k_zero27: Constant<Bits<27>>,
 }
 
 /// Width of a table entry `{G, F}`.
@@ -254,17 +282,29 @@ impl ShadeUnit {
             s3_v: Default::default(),
             s3_word: Default::default(),
             s3_meta: Default::default(),
-            s3_f: Default::default(),
-            s3_g: Default::default(),
             s3_d: Default::default(),
+            s3_e: (0..TW_GROUPS).map(|_| Default::default()).collect(),
+            s3_grp: Default::default(),
+            s3_over: Default::default(),
             s4_v: Default::default(),
             s4_word: Default::default(),
             s4_meta: Default::default(),
-            s4_pf: Default::default(),
-            s4_pd: Default::default(),
+            mf: Default::default(),
+            md: Default::default(),
             s5_v: Default::default(),
             s5_word: Default::default(),
             s5_meta: Default::default(),
+            s6_v: Default::default(),
+            s6_word: Default::default(),
+            s6_meta: Default::default(),
+            s6_lit: Default::default(),
+            s6_drop: Default::default(),
+            l_lits: Default::default(),
+            l_drops: Default::default(),
+            s7_v: Default::default(),
+            s7_word: Default::default(),
+            s7_meta: Default::default(),
+            l_eg: Default::default(),
             l_pf: Default::default(),
             l_pd: Default::default(),
             l_p: Default::default(),
@@ -294,6 +334,7 @@ impl ShadeUnit {
             k_zero16: Constant::new(0u64.to_bits()),
             k_zero8: Constant::new(0u64.to_bits()),
             k_zero54: Constant::new(0u64.to_bits()),
+            k_zero27: Constant::new(0u64.to_bits()),
         }
     }
 }
@@ -303,8 +344,8 @@ impl Logic for ShadeUnit {
     fn update(&mut self) {
         dff_setup!(
             self, clock, s1_v, s1_word, s1_meta, s1_hi, s2_v, s2_word, s2_meta, s2_hi, s2_d, s3_v,
-            s3_word, s3_meta, s3_f, s3_g, s3_d, s4_v, s4_word, s4_meta, s4_pf, s4_pd, s5_v,
-            s5_word, s5_meta
+            s3_word, s3_meta, s3_d, s3_grp, s3_over, s4_v, s4_word, s4_meta, s5_v, s5_word,
+            s5_meta, s6_v, s6_word, s6_meta, s6_lit, s6_drop, s7_v, s7_word, s7_meta
         );
         // ---- Stage 1: register the pixel, read every bank at the low address bits.
         self.l_addr.next = self.k_zero_addr.val();
@@ -370,62 +411,103 @@ impl Logic for ShadeUnit {
         self.s2_meta.d.next = self.s1_meta.q.val();
         self.s2_hi.d.next = self.s1_hi.q.val();
         self.s2_d.d.next = self.l_dd.val();
-        // ---- Stage 3: the addressed bank's entry (override: background, or no shading).
+        // ---- Stage 3: within each group of 8 banks the addressed bank's entry (a 32-way
+        // multiplexer in one clock, from block RAMs spread over the die, was the core's
+        // critical path), the group bits, and whether the override (background, or no
+        // shading) applies.
+        for g in 0..self.s3_e.len() {
+            self.s3_e[g].clock.next = self.clock.val();
+            self.l_eg.next = self.k_zero_e.val();
+            for j in 0..8 {
+                if self.s2_hi.q.val().get_bits::<3>(0).index() == j {
+                    self.l_eg.next = self.banks[8 * g + j].read_data.val();
+                }
+            }
+            self.s3_e[g].d.next = self.l_eg.val();
+        }
+        self.s3_grp.d.next = self.s2_hi.q.val().get_bits::<GROUP_W>(3);
+        self.s3_over.d.next =
+            !self.k_on.val() | (self.s2_word.q.val().get_value_zb() == self.k_far.val());
+        self.s3_v.d.next = self.s2_v.q.val();
+        self.s3_word.d.next = self.s2_word.q.val();
+        self.s3_meta.d.next = self.s2_meta.q.val();
+        self.s3_d.d.next = self.s2_d.q.val();
+        // ---- Stage 4: the addressed group's entry, `F` and `G` (or the override), into
+        // the multipliers' operand registers with each channel's `c` and `d`.
         self.l_e.next = self.k_zero_e.val();
-        for i in 0..self.banks.len() {
-            if self.s2_hi.q.val().index() == i {
-                self.l_e.next = self.banks[i].read_data.val();
+        for g in 0..self.s3_e.len() {
+            if self.s3_grp.q.val().index() == g {
+                self.l_e.next = self.s3_e[g].q.val();
             }
         }
         self.l_f.next = bit_cast::<16, FACTOR_BITS>(self.l_e.val().get_bits::<FACTOR_BITS>(0));
         self.l_g.next = bit_cast::<16, FACTOR_BITS>(
             self.l_e.val().get_bits::<FACTOR_BITS>(9), // a kernel takes literal offsets: FACTOR_BITS
         );
-        if !self.k_on.val() | (self.s2_word.q.val().get_value_zb() == self.k_far.val()) {
+        if self.s3_over.q.val() {
             self.l_f.next = self.k_one.val();
             self.l_g.next = self.k_zero16.val();
         }
-        self.s3_v.d.next = self.s2_v.q.val();
-        self.s3_word.d.next = self.s2_word.q.val();
-        self.s3_meta.d.next = self.s2_meta.q.val();
-        self.s3_f.d.next = self.l_f.val();
-        self.s3_g.d.next = self.l_g.val();
-        self.s3_d.d.next = self.s2_d.q.val();
-        // ---- Stage 4, per channel: the raw products c·F and d·G (rounded in stage 5).
         self.l_rgb3.next = self.s3_word.q.val().get_value_rgb();
         self.l_pf.next = self.k_zero54.val();
         self.l_pd.next = self.k_zero54.val();
         for c in 0..3 {
+            self.mf[c].clock.next = self.clock.val();
+            self.md[c].clock.next = self.clock.val();
             self.l_ch.next = self.l_rgb3.val().get_bits::<8>(8 * c);
-            self.l_p.next = bit_cast::<16, 8>(self.l_ch.val()) * self.s3_f.q.val();
+            self.mf[c].a.next = bit_cast::<16, 8>(self.l_ch.val());
+            self.mf[c].b.next = self.l_f.val();
+            self.l_sc.next = self.s3_d.q.val().get_bits::<8>(8 * c);
+            self.md[c].a.next = bit_cast::<16, 8>(self.l_sc.val());
+            self.md[c].b.next = self.l_g.val();
+            // ---- Stage 5: the raw products c·F and d·G (rounded in stage 7), registered
+            // inside the multipliers. (A kernel's loop index cannot go into a function's
+            // arguments: via `l_p`.)
+            self.l_p.next = self.mf[c].p.val();
             self.l_pf.next = (self.l_pf.val() >> 18)
                 | (bit_cast::<54, 18>(self.l_p.val().get_bits::<18>(0)) << 36);
-            self.l_sc.next = self.s3_d.q.val().get_bits::<8>(8 * c);
-            self.l_p.next = bit_cast::<16, 8>(self.l_sc.val()) * self.s3_g.q.val();
+            self.l_p.next = self.md[c].p.val();
             self.l_pd.next = (self.l_pd.val() >> 18)
                 | (bit_cast::<54, 18>(self.l_p.val().get_bits::<18>(0)) << 36);
         }
         self.s4_v.d.next = self.s3_v.q.val();
         self.s4_word.d.next = self.s3_word.q.val();
         self.s4_meta.d.next = self.s3_meta.q.val();
-        self.s4_pf.d.next = self.l_pf.val();
-        self.s4_pd.d.next = self.l_pd.val();
-        // ---- Stage 5, per channel (`stage5`, the same steps on integers): round each
-        // product p to (p >> 8) + p[7] (= (p + 128) >> 8: `round_q8`), 9 bits wide
-        // (p < 2^17), lit = min(round(pf), 255), drop = round(pd), out = max(0, lit − drop).
-        // The clamp is not a multiplexer before the subtraction: bit 8 of round(pf) says lit
-        // is 255, and then out = 255 − drop = !drop[7:0] when drop < 256, else 0; otherwise
-        // out is the 10-bit difference round(pf) − drop floored at 0. Two short carry chains
-        // (the increment, the subtraction) and one multiplexer.
-        self.l_out.next = self.k_zero24.val();
+        self.s5_v.d.next = self.s4_v.q.val();
+        self.s5_word.d.next = self.s4_word.q.val();
+        self.s5_meta.d.next = self.s4_meta.q.val();
+        // ---- Stage 6, per channel: round each product p to (p >> 8) + p[7]
+        // (= (p + 128) >> 8: `round_q8`), 9 bits wide (p < 2^17).
+        self.s6_v.d.next = self.s5_v.q.val();
+        self.s6_word.d.next = self.s5_word.q.val();
+        self.s6_meta.d.next = self.s5_meta.q.val();
+        self.l_lits.next = self.k_zero27.val();
+        self.l_drops.next = self.k_zero27.val();
         for c in 0..3 {
             // (A kernel's loop index cannot go into a function's arguments: via `l_q`.)
-            self.l_q.next = self.s4_pf.q.val().get_bits::<18>(18 * c);
+            self.l_q.next = self.l_pf.val().get_bits::<18>(18 * c);
             self.l_lit.next =
                 self.l_q.val().get_bits::<9>(8) + bit_cast::<9, 1>(self.l_q.val().get_bits::<1>(7));
-            self.l_q.next = self.s4_pd.q.val().get_bits::<18>(18 * c);
+            self.l_lits.next =
+                (self.l_lits.val() >> 9) | (bit_cast::<27, 9>(self.l_lit.val()) << 18);
+            self.l_q.next = self.l_pd.val().get_bits::<18>(18 * c);
             self.l_drop.next =
                 self.l_q.val().get_bits::<9>(8) + bit_cast::<9, 1>(self.l_q.val().get_bits::<1>(7));
+            self.l_drops.next =
+                (self.l_drops.val() >> 9) | (bit_cast::<27, 9>(self.l_drop.val()) << 18);
+        }
+        self.s6_lit.d.next = self.l_lits.val();
+        self.s6_drop.d.next = self.l_drops.val();
+        // ---- Stage 7, per channel (`stage5`, the same steps on integers, after the
+        // rounding): lit = min(round(pf), 255), drop = round(pd), out = max(0, lit − drop).
+        // The clamp is not a multiplexer before the subtraction: bit 8 of round(pf) says lit
+        // is 255, and then out = 255 − drop = !drop[7:0] when drop < 256, else 0; otherwise
+        // out is the 10-bit difference round(pf) − drop floored at 0. One short carry chain
+        // and one multiplexer.
+        self.l_out.next = self.k_zero24.val();
+        for c in 0..3 {
+            self.l_lit.next = self.s6_lit.q.val().get_bits::<9>(9 * c);
+            self.l_drop.next = self.s6_drop.q.val().get_bits::<9>(9 * c);
             self.l_diff.next =
                 bit_cast::<10, 9>(self.l_lit.val()) - bit_cast::<10, 9>(self.l_drop.val());
             self.l_d.next = self.k_zero8.val();
@@ -438,20 +520,22 @@ impl Logic for ShadeUnit {
             }
             self.l_out.next = (self.l_out.val() >> 8) | (bit_cast::<24, 8>(self.l_d.val()) << 16);
         }
-        self.l_word.next = self.s4_word.q.val();
+        self.l_word.next = self.s6_word.q.val();
         self.l_word.next.set_value_rgb(self.l_out.val());
-        self.s5_v.d.next = self.s4_v.q.val();
-        self.s5_word.d.next = self.l_word.val();
-        self.s5_meta.d.next = self.s4_meta.q.val();
-        self.out_valid.next = self.s5_v.q.val();
-        self.out_word.next = self.s5_word.q.val();
-        self.out_meta.next = self.s5_meta.q.val();
+        self.s7_v.d.next = self.s6_v.q.val();
+        self.s7_word.d.next = self.l_word.val();
+        self.s7_meta.d.next = self.s6_meta.q.val();
+        self.out_valid.next = self.s7_v.q.val();
+        self.out_word.next = self.s7_word.q.val();
+        self.out_meta.next = self.s7_meta.q.val();
         if self.rst.val() {
             self.s1_v.d.next = false;
             self.s2_v.d.next = false;
             self.s3_v.d.next = false;
             self.s4_v.d.next = false;
             self.s5_v.d.next = false;
+            self.s6_v.d.next = false;
+            self.s7_v.d.next = false;
         }
     }
 }

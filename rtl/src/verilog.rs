@@ -60,23 +60,32 @@ fn strip_wrapper_notes(verilog: &str) -> String {
     verilog.replace(WRAPPER_NOTE, "")
 }
 
-/// `verilog` with the generic definition of `pixelproc_bank_ram`
-/// ([`crate::bank_ram::GENERIC_VERILOG`]) appended once if a module instantiates it, so
-/// that the file stays self-contained. The ECP5 flow reads its own definition
-/// (`synth/ecp5/pixelproc_bank_ram.v`) over this one.
+/// The modules blocks instantiate through a `Wrapper` and their generic definitions:
+/// `pixelproc_bank_ram` ([`crate::bank_ram`]) and `pixelproc_mul_reg`
+/// ([`crate::mul_reg`]).
+const WRAPPED: [(&str, &str); 2] = [
+    (crate::bank_ram::MODULE, crate::bank_ram::GENERIC_VERILOG),
+    (crate::mul_reg::MODULE, crate::mul_reg::GENERIC_VERILOG),
+];
+
+/// `verilog` with the generic definition of each wrapped module ([`WRAPPED`]) appended
+/// once if a module instantiates it, so that the file stays self-contained. The ECP5 flow
+/// reads its own definitions (`synth/ecp5/pixelproc_bank_ram.v`,
+/// `synth/ecp5/pixelproc_mul_reg.v`) over these.
 pub fn with_wrapped_modules(verilog: &str) -> String {
-    let m = crate::bank_ram::MODULE;
-    let used = verilog
-        .lines()
-        .any(|l| l.trim_start().starts_with(&format!("{m} ")));
-    let defined = verilog
-        .lines()
-        .any(|l| l.starts_with(&format!("module {m}(")));
-    if used && !defined {
-        format!("{verilog}\n{}", crate::bank_ram::GENERIC_VERILOG)
-    } else {
-        verilog.to_string()
+    let mut out = verilog.to_string();
+    for (m, generic) in WRAPPED {
+        let used = verilog
+            .lines()
+            .any(|l| l.trim_start().starts_with(&format!("{m} ")));
+        let defined = verilog
+            .lines()
+            .any(|l| l.starts_with(&format!("module {m}(")));
+        if used && !defined {
+            out = format!("{out}\n{generic}");
+        }
     }
+    out
 }
 
 /// One module of the generated text: its name and its text from the `module` line

@@ -504,6 +504,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     localparam  k_zero74 = 99'h0;
     localparam  k_nop = 3'b0;
     localparam  k_span = 3'b10;
+    localparam  k_attr_op = 2'b0;
     localparam  k_one14 = 14'b1;
     localparam  k_zero16 = 16'h0;
     localparam  k_zero38 = 38'h0;
@@ -518,6 +519,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [37:0] procs$0$t_dz;
     reg  [101:0] procs$0$t_i;
     reg  [62:0] procs$0$t_di;
+    reg  procs$0$t_le;
     reg  procs$0$rd_sel;
     wire  [98:0] procs$0$rdo;
     wire  [45:0] procs$0$o_head;
@@ -525,12 +527,14 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     wire  [37:0] procs$0$o_dz;
     wire  [101:0] procs$0$o_i;
     wire  [62:0] procs$0$o_di;
+    wire  procs$0$o_le;
     reg  procs$1$clock;
     reg  [45:0] procs$1$t_head;
     reg  [43:0] procs$1$t_z;
     reg  [37:0] procs$1$t_dz;
     reg  [101:0] procs$1$t_i;
     reg  [62:0] procs$1$t_di;
+    reg  procs$1$t_le;
     reg  procs$1$rd_sel;
     wire  [98:0] procs$1$rdo;
     wire  [45:0] procs$1$o_head;
@@ -538,12 +542,14 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     wire  [37:0] procs$1$o_dz;
     wire  [101:0] procs$1$o_i;
     wire  [62:0] procs$1$o_di;
+    wire  procs$1$o_le;
     reg  procs$2$clock;
     reg  [45:0] procs$2$t_head;
     reg  [43:0] procs$2$t_z;
     reg  [37:0] procs$2$t_dz;
     reg  [101:0] procs$2$t_i;
     reg  [62:0] procs$2$t_di;
+    reg  procs$2$t_le;
     reg  procs$2$rd_sel;
     wire  [98:0] procs$2$rdo;
     wire  [45:0] procs$2$o_head;
@@ -551,12 +557,14 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     wire  [37:0] procs$2$o_dz;
     wire  [101:0] procs$2$o_i;
     wire  [62:0] procs$2$o_di;
+    wire  procs$2$o_le;
     reg  procs$3$clock;
     reg  [45:0] procs$3$t_head;
     reg  [43:0] procs$3$t_z;
     reg  [37:0] procs$3$t_dz;
     reg  [101:0] procs$3$t_i;
     reg  [62:0] procs$3$t_di;
+    reg  procs$3$t_le;
     reg  procs$3$rd_sel;
     wire  [98:0] procs$3$rdo;
     wire  [45:0] procs$3$o_head;
@@ -564,12 +572,14 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     wire  [37:0] procs$3$o_dz;
     wire  [101:0] procs$3$o_i;
     wire  [62:0] procs$3$o_di;
+    wire  procs$3$o_le;
     reg  procs$4$clock;
     reg  [45:0] procs$4$t_head;
     reg  [43:0] procs$4$t_z;
     reg  [37:0] procs$4$t_dz;
     reg  [101:0] procs$4$t_i;
     reg  [62:0] procs$4$t_di;
+    reg  procs$4$t_le;
     reg  procs$4$rd_sel;
     wire  [98:0] procs$4$rdo;
     wire  [45:0] procs$4$o_head;
@@ -577,12 +587,14 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     wire  [37:0] procs$4$o_dz;
     wire  [101:0] procs$4$o_i;
     wire  [62:0] procs$4$o_di;
+    wire  procs$4$o_le;
     reg  procs$5$clock;
     reg  [45:0] procs$5$t_head;
     reg  [43:0] procs$5$t_z;
     reg  [37:0] procs$5$t_dz;
     reg  [101:0] procs$5$t_i;
     reg  [62:0] procs$5$t_di;
+    reg  procs$5$t_le;
     reg  procs$5$rd_sel;
     wire  [98:0] procs$5$rdo;
     wire  [45:0] procs$5$o_head;
@@ -590,12 +602,14 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     wire  [37:0] procs$5$o_dz;
     wire  [101:0] procs$5$o_i;
     wire  [62:0] procs$5$o_di;
+    wire  procs$5$o_le;
     reg  procs$6$clock;
     reg  [45:0] procs$6$t_head;
     reg  [43:0] procs$6$t_z;
     reg  [37:0] procs$6$t_dz;
     reg  [101:0] procs$6$t_i;
     reg  [62:0] procs$6$t_di;
+    reg  procs$6$t_le;
     reg  procs$6$rd_sel;
     wire  [98:0] procs$6$rdo;
     wire  [45:0] procs$6$o_head;
@@ -603,12 +617,14 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     wire  [37:0] procs$6$o_dz;
     wire  [101:0] procs$6$o_i;
     wire  [62:0] procs$6$o_di;
+    wire  procs$6$o_le;
     reg  procs$7$clock;
     reg  [45:0] procs$7$t_head;
     reg  [43:0] procs$7$t_z;
     reg  [37:0] procs$7$t_dz;
     reg  [101:0] procs$7$t_i;
     reg  [62:0] procs$7$t_di;
+    reg  procs$7$t_le;
     reg  procs$7$rd_sel;
     wire  [98:0] procs$7$rdo;
     wire  [45:0] procs$7$o_head;
@@ -616,6 +632,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     wire  [37:0] procs$7$o_dz;
     wire  [101:0] procs$7$o_i;
     wire  [62:0] procs$7$o_di;
+    wire  procs$7$o_le;
     reg  [2:0] e1_op$d;
     wire  [2:0] e1_op$q;
     reg  e1_op$clock;
@@ -655,15 +672,18 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [37:0] e3_dz$d;
     wire  [37:0] e3_dz$q;
     reg  e3_dz$clock;
-    reg  [31:0] e3_pz0$d;
-    wire  [31:0] e3_pz0$q;
-    reg  e3_pz0$clock;
-    reg  [31:0] e3_pz1$d;
-    wire  [31:0] e3_pz1$q;
-    reg  e3_pz1$clock;
-    reg  [31:0] e3_pz2$d;
-    wire  [31:0] e3_pz2$q;
-    reg  e3_pz2$clock;
+    reg  mz$0$clock;
+    reg  [15:0] mz$0$a;
+    reg  [15:0] mz$0$b;
+    wire  [31:0] mz$0$p;
+    reg  mz$1$clock;
+    reg  [15:0] mz$1$a;
+    reg  [15:0] mz$1$b;
+    wire  [31:0] mz$1$p;
+    reg  mz$2$clock;
+    reg  [15:0] mz$2$a;
+    reg  [15:0] mz$2$b;
+    wire  [31:0] mz$2$p;
     reg  [45:0] e4_head$d;
     wire  [45:0] e4_head$q;
     reg  e4_head$clock;
@@ -683,7 +703,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [19:0] chans$0$il;
     reg  [20:0] chans$0$di;
     reg  chans$0$span;
-    reg  [15:0] chans$0$m2;
+    reg  [15:0] chans$0$m1;
     reg  [15:0] chans$0$m3;
     wire  [33:0] chans$0$i;
     wire  [20:0] chans$0$o_di;
@@ -691,7 +711,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [19:0] chans$1$il;
     reg  [20:0] chans$1$di;
     reg  chans$1$span;
-    reg  [15:0] chans$1$m2;
+    reg  [15:0] chans$1$m1;
     reg  [15:0] chans$1$m3;
     wire  [33:0] chans$1$i;
     wire  [20:0] chans$1$o_di;
@@ -699,7 +719,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [19:0] chans$2$il;
     reg  [20:0] chans$2$di;
     reg  chans$2$span;
-    reg  [15:0] chans$2$m2;
+    reg  [15:0] chans$2$m1;
     reg  [15:0] chans$2$m3;
     wire  [33:0] chans$2$i;
     wire  [20:0] chans$2$o_di;
@@ -711,7 +731,8 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [13:0] l_xr;
     reg  [13:0] l_base;
     reg  [13:0] l_d;
-    reg  [37:0] l_dz;
+    reg  [15:0] l_m1;
+    reg  [37:0] l_dz1;
     reg  [15:0] l_dzmid;
     reg  [15:0] l_dzhi;
     reg  [43:0] l_m44;
@@ -732,13 +753,15 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .t_dz(procs$0$t_dz),
         .t_i(procs$0$t_i),
         .t_di(procs$0$t_di),
+        .t_le(procs$0$t_le),
         .rd_sel(procs$0$rd_sel),
         .rdo(procs$0$rdo),
         .o_head(procs$0$o_head),
         .o_z(procs$0$o_z),
         .o_dz(procs$0$o_dz),
         .o_i(procs$0$o_i),
-        .o_di(procs$0$o_di)
+        .o_di(procs$0$o_di),
+        .o_le(procs$0$o_le)
     );
     pixelproc_top$array$procs procs$1(
         .clock(procs$1$clock),
@@ -747,13 +770,15 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .t_dz(procs$1$t_dz),
         .t_i(procs$1$t_i),
         .t_di(procs$1$t_di),
+        .t_le(procs$1$t_le),
         .rd_sel(procs$1$rd_sel),
         .rdo(procs$1$rdo),
         .o_head(procs$1$o_head),
         .o_z(procs$1$o_z),
         .o_dz(procs$1$o_dz),
         .o_i(procs$1$o_i),
-        .o_di(procs$1$o_di)
+        .o_di(procs$1$o_di),
+        .o_le(procs$1$o_le)
     );
     pixelproc_top$array$procs procs$2(
         .clock(procs$2$clock),
@@ -762,13 +787,15 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .t_dz(procs$2$t_dz),
         .t_i(procs$2$t_i),
         .t_di(procs$2$t_di),
+        .t_le(procs$2$t_le),
         .rd_sel(procs$2$rd_sel),
         .rdo(procs$2$rdo),
         .o_head(procs$2$o_head),
         .o_z(procs$2$o_z),
         .o_dz(procs$2$o_dz),
         .o_i(procs$2$o_i),
-        .o_di(procs$2$o_di)
+        .o_di(procs$2$o_di),
+        .o_le(procs$2$o_le)
     );
     pixelproc_top$array$procs procs$3(
         .clock(procs$3$clock),
@@ -777,13 +804,15 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .t_dz(procs$3$t_dz),
         .t_i(procs$3$t_i),
         .t_di(procs$3$t_di),
+        .t_le(procs$3$t_le),
         .rd_sel(procs$3$rd_sel),
         .rdo(procs$3$rdo),
         .o_head(procs$3$o_head),
         .o_z(procs$3$o_z),
         .o_dz(procs$3$o_dz),
         .o_i(procs$3$o_i),
-        .o_di(procs$3$o_di)
+        .o_di(procs$3$o_di),
+        .o_le(procs$3$o_le)
     );
     pixelproc_top$array$procs procs$4(
         .clock(procs$4$clock),
@@ -792,13 +821,15 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .t_dz(procs$4$t_dz),
         .t_i(procs$4$t_i),
         .t_di(procs$4$t_di),
+        .t_le(procs$4$t_le),
         .rd_sel(procs$4$rd_sel),
         .rdo(procs$4$rdo),
         .o_head(procs$4$o_head),
         .o_z(procs$4$o_z),
         .o_dz(procs$4$o_dz),
         .o_i(procs$4$o_i),
-        .o_di(procs$4$o_di)
+        .o_di(procs$4$o_di),
+        .o_le(procs$4$o_le)
     );
     pixelproc_top$array$procs procs$5(
         .clock(procs$5$clock),
@@ -807,13 +838,15 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .t_dz(procs$5$t_dz),
         .t_i(procs$5$t_i),
         .t_di(procs$5$t_di),
+        .t_le(procs$5$t_le),
         .rd_sel(procs$5$rd_sel),
         .rdo(procs$5$rdo),
         .o_head(procs$5$o_head),
         .o_z(procs$5$o_z),
         .o_dz(procs$5$o_dz),
         .o_i(procs$5$o_i),
-        .o_di(procs$5$o_di)
+        .o_di(procs$5$o_di),
+        .o_le(procs$5$o_le)
     );
     pixelproc_top$array$procs procs$6(
         .clock(procs$6$clock),
@@ -822,13 +855,15 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .t_dz(procs$6$t_dz),
         .t_i(procs$6$t_i),
         .t_di(procs$6$t_di),
+        .t_le(procs$6$t_le),
         .rd_sel(procs$6$rd_sel),
         .rdo(procs$6$rdo),
         .o_head(procs$6$o_head),
         .o_z(procs$6$o_z),
         .o_dz(procs$6$o_dz),
         .o_i(procs$6$o_i),
-        .o_di(procs$6$o_di)
+        .o_di(procs$6$o_di),
+        .o_le(procs$6$o_le)
     );
     pixelproc_top$array$procs procs$7(
         .clock(procs$7$clock),
@@ -837,13 +872,15 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .t_dz(procs$7$t_dz),
         .t_i(procs$7$t_i),
         .t_di(procs$7$t_di),
+        .t_le(procs$7$t_le),
         .rd_sel(procs$7$rd_sel),
         .rdo(procs$7$rdo),
         .o_head(procs$7$o_head),
         .o_z(procs$7$o_z),
         .o_dz(procs$7$o_dz),
         .o_i(procs$7$o_i),
-        .o_di(procs$7$o_di)
+        .o_di(procs$7$o_di),
+        .o_le(procs$7$o_le)
     );
     pixelproc_top$array$e1_op e1_op(
         .d(e1_op$d),
@@ -910,20 +947,23 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .q(e3_dz$q),
         .clock(e3_dz$clock)
     );
-    pixelproc_top$array$chans$e3_p0 e3_pz0(
-        .d(e3_pz0$d),
-        .q(e3_pz0$q),
-        .clock(e3_pz0$clock)
+    pixelproc_top$array$chans$mp mz$0(
+        .clock(mz$0$clock),
+        .a(mz$0$a),
+        .b(mz$0$b),
+        .p(mz$0$p)
     );
-    pixelproc_top$array$chans$e3_p0 e3_pz1(
-        .d(e3_pz1$d),
-        .q(e3_pz1$q),
-        .clock(e3_pz1$clock)
+    pixelproc_top$array$chans$mp mz$1(
+        .clock(mz$1$clock),
+        .a(mz$1$a),
+        .b(mz$1$b),
+        .p(mz$1$p)
     );
-    pixelproc_top$array$chans$e3_p0 e3_pz2(
-        .d(e3_pz2$d),
-        .q(e3_pz2$q),
-        .clock(e3_pz2$clock)
+    pixelproc_top$array$chans$mp mz$2(
+        .clock(mz$2$clock),
+        .a(mz$2$a),
+        .b(mz$2$b),
+        .p(mz$2$p)
     );
     pixelproc_top$array$e2_head e4_head(
         .d(e4_head$d),
@@ -955,7 +995,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .il(chans$0$il),
         .di(chans$0$di),
         .span(chans$0$span),
-        .m2(chans$0$m2),
+        .m1(chans$0$m1),
         .m3(chans$0$m3),
         .i(chans$0$i),
         .o_di(chans$0$o_di)
@@ -965,7 +1005,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .il(chans$1$il),
         .di(chans$1$di),
         .span(chans$1$span),
-        .m2(chans$1$m2),
+        .m1(chans$1$m1),
         .m3(chans$1$m3),
         .i(chans$1$i),
         .o_di(chans$1$o_di)
@@ -975,7 +1015,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .il(chans$2$il),
         .di(chans$2$di),
         .span(chans$2$span),
-        .m2(chans$2$m2),
+        .m1(chans$2$m1),
         .m3(chans$2$m3),
         .i(chans$2$i),
         .o_di(chans$2$o_di)
@@ -996,9 +1036,6 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         e3_m$clock = clock;
         e3_zl$clock = clock;
         e3_dz$clock = clock;
-        e3_pz0$clock = clock;
-        e3_pz1$clock = clock;
-        e3_pz2$clock = clock;
         e4_head$clock = clock;
         e4_dz$clock = clock;
         e4_za$clock = clock;
@@ -1016,9 +1053,6 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         e3_m$d = e3_m$q;
         e3_zl$d = e3_zl$q;
         e3_dz$d = e3_dz$q;
-        e3_pz0$d = e3_pz0$q;
-        e3_pz1$d = e3_pz1$q;
-        e3_pz2$d = e3_pz2$q;
         e4_head$d = e4_head$q;
         e4_dz$d = e4_dz$q;
         e4_za$d = e4_za$q;
@@ -1048,16 +1082,18 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         l_head[(32'h1c)+:(14)] = l_xr - l_base;
         e2_head$d = l_head;
         e2_zl$d = e1_word$q[(32'h1a)+:(36)];
-        e2_dz$d = e1_word$q[(32'h3e)+:(38)];
-        e2_m$d = k_zero16;
+        l_dz1 = e1_word$q[(32'h3e)+:(38)];
+        l_m1 = k_zero16;
         if (~l_d[32'hd]) begin
-            e2_m$d = {{2{1'b0}}, l_d};
+            l_m1 = {{2{1'b0}}, l_d};
         end
         if (e1_op$q != k_span) begin
-            e2_m$d = k_zero16;
-            e2_dz$d = k_zero38;
+            l_m1 = k_zero16;
+            l_dz1 = k_zero38;
             e2_zl$d = {{12{1'b0}}, e1_bg$q};
         end
+        e2_m$d = l_m1;
+        e2_dz$d = l_dz1;
         l_span = e1_op$q == k_span;
         l_il3 = e1_word$q[(32'h64)+:(60)];
         l_di3 = e1_word$q[(32'ha0)+:(63)];
@@ -1067,7 +1103,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         chans$0$il = l_il3[(32'h14 * 0)+:(20)];
         chans$0$di = l_di3[(32'h15 * 0)+:(21)];
         chans$0$span = l_span;
-        chans$0$m2 = e2_m$q;
+        chans$0$m1 = l_m1;
         chans$0$m3 = e3_m$q;
         l_ch_i = chans$0$i;
         l_ch_di = chans$0$o_di;
@@ -1077,7 +1113,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         chans$1$il = l_il3[(32'h14 * 1)+:(20)];
         chans$1$di = l_di3[(32'h15 * 1)+:(21)];
         chans$1$span = l_span;
-        chans$1$m2 = e2_m$q;
+        chans$1$m1 = l_m1;
         chans$1$m3 = e3_m$q;
         l_ch_i = chans$1$i;
         l_ch_di = chans$1$o_di;
@@ -1087,7 +1123,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         chans$2$il = l_il3[(32'h14 * 2)+:(20)];
         chans$2$di = l_di3[(32'h15 * 2)+:(21)];
         chans$2$span = l_span;
-        chans$2$m2 = e2_m$q;
+        chans$2$m1 = l_m1;
         chans$2$m3 = e3_m$q;
         l_ch_i = chans$2$i;
         l_ch_di = chans$2$o_di;
@@ -1097,19 +1133,24 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         e3_m$d = e2_m$q;
         e3_zl$d = e2_zl$q;
         e3_dz$d = e2_dz$q;
-        l_dz = e2_dz$q;
-        l_dzmid = l_dz[(32'h10)+:(16)];
-        l_dzhi = {{10{1'b0}}, l_dz[(32'h20)+:(6)]};
-        e3_pz0$d = e2_m$q * l_dz[(32'h0)+:(16)];
-        e3_pz1$d = e2_m$q * l_dzmid;
-        e3_pz2$d = e2_m$q * l_dzhi;
+        l_dzmid = l_dz1[(32'h10)+:(16)];
+        l_dzhi = {{10{1'b0}}, l_dz1[(32'h20)+:(6)]};
+        mz$0$clock = clock;
+        mz$0$a = l_m1;
+        mz$1$clock = clock;
+        mz$1$a = l_m1;
+        mz$2$clock = clock;
+        mz$2$a = l_m1;
+        mz$0$b = l_dz1[(32'h0)+:(16)];
+        mz$1$b = l_dzmid;
+        mz$2$b = l_dzhi;
         e4_head$d = e3_head$q;
         e4_dz$d = e3_dz$q;
         l_m44 = {{28{1'b0}}, e3_m$q};
-        e4_za$d = {{8{1'b0}}, e3_zl$q} + {{12{1'b0}}, e3_pz0$q};
-        e4_zb$d = ({{12{1'b0}}, e3_pz1$q} << 32'h10) + ({{12{1'b0}}, e3_pz2$q} << 32'h20);
+        e4_za$d = {{8{1'b0}}, e3_zl$q} + {{12{1'b0}}, mz$0$p};
+        e4_zb$d = ({{12{1'b0}}, mz$1$p} << 32'h10) + ({{12{1'b0}}, mz$2$p} << 32'h20);
         if (e3_dz$q[32'h25]) begin
-            e4_zb$d = (({{12{1'b0}}, e3_pz1$q} << 32'h10) + ({{12{1'b0}}, e3_pz2$q} << 32'h20)) - (l_m44 << 32'h26);
+            e4_zb$d = (({{12{1'b0}}, mz$1$p} << 32'h10) + ({{12{1'b0}}, mz$2$p} << 32'h20)) - (l_m44 << 32'h26);
         end
         procs$0$clock = clock;
         procs$1$clock = clock;
@@ -1120,41 +1161,49 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         procs$6$clock = clock;
         procs$7$clock = clock;
         procs$0$t_head = e4_head$q;
+        procs$0$t_le = (e4_head$q[(32'h0)+:(3)] == k_span) & (e4_head$q[(32'h3)+:(2)] == k_attr_op) & e4_head$q[(32'h5)+:(1)];
         procs$0$t_z = e4_za$q + e4_zb$q;
         procs$0$t_dz = e4_dz$q;
         procs$0$t_i = l_ti;
         procs$0$t_di = l_tdi;
         procs$1$t_head = procs$0$o_head;
+        procs$1$t_le = procs$0$o_le;
         procs$1$t_z = procs$0$o_z;
         procs$1$t_dz = procs$0$o_dz;
         procs$1$t_i = procs$0$o_i;
         procs$1$t_di = procs$0$o_di;
         procs$2$t_head = procs$1$o_head;
+        procs$2$t_le = procs$1$o_le;
         procs$2$t_z = procs$1$o_z;
         procs$2$t_dz = procs$1$o_dz;
         procs$2$t_i = procs$1$o_i;
         procs$2$t_di = procs$1$o_di;
         procs$3$t_head = procs$2$o_head;
+        procs$3$t_le = procs$2$o_le;
         procs$3$t_z = procs$2$o_z;
         procs$3$t_dz = procs$2$o_dz;
         procs$3$t_i = procs$2$o_i;
         procs$3$t_di = procs$2$o_di;
         procs$4$t_head = procs$3$o_head;
+        procs$4$t_le = procs$3$o_le;
         procs$4$t_z = procs$3$o_z;
         procs$4$t_dz = procs$3$o_dz;
         procs$4$t_i = procs$3$o_i;
         procs$4$t_di = procs$3$o_di;
         procs$5$t_head = procs$4$o_head;
+        procs$5$t_le = procs$4$o_le;
         procs$5$t_z = procs$4$o_z;
         procs$5$t_dz = procs$4$o_dz;
         procs$5$t_i = procs$4$o_i;
         procs$5$t_di = procs$4$o_di;
         procs$6$t_head = procs$5$o_head;
+        procs$6$t_le = procs$5$o_le;
         procs$6$t_z = procs$5$o_z;
         procs$6$t_dz = procs$5$o_dz;
         procs$6$t_i = procs$5$o_i;
         procs$6$t_di = procs$5$o_di;
         procs$7$t_head = procs$6$o_head;
+        procs$7$t_le = procs$6$o_le;
         procs$7$t_z = procs$6$o_z;
         procs$7$t_dz = procs$6$o_dz;
         procs$7$t_i = procs$6$o_i;
@@ -1194,14 +1243,14 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
 endmodule // pixelproc_top$array
 
 
-module pixelproc_top$array$chans(clock,il,di,span,m2,m3,i,o_di);
+module pixelproc_top$array$chans(clock,il,di,span,m1,m3,i,o_di);
     
     // Module arguments
     input wire  clock;
     input wire  [19:0] il;
     input wire  [20:0] di;
     input wire  span;
-    input wire  [15:0] m2;
+    input wire  [15:0] m1;
     input wire  [15:0] m3;
     output reg  [33:0] i;
     output reg  [20:0] o_di;
@@ -1222,12 +1271,14 @@ module pixelproc_top$array$chans(clock,il,di,span,m2,m3,i,o_di);
     reg  [20:0] e3_di$d;
     wire  [20:0] e3_di$q;
     reg  e3_di$clock;
-    reg  [31:0] e3_p0$d;
-    wire  [31:0] e3_p0$q;
-    reg  e3_p0$clock;
-    reg  [31:0] e3_p1$d;
-    wire  [31:0] e3_p1$q;
-    reg  e3_p1$clock;
+    reg  mp$0$clock;
+    reg  [15:0] mp$0$a;
+    reg  [15:0] mp$0$b;
+    wire  [31:0] mp$0$p;
+    reg  mp$1$clock;
+    reg  [15:0] mp$1$a;
+    reg  [15:0] mp$1$b;
+    wire  [31:0] mp$1$p;
     reg  [20:0] e4_di$d;
     wire  [20:0] e4_di$q;
     reg  e4_di$clock;
@@ -1239,6 +1290,7 @@ module pixelproc_top$array$chans(clock,il,di,span,m2,m3,i,o_di);
     reg  e4_b$clock;
     
     // Local signals
+    reg  [20:0] l_di1;
     reg  [15:0] l_dihi;
     reg  [33:0] l_m34;
     
@@ -1263,15 +1315,17 @@ module pixelproc_top$array$chans(clock,il,di,span,m2,m3,i,o_di);
         .q(e3_di$q),
         .clock(e3_di$clock)
     );
-    pixelproc_top$array$chans$e3_p0 e3_p0(
-        .d(e3_p0$d),
-        .q(e3_p0$q),
-        .clock(e3_p0$clock)
+    pixelproc_top$array$chans$mp mp$0(
+        .clock(mp$0$clock),
+        .a(mp$0$a),
+        .b(mp$0$b),
+        .p(mp$0$p)
     );
-    pixelproc_top$array$chans$e3_p0 e3_p1(
-        .d(e3_p1$d),
-        .q(e3_p1$q),
-        .clock(e3_p1$clock)
+    pixelproc_top$array$chans$mp mp$1(
+        .clock(mp$1$clock),
+        .a(mp$1$a),
+        .b(mp$1$b),
+        .p(mp$1$p)
     );
     pixelproc_top$array$chans$e2_di e4_di(
         .d(e4_di$d),
@@ -1295,8 +1349,6 @@ module pixelproc_top$array$chans(clock,il,di,span,m2,m3,i,o_di);
         e2_di$clock = clock;
         e3_il$clock = clock;
         e3_di$clock = clock;
-        e3_p0$clock = clock;
-        e3_p1$clock = clock;
         e4_di$clock = clock;
         e4_a$clock = clock;
         e4_b$clock = clock;
@@ -1304,27 +1356,30 @@ module pixelproc_top$array$chans(clock,il,di,span,m2,m3,i,o_di);
         e2_di$d = e2_di$q;
         e3_il$d = e3_il$q;
         e3_di$d = e3_di$q;
-        e3_p0$d = e3_p0$q;
-        e3_p1$d = e3_p1$q;
         e4_di$d = e4_di$q;
         e4_a$d = e4_a$q;
         e4_b$d = e4_b$q;
         e2_il$d = il;
-        e2_di$d = k_zero;
+        l_di1 = k_zero;
         if (span) begin
-            e2_di$d = di;
+            l_di1 = di;
         end
+        e2_di$d = l_di1;
         e3_il$d = e2_il$q;
         e3_di$d = e2_di$q;
-        l_dihi = {{11{1'b0}}, e2_di$q[(32'h10)+:(5)]};
-        e3_p0$d = m2 * e2_di$q[(32'h0)+:(16)];
-        e3_p1$d = m2 * l_dihi;
+        l_dihi = {{11{1'b0}}, l_di1[(32'h10)+:(5)]};
+        mp$0$clock = clock;
+        mp$0$a = m1;
+        mp$1$clock = clock;
+        mp$1$a = m1;
+        mp$0$b = l_di1[(32'h0)+:(16)];
+        mp$1$b = l_dihi;
         e4_di$d = e3_di$q;
         l_m34 = {{18{1'b0}}, m3};
-        e4_a$d = {{14{1'b0}}, e3_il$q} + {{2{1'b0}}, e3_p0$q};
-        e4_b$d = {{2{1'b0}}, e3_p1$q} << 32'h10;
+        e4_a$d = {{14{1'b0}}, e3_il$q} + {{2{1'b0}}, mp$0$p};
+        e4_b$d = {{2{1'b0}}, mp$1$p} << 32'h10;
         if (e3_di$q[32'h14]) begin
-            e4_b$d = ({{2{1'b0}}, e3_p1$q} << 32'h10) - (l_m34 << 32'h15);
+            e4_b$d = ({{2{1'b0}}, mp$1$p} << 32'h10) - (l_m34 << 32'h15);
         end
         i = e4_a$q + e4_b$q;
         o_di = e4_di$q;
@@ -1371,25 +1426,6 @@ module pixelproc_top$array$chans$e2_il(d,q,clock);
 endmodule // pixelproc_top$array$chans$e2_il
 
 
-module pixelproc_top$array$chans$e3_p0(d,q,clock);
-    
-    // Module arguments
-    input wire  [31:0] d;
-    output reg  [31:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 32'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // pixelproc_top$array$chans$e3_p0
-
-
 module pixelproc_top$array$chans$e4_a(d,q,clock);
     
     // Module arguments
@@ -1407,6 +1443,20 @@ module pixelproc_top$array$chans$e4_a(d,q,clock);
     end
           
 endmodule // pixelproc_top$array$chans$e4_a
+
+
+module pixelproc_top$array$chans$mp(clock,a,b,p);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [15:0] a;
+    input wire  [15:0] b;
+    output wire  [31:0] p;
+    
+    // Update code (wrapper)
+    pixelproc_mul_reg mul(.clock(clock), .a(a), .b(b), .p(p));
+endmodule // pixelproc_top$array$chans$mp
+
 
 
 module pixelproc_top$array$e1_base(d,q,clock);
@@ -1580,7 +1630,7 @@ module pixelproc_top$array$e4_za(d,q,clock);
 endmodule // pixelproc_top$array$e4_za
 
 
-module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_head,o_z,o_dz,o_i,o_di);
+module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,o_head,o_z,o_dz,o_i,o_di,o_le);
     
     // Module arguments
     input wire  clock;
@@ -1589,6 +1639,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
     input wire  [37:0] t_dz;
     input wire  [101:0] t_i;
     input wire  [62:0] t_di;
+    input wire  t_le;
     input wire  rd_sel;
     output reg  [98:0] rdo;
     output reg  [45:0] o_head;
@@ -1596,6 +1647,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
     output reg  [37:0] o_dz;
     output reg  [101:0] o_i;
     output reg  [62:0] o_di;
+    output reg  o_le;
     
     // Constant declarations
     localparam  k_shade = 1'b1;
@@ -1613,6 +1665,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
     localparam  k_zero_i3 = 102'h0;
     localparam  k_one14 = 14'b1;
     localparam  k_sext_z = 44'hfc000000000;
+    localparam  k_one25 = 25'h1;
     
     // Stub signals
     reg  parity$0$clock;
@@ -1641,6 +1694,9 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
     reg  [62:0] tok_di$d;
     wire  [62:0] tok_di$q;
     reg  tok_di$clock;
+    reg  tok_le$d;
+    wire  tok_le$q;
+    reg  tok_le$clock;
     reg  [33:0] lanes$0$i;
     reg  [20:0] lanes$0$di;
     reg  lanes$0$step;
@@ -1665,12 +1721,27 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
     reg  b_covered$d;
     wire  b_covered$q;
     reg  b_covered$clock;
-    reg  b_zlt$d;
-    wire  b_zlt$q;
-    reg  b_zlt$clock;
-    reg  b_write$d;
-    wire  b_write$q;
-    reg  b_write$clock;
+    reg  b_p_held$d;
+    wire  b_p_held$q;
+    reg  b_p_held$clock;
+    reg  b_p_new$d;
+    wire  b_p_new$q;
+    reg  b_p_new$clock;
+    reg  b_p_far$d;
+    wire  b_p_far$q;
+    reg  b_p_far$clock;
+    reg  b_sel_new$d;
+    wire  b_sel_new$q;
+    reg  b_sel_new$clock;
+    reg  b_sel_far$d;
+    wire  b_sel_far$q;
+    reg  b_sel_far$clock;
+    reg  b_gate$d;
+    wire  b_gate$q;
+    reg  b_gate$clock;
+    reg  b_hi_ok$d;
+    wire  b_hi_ok$q;
+    reg  b_hi_ok$clock;
     reg  [23:0] b_z$d;
     wire  [23:0] b_z$q;
     reg  b_z$clock;
@@ -1718,15 +1789,13 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
     reg  covered;
     reg  [23:0] zv;
     reg  z_hi_ok;
-    reg  z_lt;
-    reg  z_pass;
     reg  [23:0] zb_next;
-    reg  lt_held;
-    reg  le_held;
-    reg  lt_new;
-    reg  le_new;
-    reg  lt_far;
-    reg  sel_far;
+    reg  le_mode;
+    reg  [24:0] zv2;
+    reg  [24:0] zb2_held;
+    reg  [24:0] zb2_new;
+    reg  pass_b;
+    reg  write_b;
     reg  [101:0] l_i;
     reg  [23:0] l_rgb;
     reg  [33:0] l_lane_i;
@@ -1775,6 +1844,11 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         .q(tok_di$q),
         .clock(tok_di$clock)
     );
+    pixelproc_top$array$procs$b_covered tok_le(
+        .d(tok_le$d),
+        .q(tok_le$q),
+        .clock(tok_le$clock)
+    );
     pixelproc_top$array$procs$lanes lanes$0(
         .i(lanes$0$i),
         .di(lanes$0$di),
@@ -1811,15 +1885,40 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         .q(b_covered$q),
         .clock(b_covered$clock)
     );
-    pixelproc_top$array$procs$b_covered b_zlt(
-        .d(b_zlt$d),
-        .q(b_zlt$q),
-        .clock(b_zlt$clock)
+    pixelproc_top$array$procs$b_covered b_p_held(
+        .d(b_p_held$d),
+        .q(b_p_held$q),
+        .clock(b_p_held$clock)
     );
-    pixelproc_top$array$procs$b_covered b_write(
-        .d(b_write$d),
-        .q(b_write$q),
-        .clock(b_write$clock)
+    pixelproc_top$array$procs$b_covered b_p_new(
+        .d(b_p_new$d),
+        .q(b_p_new$q),
+        .clock(b_p_new$clock)
+    );
+    pixelproc_top$array$procs$b_covered b_p_far(
+        .d(b_p_far$d),
+        .q(b_p_far$q),
+        .clock(b_p_far$clock)
+    );
+    pixelproc_top$array$procs$b_covered b_sel_new(
+        .d(b_sel_new$d),
+        .q(b_sel_new$q),
+        .clock(b_sel_new$clock)
+    );
+    pixelproc_top$array$procs$b_covered b_sel_far(
+        .d(b_sel_far$d),
+        .q(b_sel_far$q),
+        .clock(b_sel_far$clock)
+    );
+    pixelproc_top$array$procs$b_covered b_gate(
+        .d(b_gate$d),
+        .q(b_gate$q),
+        .clock(b_gate$clock)
+    );
+    pixelproc_top$array$procs$b_covered b_hi_ok(
+        .d(b_hi_ok$d),
+        .q(b_hi_ok$q),
+        .clock(b_hi_ok$clock)
     );
     pixelproc_top$array$e1_bg b_z(
         .d(b_z$d),
@@ -1889,11 +1988,17 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         tok_dz$clock = clock;
         tok_i$clock = clock;
         tok_di$clock = clock;
+        tok_le$clock = clock;
         b_op$clock = clock;
         b_attr$clock = clock;
         b_covered$clock = clock;
-        b_zlt$clock = clock;
-        b_write$clock = clock;
+        b_p_held$clock = clock;
+        b_p_new$clock = clock;
+        b_p_far$clock = clock;
+        b_sel_new$clock = clock;
+        b_sel_far$clock = clock;
+        b_gate$clock = clock;
+        b_hi_ok$clock = clock;
         b_z$clock = clock;
         b_rgb$clock = clock;
         b_nclass$clock = clock;
@@ -1911,11 +2016,17 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         tok_dz$d = tok_dz$q;
         tok_i$d = tok_i$q;
         tok_di$d = tok_di$q;
+        tok_le$d = tok_le$q;
         b_op$d = b_op$q;
         b_attr$d = b_attr$q;
         b_covered$d = b_covered$q;
-        b_zlt$d = b_zlt$q;
-        b_write$d = b_write$q;
+        b_p_held$d = b_p_held$q;
+        b_p_new$d = b_p_new$q;
+        b_p_far$d = b_p_far$q;
+        b_sel_new$d = b_sel_new$q;
+        b_sel_far$d = b_sel_far$q;
+        b_gate$d = b_gate$q;
+        b_hi_ok$d = b_hi_ok$q;
         b_z$d = b_z$q;
         b_rgb$d = b_rgb$q;
         b_nclass$d = b_nclass$q;
@@ -1935,6 +2046,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         tok_dz$d = t_dz;
         tok_i$d = t_i;
         tok_di$d = t_di;
+        tok_le$d = t_le;
         dz_x = {{6{1'b0}}, tok_dz$q};
         if (tok_dz$q[32'h25]) begin
             dz_x = dz_x | k_sext_z;
@@ -1970,18 +2082,27 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         o_head[(32'h1c)+:(14)] = l_rel_r - k_one14;
         o_dz = tok_dz$q;
         o_di = tok_di$q;
+        o_le = tok_le$q;
         o_z = tok_z$q;
         if (right_of_xl) begin
             o_z = tok_z$q + dz_x;
         end
+        pass_b = b_p_held$q;
+        if (b_sel_new$q) begin
+            pass_b = b_p_new$q;
+        end
+        if (b_sel_far$q) begin
+            pass_b = b_p_far$q;
+        end
+        write_b = b_gate$q & pass_b;
         if (b_won_upd$q & k_shade) begin
-            won_r$d = b_write$q;
+            won_r$d = write_b;
         end
         if (b_sh_write$q & won_r$q & k_shade) begin
             sh_r$d = b_rgb$q;
         end
         zb_next = zb_r$q;
-        if (b_write$q) begin
+        if (write_b) begin
             zb_next = b_z$q;
             rgb_r$d = b_rgb$q;
             nclass_r$d = b_nclass$q;
@@ -1995,7 +2116,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         parity$0$op = b_op$q;
         parity$0$attr = b_attr$q;
         parity$0$covered = b_covered$q;
-        parity$0$z_lt = b_zlt$q;
+        parity$0$z_lt = pass_b & b_hi_ok$q;
         parity$0$light = b_rgb$q[(32'h0)+:(3)];
         dsf_now = parity$0$dsf;
         fsf_now = parity$0$fsf;
@@ -2030,31 +2151,24 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,rd_sel,rdo,o_hea
         zb_r$d = zb_next;
         zv = tok_z$q[(32'hc)+:(24)];
         z_hi_ok = tok_z$q[(32'h24)+:(8)] == k_zero8;
-        lt_held = zv < zb_r$q;
-        le_held = zv <= zb_r$q;
-        lt_new = zv < b_z$q;
-        le_new = zv <= b_z$q;
-        lt_far = zv < k_zfar;
-        sel_far = (b_op$q == k_clear_line) | (b_op$q == k_reset);
-        z_lt = lt_held;
-        z_pass = le_held;
-        if (b_write$q) begin
-            z_lt = lt_new;
-            z_pass = le_new;
+        is_op_span = (tok_head$q[(32'h0)+:(3)] == k_span) & (tok_head$q[(32'h3)+:(2)] == k_attr_op);
+        le_mode = tok_le$q;
+        zv2 = {{1{1'b0}}, zv} << 32'h1;
+        if (~le_mode) begin
+            zv2 = zv2 | k_one25;
         end
-        if (sel_far) begin
-            z_lt = lt_far;
-            z_pass = 1'b1;
-        end
-        if (~tok_head$q[(32'h5)+:(1)]) begin
-            z_pass = z_lt;
-        end
+        zb2_held = ({{1{1'b0}}, zb_r$q} << 32'h1) | k_one25;
+        zb2_new = ({{1{1'b0}}, b_z$q} << 32'h1) | k_one25;
+        b_p_held$d = zv2 < zb2_held;
+        b_p_new$d = zv2 < zb2_new;
+        b_p_far$d = le_mode | (zv != k_zfar);
+        b_sel_new$d = write_b;
+        b_sel_far$d = (b_op$q == k_clear_line) | (b_op$q == k_reset);
+        b_hi_ok$d = z_hi_ok;
         b_op$d = tok_head$q[(32'h0)+:(3)];
         b_attr$d = tok_head$q[(32'h3)+:(2)];
         b_covered$d = covered;
-        b_zlt$d = z_lt & z_hi_ok;
-        is_op_span = (tok_head$q[(32'h0)+:(3)] == k_span) & (tok_head$q[(32'h3)+:(2)] == k_attr_op);
-        b_write$d = is_op_span & (tok_head$q[(32'h2a)+:(4)] == k_chan0) & covered & z_pass & z_hi_ok;
+        b_gate$d = is_op_span & (tok_head$q[(32'h2a)+:(4)] == k_chan0) & covered & z_hi_ok;
         b_won_upd$d = is_op_span & (tok_head$q[(32'h2a)+:(4)] == k_chan0) & covered;
         b_sh_write$d = is_op_span & (tok_head$q[(32'h2a)+:(4)] == k_chan1) & covered;
         b_z$d = zv;
@@ -3033,6 +3147,7 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     localparam  k_zero16 = 16'h0;
     localparam  k_zero8 = 8'h0;
     localparam  k_zero54 = 54'h0;
+    localparam  k_zero27 = 27'h0;
     
     // Stub signals
     reg  banks$0$clock;
@@ -3383,15 +3498,27 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  [1:0] s3_meta$d;
     wire  [1:0] s3_meta$q;
     reg  s3_meta$clock;
-    reg  [15:0] s3_f$d;
-    wire  [15:0] s3_f$q;
-    reg  s3_f$clock;
-    reg  [15:0] s3_g$d;
-    wire  [15:0] s3_g$q;
-    reg  s3_g$clock;
     reg  [23:0] s3_d$d;
     wire  [23:0] s3_d$q;
     reg  s3_d$clock;
+    reg  [17:0] s3_e$0$d;
+    wire  [17:0] s3_e$0$q;
+    reg  s3_e$0$clock;
+    reg  [17:0] s3_e$1$d;
+    wire  [17:0] s3_e$1$q;
+    reg  s3_e$1$clock;
+    reg  [17:0] s3_e$2$d;
+    wire  [17:0] s3_e$2$q;
+    reg  s3_e$2$clock;
+    reg  [17:0] s3_e$3$d;
+    wire  [17:0] s3_e$3$q;
+    reg  s3_e$3$clock;
+    reg  [1:0] s3_grp$d;
+    wire  [1:0] s3_grp$q;
+    reg  s3_grp$clock;
+    reg  s3_over$d;
+    wire  s3_over$q;
+    reg  s3_over$clock;
     reg  s4_v$d;
     wire  s4_v$q;
     reg  s4_v$clock;
@@ -3401,12 +3528,30 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  [1:0] s4_meta$d;
     wire  [1:0] s4_meta$q;
     reg  s4_meta$clock;
-    reg  [53:0] s4_pf$d;
-    wire  [53:0] s4_pf$q;
-    reg  s4_pf$clock;
-    reg  [53:0] s4_pd$d;
-    wire  [53:0] s4_pd$q;
-    reg  s4_pd$clock;
+    reg  mf$0$clock;
+    reg  [15:0] mf$0$a;
+    reg  [15:0] mf$0$b;
+    wire  [31:0] mf$0$p;
+    reg  mf$1$clock;
+    reg  [15:0] mf$1$a;
+    reg  [15:0] mf$1$b;
+    wire  [31:0] mf$1$p;
+    reg  mf$2$clock;
+    reg  [15:0] mf$2$a;
+    reg  [15:0] mf$2$b;
+    wire  [31:0] mf$2$p;
+    reg  md$0$clock;
+    reg  [15:0] md$0$a;
+    reg  [15:0] md$0$b;
+    wire  [31:0] md$0$p;
+    reg  md$1$clock;
+    reg  [15:0] md$1$a;
+    reg  [15:0] md$1$b;
+    wire  [31:0] md$1$p;
+    reg  md$2$clock;
+    reg  [15:0] md$2$a;
+    reg  [15:0] md$2$b;
+    wire  [31:0] md$2$p;
     reg  s5_v$d;
     wire  s5_v$q;
     reg  s5_v$clock;
@@ -3416,8 +3561,35 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  [1:0] s5_meta$d;
     wire  [1:0] s5_meta$q;
     reg  s5_meta$clock;
+    reg  s6_v$d;
+    wire  s6_v$q;
+    reg  s6_v$clock;
+    reg  [98:0] s6_word$d;
+    wire  [98:0] s6_word$q;
+    reg  s6_word$clock;
+    reg  [1:0] s6_meta$d;
+    wire  [1:0] s6_meta$q;
+    reg  s6_meta$clock;
+    reg  [26:0] s6_lit$d;
+    wire  [26:0] s6_lit$q;
+    reg  s6_lit$clock;
+    reg  [26:0] s6_drop$d;
+    wire  [26:0] s6_drop$q;
+    reg  s6_drop$clock;
+    reg  s7_v$d;
+    wire  s7_v$q;
+    reg  s7_v$clock;
+    reg  [98:0] s7_word$d;
+    wire  [98:0] s7_word$q;
+    reg  s7_word$clock;
+    reg  [1:0] s7_meta$d;
+    wire  [1:0] s7_meta$q;
+    reg  s7_meta$clock;
     
     // Local signals
+    reg  [26:0] l_lits;
+    reg  [26:0] l_drops;
+    reg  [17:0] l_eg;
     reg  [53:0] l_pf;
     reg  [53:0] l_pd;
     reg  [31:0] l_p;
@@ -3876,22 +4048,22 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(tw_a$3$q),
         .clock(tw_a$3$clock)
     );
-    pixelproc_top$shade$tw_d tw_d$0(
+    pixelproc_top$shade$s3_e tw_d$0(
         .d(tw_d$0$d),
         .q(tw_d$0$q),
         .clock(tw_d$0$clock)
     );
-    pixelproc_top$shade$tw_d tw_d$1(
+    pixelproc_top$shade$s3_e tw_d$1(
         .d(tw_d$1$d),
         .q(tw_d$1$q),
         .clock(tw_d$1$clock)
     );
-    pixelproc_top$shade$tw_d tw_d$2(
+    pixelproc_top$shade$s3_e tw_d$2(
         .d(tw_d$2$d),
         .q(tw_d$2$q),
         .clock(tw_d$2$clock)
     );
-    pixelproc_top$shade$tw_d tw_d$3(
+    pixelproc_top$shade$s3_e tw_d$3(
         .d(tw_d$3$d),
         .q(tw_d$3$q),
         .clock(tw_d$3$clock)
@@ -3956,20 +4128,40 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(s3_meta$q),
         .clock(s3_meta$clock)
     );
-    pixelproc_top$array$e2_m s3_f(
-        .d(s3_f$d),
-        .q(s3_f$q),
-        .clock(s3_f$clock)
-    );
-    pixelproc_top$array$e2_m s3_g(
-        .d(s3_g$d),
-        .q(s3_g$q),
-        .clock(s3_g$clock)
-    );
     pixelproc_top$array$e1_bg s3_d(
         .d(s3_d$d),
         .q(s3_d$q),
         .clock(s3_d$clock)
+    );
+    pixelproc_top$shade$s3_e s3_e$0(
+        .d(s3_e$0$d),
+        .q(s3_e$0$q),
+        .clock(s3_e$0$clock)
+    );
+    pixelproc_top$shade$s3_e s3_e$1(
+        .d(s3_e$1$d),
+        .q(s3_e$1$q),
+        .clock(s3_e$1$clock)
+    );
+    pixelproc_top$shade$s3_e s3_e$2(
+        .d(s3_e$2$d),
+        .q(s3_e$2$q),
+        .clock(s3_e$2$clock)
+    );
+    pixelproc_top$shade$s3_e s3_e$3(
+        .d(s3_e$3$d),
+        .q(s3_e$3$q),
+        .clock(s3_e$3$clock)
+    );
+    pixelproc_top$array$procs$b_attr s3_grp(
+        .d(s3_grp$d),
+        .q(s3_grp$q),
+        .clock(s3_grp$clock)
+    );
+    pixelproc_top$array$procs$b_covered s3_over(
+        .d(s3_over$d),
+        .q(s3_over$q),
+        .clock(s3_over$clock)
     );
     pixelproc_top$array$procs$b_covered s4_v(
         .d(s4_v$d),
@@ -3986,15 +4178,41 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(s4_meta$q),
         .clock(s4_meta$clock)
     );
-    pixelproc_top$shade$s4_pd s4_pf(
-        .d(s4_pf$d),
-        .q(s4_pf$q),
-        .clock(s4_pf$clock)
+    pixelproc_top$array$chans$mp mf$0(
+        .clock(mf$0$clock),
+        .a(mf$0$a),
+        .b(mf$0$b),
+        .p(mf$0$p)
     );
-    pixelproc_top$shade$s4_pd s4_pd(
-        .d(s4_pd$d),
-        .q(s4_pd$q),
-        .clock(s4_pd$clock)
+    pixelproc_top$array$chans$mp mf$1(
+        .clock(mf$1$clock),
+        .a(mf$1$a),
+        .b(mf$1$b),
+        .p(mf$1$p)
+    );
+    pixelproc_top$array$chans$mp mf$2(
+        .clock(mf$2$clock),
+        .a(mf$2$a),
+        .b(mf$2$b),
+        .p(mf$2$p)
+    );
+    pixelproc_top$array$chans$mp md$0(
+        .clock(md$0$clock),
+        .a(md$0$a),
+        .b(md$0$b),
+        .p(md$0$p)
+    );
+    pixelproc_top$array$chans$mp md$1(
+        .clock(md$1$clock),
+        .a(md$1$a),
+        .b(md$1$b),
+        .p(md$1$p)
+    );
+    pixelproc_top$array$chans$mp md$2(
+        .clock(md$2$clock),
+        .a(md$2$a),
+        .b(md$2$b),
+        .p(md$2$p)
     );
     pixelproc_top$array$procs$b_covered s5_v(
         .d(s5_v$d),
@@ -4011,6 +4229,46 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(s5_meta$q),
         .clock(s5_meta$clock)
     );
+    pixelproc_top$array$procs$b_covered s6_v(
+        .d(s6_v$d),
+        .q(s6_v$q),
+        .clock(s6_v$clock)
+    );
+    pixelproc_top$array$procs$cap_r s6_word(
+        .d(s6_word$d),
+        .q(s6_word$q),
+        .clock(s6_word$clock)
+    );
+    pixelproc_top$array$procs$b_attr s6_meta(
+        .d(s6_meta$d),
+        .q(s6_meta$q),
+        .clock(s6_meta$clock)
+    );
+    pixelproc_top$shade$s6_drop s6_lit(
+        .d(s6_lit$d),
+        .q(s6_lit$q),
+        .clock(s6_lit$clock)
+    );
+    pixelproc_top$shade$s6_drop s6_drop(
+        .d(s6_drop$d),
+        .q(s6_drop$q),
+        .clock(s6_drop$clock)
+    );
+    pixelproc_top$array$procs$b_covered s7_v(
+        .d(s7_v$d),
+        .q(s7_v$q),
+        .clock(s7_v$clock)
+    );
+    pixelproc_top$array$procs$cap_r s7_word(
+        .d(s7_word$d),
+        .q(s7_word$q),
+        .clock(s7_word$clock)
+    );
+    pixelproc_top$array$procs$b_attr s7_meta(
+        .d(s7_meta$d),
+        .q(s7_meta$q),
+        .clock(s7_meta$clock)
+    );
     
     // Update code
     always @(*) begin
@@ -4026,17 +4284,23 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         s3_v$clock = clock;
         s3_word$clock = clock;
         s3_meta$clock = clock;
-        s3_f$clock = clock;
-        s3_g$clock = clock;
         s3_d$clock = clock;
+        s3_grp$clock = clock;
+        s3_over$clock = clock;
         s4_v$clock = clock;
         s4_word$clock = clock;
         s4_meta$clock = clock;
-        s4_pf$clock = clock;
-        s4_pd$clock = clock;
         s5_v$clock = clock;
         s5_word$clock = clock;
         s5_meta$clock = clock;
+        s6_v$clock = clock;
+        s6_word$clock = clock;
+        s6_meta$clock = clock;
+        s6_lit$clock = clock;
+        s6_drop$clock = clock;
+        s7_v$clock = clock;
+        s7_word$clock = clock;
+        s7_meta$clock = clock;
         s1_v$d = s1_v$q;
         s1_word$d = s1_word$q;
         s1_meta$d = s1_meta$q;
@@ -4049,17 +4313,23 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         s3_v$d = s3_v$q;
         s3_word$d = s3_word$q;
         s3_meta$d = s3_meta$q;
-        s3_f$d = s3_f$q;
-        s3_g$d = s3_g$q;
         s3_d$d = s3_d$q;
+        s3_grp$d = s3_grp$q;
+        s3_over$d = s3_over$q;
         s4_v$d = s4_v$q;
         s4_word$d = s4_word$q;
         s4_meta$d = s4_meta$q;
-        s4_pf$d = s4_pf$q;
-        s4_pd$d = s4_pd$q;
         s5_v$d = s5_v$q;
         s5_word$d = s5_word$q;
         s5_meta$d = s5_meta$q;
+        s6_v$d = s6_v$q;
+        s6_word$d = s6_word$q;
+        s6_meta$d = s6_meta$q;
+        s6_lit$d = s6_lit$q;
+        s6_drop$d = s6_drop$q;
+        s7_v$d = s7_v$q;
+        s7_word$d = s7_word$q;
+        s7_meta$d = s7_meta$q;
         l_addr = k_zero_addr;
         l_addr[(32'h0)+:(4)] = in_word[(32'h0)+:(4)];
         l_addr[(32'h4)+:(3)] = in_word[(32'h3a)+:(3)];
@@ -4353,201 +4623,265 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         s2_meta$d = s1_meta$q;
         s2_hi$d = s1_hi$q;
         s2_d$d = l_dd;
-        l_e = k_zero_e;
-        if (s2_hi$q == 0) begin
-            l_e = banks$0$read_data;
+        s3_e$0$clock = clock;
+        l_eg = k_zero_e;
+        if (s2_hi$q[(32'h0)+:(3)] == 0) begin
+            l_eg = banks$0$read_data;
         end
-        if (s2_hi$q == 1) begin
-            l_e = banks$1$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 1) begin
+            l_eg = banks$1$read_data;
         end
-        if (s2_hi$q == 2) begin
-            l_e = banks$2$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 2) begin
+            l_eg = banks$2$read_data;
         end
-        if (s2_hi$q == 3) begin
-            l_e = banks$3$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 3) begin
+            l_eg = banks$3$read_data;
         end
-        if (s2_hi$q == 4) begin
-            l_e = banks$4$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 4) begin
+            l_eg = banks$4$read_data;
         end
-        if (s2_hi$q == 5) begin
-            l_e = banks$5$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 5) begin
+            l_eg = banks$5$read_data;
         end
-        if (s2_hi$q == 6) begin
-            l_e = banks$6$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 6) begin
+            l_eg = banks$6$read_data;
         end
-        if (s2_hi$q == 7) begin
-            l_e = banks$7$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 7) begin
+            l_eg = banks$7$read_data;
         end
-        if (s2_hi$q == 8) begin
-            l_e = banks$8$read_data;
+        s3_e$0$d = l_eg;
+        s3_e$1$clock = clock;
+        l_eg = k_zero_e;
+        if (s2_hi$q[(32'h0)+:(3)] == 0) begin
+            l_eg = banks$8$read_data;
         end
-        if (s2_hi$q == 9) begin
-            l_e = banks$9$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 1) begin
+            l_eg = banks$9$read_data;
         end
-        if (s2_hi$q == 10) begin
-            l_e = banks$10$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 2) begin
+            l_eg = banks$10$read_data;
         end
-        if (s2_hi$q == 11) begin
-            l_e = banks$11$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 3) begin
+            l_eg = banks$11$read_data;
         end
-        if (s2_hi$q == 12) begin
-            l_e = banks$12$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 4) begin
+            l_eg = banks$12$read_data;
         end
-        if (s2_hi$q == 13) begin
-            l_e = banks$13$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 5) begin
+            l_eg = banks$13$read_data;
         end
-        if (s2_hi$q == 14) begin
-            l_e = banks$14$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 6) begin
+            l_eg = banks$14$read_data;
         end
-        if (s2_hi$q == 15) begin
-            l_e = banks$15$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 7) begin
+            l_eg = banks$15$read_data;
         end
-        if (s2_hi$q == 16) begin
-            l_e = banks$16$read_data;
+        s3_e$1$d = l_eg;
+        s3_e$2$clock = clock;
+        l_eg = k_zero_e;
+        if (s2_hi$q[(32'h0)+:(3)] == 0) begin
+            l_eg = banks$16$read_data;
         end
-        if (s2_hi$q == 17) begin
-            l_e = banks$17$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 1) begin
+            l_eg = banks$17$read_data;
         end
-        if (s2_hi$q == 18) begin
-            l_e = banks$18$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 2) begin
+            l_eg = banks$18$read_data;
         end
-        if (s2_hi$q == 19) begin
-            l_e = banks$19$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 3) begin
+            l_eg = banks$19$read_data;
         end
-        if (s2_hi$q == 20) begin
-            l_e = banks$20$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 4) begin
+            l_eg = banks$20$read_data;
         end
-        if (s2_hi$q == 21) begin
-            l_e = banks$21$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 5) begin
+            l_eg = banks$21$read_data;
         end
-        if (s2_hi$q == 22) begin
-            l_e = banks$22$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 6) begin
+            l_eg = banks$22$read_data;
         end
-        if (s2_hi$q == 23) begin
-            l_e = banks$23$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 7) begin
+            l_eg = banks$23$read_data;
         end
-        if (s2_hi$q == 24) begin
-            l_e = banks$24$read_data;
+        s3_e$2$d = l_eg;
+        s3_e$3$clock = clock;
+        l_eg = k_zero_e;
+        if (s2_hi$q[(32'h0)+:(3)] == 0) begin
+            l_eg = banks$24$read_data;
         end
-        if (s2_hi$q == 25) begin
-            l_e = banks$25$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 1) begin
+            l_eg = banks$25$read_data;
         end
-        if (s2_hi$q == 26) begin
-            l_e = banks$26$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 2) begin
+            l_eg = banks$26$read_data;
         end
-        if (s2_hi$q == 27) begin
-            l_e = banks$27$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 3) begin
+            l_eg = banks$27$read_data;
         end
-        if (s2_hi$q == 28) begin
-            l_e = banks$28$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 4) begin
+            l_eg = banks$28$read_data;
         end
-        if (s2_hi$q == 29) begin
-            l_e = banks$29$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 5) begin
+            l_eg = banks$29$read_data;
         end
-        if (s2_hi$q == 30) begin
-            l_e = banks$30$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 6) begin
+            l_eg = banks$30$read_data;
         end
-        if (s2_hi$q == 31) begin
-            l_e = banks$31$read_data;
+        if (s2_hi$q[(32'h0)+:(3)] == 7) begin
+            l_eg = banks$31$read_data;
         end
-        l_f = {{7{1'b0}}, l_e[(32'h0)+:(9)]};
-        l_g = {{7{1'b0}}, l_e[(32'h9)+:(9)]};
-        if (~k_on | (s2_word$q[(32'h22)+:(24)] == k_far)) begin
-            l_f = k_one;
-            l_g = k_zero16;
-        end
+        s3_e$3$d = l_eg;
+        s3_grp$d = s2_hi$q[(32'h3)+:(2)];
+        s3_over$d = ~k_on | (s2_word$q[(32'h22)+:(24)] == k_far);
         s3_v$d = s2_v$q;
         s3_word$d = s2_word$q;
         s3_meta$d = s2_meta$q;
-        s3_f$d = l_f;
-        s3_g$d = l_g;
         s3_d$d = s2_d$q;
+        l_e = k_zero_e;
+        if (s3_grp$q == 0) begin
+            l_e = s3_e$0$q;
+        end
+        if (s3_grp$q == 1) begin
+            l_e = s3_e$1$q;
+        end
+        if (s3_grp$q == 2) begin
+            l_e = s3_e$2$q;
+        end
+        if (s3_grp$q == 3) begin
+            l_e = s3_e$3$q;
+        end
+        l_f = {{7{1'b0}}, l_e[(32'h0)+:(9)]};
+        l_g = {{7{1'b0}}, l_e[(32'h9)+:(9)]};
+        if (s3_over$q) begin
+            l_f = k_one;
+            l_g = k_zero16;
+        end
         l_rgb3 = s3_word$q[(32'ha)+:(24)];
         l_pf = k_zero54;
         l_pd = k_zero54;
+        mf$0$clock = clock;
+        md$0$clock = clock;
         l_ch = l_rgb3[(32'h8 * 0)+:(8)];
-        l_p = {{8{1'b0}}, l_ch} * s3_f$q;
-        l_pf = (l_pf >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
+        mf$0$a = {{8{1'b0}}, l_ch};
+        mf$0$b = l_f;
         l_sc = s3_d$q[(32'h8 * 0)+:(8)];
-        l_p = {{8{1'b0}}, l_sc} * s3_g$q;
+        md$0$a = {{8{1'b0}}, l_sc};
+        md$0$b = l_g;
+        l_p = mf$0$p;
+        l_pf = (l_pf >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
+        l_p = md$0$p;
         l_pd = (l_pd >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
+        mf$1$clock = clock;
+        md$1$clock = clock;
         l_ch = l_rgb3[(32'h8 * 1)+:(8)];
-        l_p = {{8{1'b0}}, l_ch} * s3_f$q;
-        l_pf = (l_pf >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
+        mf$1$a = {{8{1'b0}}, l_ch};
+        mf$1$b = l_f;
         l_sc = s3_d$q[(32'h8 * 1)+:(8)];
-        l_p = {{8{1'b0}}, l_sc} * s3_g$q;
-        l_pd = (l_pd >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
-        l_ch = l_rgb3[(32'h8 * 2)+:(8)];
-        l_p = {{8{1'b0}}, l_ch} * s3_f$q;
+        md$1$a = {{8{1'b0}}, l_sc};
+        md$1$b = l_g;
+        l_p = mf$1$p;
         l_pf = (l_pf >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
+        l_p = md$1$p;
+        l_pd = (l_pd >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
+        mf$2$clock = clock;
+        md$2$clock = clock;
+        l_ch = l_rgb3[(32'h8 * 2)+:(8)];
+        mf$2$a = {{8{1'b0}}, l_ch};
+        mf$2$b = l_f;
         l_sc = s3_d$q[(32'h8 * 2)+:(8)];
-        l_p = {{8{1'b0}}, l_sc} * s3_g$q;
+        md$2$a = {{8{1'b0}}, l_sc};
+        md$2$b = l_g;
+        l_p = mf$2$p;
+        l_pf = (l_pf >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
+        l_p = md$2$p;
         l_pd = (l_pd >> 32'h12) | ({{36{1'b0}}, l_p[(32'h0)+:(18)]} << 32'h24);
         s4_v$d = s3_v$q;
         s4_word$d = s3_word$q;
         s4_meta$d = s3_meta$q;
-        s4_pf$d = l_pf;
-        s4_pd$d = l_pd;
-        l_out = k_zero24;
-        l_q = s4_pf$q[(32'h12 * 0)+:(18)];
-        l_lit = l_q[(32'h8)+:(9)] + {{8{1'b0}}, l_q[(32'h7)+:(1)]};
-        l_q = s4_pd$q[(32'h12 * 0)+:(18)];
-        l_drop = l_q[(32'h8)+:(9)] + {{8{1'b0}}, l_q[(32'h7)+:(1)]};
-        l_diff = {{1{1'b0}}, l_lit} - {{1{1'b0}}, l_drop};
-        l_d = k_zero8;
-        if (l_lit[32'h8]) begin
-            if (~l_drop[32'h8]) begin
-                l_d = ~l_drop[(32'h0)+:(8)];
-            end
-        end
-        else if (~l_diff[32'h9]) begin
-            l_d = l_diff[(32'h0)+:(8)];
-        end
-        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_d} << 32'h10);
-        l_q = s4_pf$q[(32'h12 * 1)+:(18)];
-        l_lit = l_q[(32'h8)+:(9)] + {{8{1'b0}}, l_q[(32'h7)+:(1)]};
-        l_q = s4_pd$q[(32'h12 * 1)+:(18)];
-        l_drop = l_q[(32'h8)+:(9)] + {{8{1'b0}}, l_q[(32'h7)+:(1)]};
-        l_diff = {{1{1'b0}}, l_lit} - {{1{1'b0}}, l_drop};
-        l_d = k_zero8;
-        if (l_lit[32'h8]) begin
-            if (~l_drop[32'h8]) begin
-                l_d = ~l_drop[(32'h0)+:(8)];
-            end
-        end
-        else if (~l_diff[32'h9]) begin
-            l_d = l_diff[(32'h0)+:(8)];
-        end
-        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_d} << 32'h10);
-        l_q = s4_pf$q[(32'h12 * 2)+:(18)];
-        l_lit = l_q[(32'h8)+:(9)] + {{8{1'b0}}, l_q[(32'h7)+:(1)]};
-        l_q = s4_pd$q[(32'h12 * 2)+:(18)];
-        l_drop = l_q[(32'h8)+:(9)] + {{8{1'b0}}, l_q[(32'h7)+:(1)]};
-        l_diff = {{1{1'b0}}, l_lit} - {{1{1'b0}}, l_drop};
-        l_d = k_zero8;
-        if (l_lit[32'h8]) begin
-            if (~l_drop[32'h8]) begin
-                l_d = ~l_drop[(32'h0)+:(8)];
-            end
-        end
-        else if (~l_diff[32'h9]) begin
-            l_d = l_diff[(32'h0)+:(8)];
-        end
-        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_d} << 32'h10);
-        l_word = s4_word$q;
-        l_word[(32'ha)+:(24)] = l_out;
         s5_v$d = s4_v$q;
-        s5_word$d = l_word;
+        s5_word$d = s4_word$q;
         s5_meta$d = s4_meta$q;
-        out_valid = s5_v$q;
-        out_word = s5_word$q;
-        out_meta = s5_meta$q;
+        s6_v$d = s5_v$q;
+        s6_word$d = s5_word$q;
+        s6_meta$d = s5_meta$q;
+        l_lits = k_zero27;
+        l_drops = k_zero27;
+        l_q = l_pf[(32'h12 * 0)+:(18)];
+        l_lit = l_q[(32'h8)+:(9)] + {{8{1'b0}}, l_q[(32'h7)+:(1)]};
+        l_lits = (l_lits >> 32'h9) | ({{18{1'b0}}, l_lit} << 32'h12);
+        l_q = l_pd[(32'h12 * 0)+:(18)];
+        l_drop = l_q[(32'h8)+:(9)] + {{8{1'b0}}, l_q[(32'h7)+:(1)]};
+        l_drops = (l_drops >> 32'h9) | ({{18{1'b0}}, l_drop} << 32'h12);
+        l_q = l_pf[(32'h12 * 1)+:(18)];
+        l_lit = l_q[(32'h8)+:(9)] + {{8{1'b0}}, l_q[(32'h7)+:(1)]};
+        l_lits = (l_lits >> 32'h9) | ({{18{1'b0}}, l_lit} << 32'h12);
+        l_q = l_pd[(32'h12 * 1)+:(18)];
+        l_drop = l_q[(32'h8)+:(9)] + {{8{1'b0}}, l_q[(32'h7)+:(1)]};
+        l_drops = (l_drops >> 32'h9) | ({{18{1'b0}}, l_drop} << 32'h12);
+        l_q = l_pf[(32'h12 * 2)+:(18)];
+        l_lit = l_q[(32'h8)+:(9)] + {{8{1'b0}}, l_q[(32'h7)+:(1)]};
+        l_lits = (l_lits >> 32'h9) | ({{18{1'b0}}, l_lit} << 32'h12);
+        l_q = l_pd[(32'h12 * 2)+:(18)];
+        l_drop = l_q[(32'h8)+:(9)] + {{8{1'b0}}, l_q[(32'h7)+:(1)]};
+        l_drops = (l_drops >> 32'h9) | ({{18{1'b0}}, l_drop} << 32'h12);
+        s6_lit$d = l_lits;
+        s6_drop$d = l_drops;
+        l_out = k_zero24;
+        l_lit = s6_lit$q[(32'h9 * 0)+:(9)];
+        l_drop = s6_drop$q[(32'h9 * 0)+:(9)];
+        l_diff = {{1{1'b0}}, l_lit} - {{1{1'b0}}, l_drop};
+        l_d = k_zero8;
+        if (l_lit[32'h8]) begin
+            if (~l_drop[32'h8]) begin
+                l_d = ~l_drop[(32'h0)+:(8)];
+            end
+        end
+        else if (~l_diff[32'h9]) begin
+            l_d = l_diff[(32'h0)+:(8)];
+        end
+        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_d} << 32'h10);
+        l_lit = s6_lit$q[(32'h9 * 1)+:(9)];
+        l_drop = s6_drop$q[(32'h9 * 1)+:(9)];
+        l_diff = {{1{1'b0}}, l_lit} - {{1{1'b0}}, l_drop};
+        l_d = k_zero8;
+        if (l_lit[32'h8]) begin
+            if (~l_drop[32'h8]) begin
+                l_d = ~l_drop[(32'h0)+:(8)];
+            end
+        end
+        else if (~l_diff[32'h9]) begin
+            l_d = l_diff[(32'h0)+:(8)];
+        end
+        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_d} << 32'h10);
+        l_lit = s6_lit$q[(32'h9 * 2)+:(9)];
+        l_drop = s6_drop$q[(32'h9 * 2)+:(9)];
+        l_diff = {{1{1'b0}}, l_lit} - {{1{1'b0}}, l_drop};
+        l_d = k_zero8;
+        if (l_lit[32'h8]) begin
+            if (~l_drop[32'h8]) begin
+                l_d = ~l_drop[(32'h0)+:(8)];
+            end
+        end
+        else if (~l_diff[32'h9]) begin
+            l_d = l_diff[(32'h0)+:(8)];
+        end
+        l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_d} << 32'h10);
+        l_word = s6_word$q;
+        l_word[(32'ha)+:(24)] = l_out;
+        s7_v$d = s6_v$q;
+        s7_word$d = l_word;
+        s7_meta$d = s6_meta$q;
+        out_valid = s7_v$q;
+        out_word = s7_word$q;
+        out_meta = s7_meta$q;
         if (rst) begin
             s1_v$d = 1'b0;
             s2_v$d = 1'b0;
             s3_v$d = 1'b0;
             s4_v$d = 1'b0;
             s5_v$d = 1'b0;
+            s6_v$d = 1'b0;
+            s7_v$d = 1'b0;
         end
     end
     
@@ -4571,23 +4905,42 @@ endmodule // pixelproc_top$shade$banks
 
 
 
-module pixelproc_top$shade$s4_pd(d,q,clock);
+module pixelproc_top$shade$s3_e(d,q,clock);
     
     // Module arguments
-    input wire  [53:0] d;
-    output reg  [53:0] q;
+    input wire  [17:0] d;
+    output reg  [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 54'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // pixelproc_top$shade$s4_pd
+endmodule // pixelproc_top$shade$s3_e
+
+
+module pixelproc_top$shade$s6_drop(d,q,clock);
+    
+    // Module arguments
+    input wire  [26:0] d;
+    output reg  [26:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 27'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // pixelproc_top$shade$s6_drop
 
 
 module pixelproc_top$shade$tw_a(d,q,clock);
@@ -4607,25 +4960,6 @@ module pixelproc_top$shade$tw_a(d,q,clock);
     end
           
 endmodule // pixelproc_top$shade$tw_a
-
-
-module pixelproc_top$shade$tw_d(d,q,clock);
-    
-    // Module arguments
-    input wire  [17:0] d;
-    output reg  [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // pixelproc_top$shade$tw_d
 
 
 
@@ -4666,3 +5000,34 @@ module pixelproc_bank_ram(clock, write_enable, write_address, write_data, read_a
         read_data <= read_word;
     end
 endmodule // pixelproc_bank_ram
+
+// pixelproc_mul_reg: an unsigned 16 x 16 bit multiplier with registered operands and a
+// registered product. The operands at `a` and `b` before edge E are multiplied; the
+// product is on `p` after edge E + 1. All registers are 0 at power-on.
+//
+// This is the generic (behavioural) implementation, the one the exported core carries
+// and every simulator and generic synthesis reads. The ECP5 flow replaces it with
+// synth/ecp5/pixelproc_mul_reg.v (one MULT18X18D whose own input and output registers
+// are the two registers here), which behaves the same.
+module pixelproc_mul_reg(clock, a, b, p);
+    input wire clock;
+    input wire [15:0] a;
+    input wire [15:0] b;
+    output reg [31:0] p;
+
+    // The operand registers.
+    reg [15:0] a_r;
+    reg [15:0] b_r;
+
+    initial begin
+        a_r = 16'h0;
+        b_r = 16'h0;
+        p = 32'h0;
+    end
+
+    always @(posedge clock) begin
+        a_r <= a;
+        b_r <= b;
+        p <= {16'h0, a_r} * {16'h0, b_r};
+    end
+endmodule // pixelproc_mul_reg

@@ -21,7 +21,7 @@
 //! fails when this constant no longer matches its Fmax. `N = 64` has not been routed to
 //! completion (`docs/fpga.md`: nextpnr's estimate after placement is 52 MHz, and routing
 //! did not converge): taking the `N = 8` clock for it is an extrapolation, an optimistic
-//! one. With shadows the routed `N = 8` figure is 114.44 MHz
+//! one. With shadows the routed `N = 8` figure is 144.76 MHz
 //! (`docs/fpga_results/ecp5_n8.md`).
 
 pub mod abuffer;
