@@ -16,7 +16,7 @@
 use pixelproc_rtl::lut_ram::{slice_bounds, SlicedLutRam};
 use pixelproc_rtl::verilog::rename_top;
 use pixelproc_sim::rng::Lcg64;
-use pixelproc_testbench::external::{mutant, skip_or_fail, tool_available};
+use pixelproc_testbench::external::{icarus_run, mutant, skip_or_fail, tool_available};
 use rust_hdl::prelude::*;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -194,20 +194,7 @@ endmodule
 fn run(dir: &Path, ram: &str, tb: &str) -> String {
     std::fs::write(dir.join("ram.v"), ram).unwrap();
     std::fs::write(dir.join("tb.v"), tb).unwrap();
-    let c = Command::new("iverilog")
-        .current_dir(dir)
-        .args(["-g2012", "-Wall", "-o", "tb.vvp", "tb.v", "ram.v"])
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&c.stdout).to_string() + &String::from_utf8_lossy(&c.stderr);
-    assert!(c.status.success(), "iverilog failed:\n{text}");
-    assert!(!text.contains("warning"), "iverilog warnings:\n{text}");
-    let r = Command::new("vvp")
-        .current_dir(dir)
-        .args(["-n", "tb.vvp"])
-        .output()
-        .unwrap();
-    String::from_utf8_lossy(&r.stdout).to_string() + &String::from_utf8_lossy(&r.stderr)
+    icarus_run(dir, &[dir.join("tb.v"), dir.join("ram.v")], &[])
 }
 
 fn passed(text: &str) -> bool {

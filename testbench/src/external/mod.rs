@@ -92,6 +92,114 @@ pub fn mutant(text: &str, what: &str, from: &str, to: &str) -> String {
     text.replace(from, to)
 }
 
+/// Compiles `sources` with Icarus Verilog (`iverilog -g2012 -Wall`, in `dir`, to
+/// `tb.vvp`) and runs the result with `plusargs`; the simulator's output. Panics, with the
+/// compiler's output, if the compile fails or warns: for the tests that compare a module
+/// with its reference (`PASS` / `MISMATCH` lines).
+pub fn icarus_run(dir: &Path, sources: &[PathBuf], plusargs: &[String]) -> String {
+    let c = Proc::new("iverilog")
+        .current_dir(dir)
+        .args(["-g2012", "-Wall", "-o", "tb.vvp"])
+        .args(sources)
+        .output()
+        .expect("iverilog runs");
+    let text = String::from_utf8_lossy(&c.stdout).to_string() + &String::from_utf8_lossy(&c.stderr);
+    assert!(c.status.success(), "iverilog failed:\n{text}");
+    assert!(!text.contains("warning"), "iverilog warnings:\n{text}");
+    let r = Proc::new("vvp")
+        .current_dir(dir)
+        .args(["-n", "tb.vvp"])
+        .args(plusargs)
+        .output()
+        .expect("vvp runs");
+    String::from_utf8_lossy(&r.stdout).to_string() + &String::from_utf8_lossy(&r.stderr)
+}
+
+/// The numbers of a testbench's `PASS key=N key=M ...` line, in order, or `None` without
+/// one.
+pub fn pass_counts(text: &str) -> Option<Vec<u64>> {
+    let line = text.lines().find(|l| l.starts_with("PASS "))?;
+    line.split_whitespace()
+        .skip(1)
+        .map(|kv| kv.split_once('=').and_then(|(_, n)| n.parse::<u64>().ok()))
+        .collect()
+}
+
+/// A module the export carries in a generic definition and the ECP5 flow replaces with
+/// its own (`synth/ecp5/<module>.v` on a vendor primitive), with the Icarus testbench that
+/// compares the two (`synth/ecp5/sim/`, instantiating the generic one renamed
+/// `generic_...` for `pixelproc_...`) and our model of the primitive.
+pub struct Ecp5Module {
+    /// The module's name (`pixelproc_...`).
+    pub module: &'static str,
+    /// Its generic Verilog, as the export appends it.
+    pub generic: &'static str,
+    /// The testbench under `synth/ecp5/sim/`.
+    pub testbench: &'static str,
+    /// The primitive's model under `synth/ecp5/sim/`.
+    pub model: &'static str,
+}
+
+impl Ecp5Module {
+    /// Runs the comparison in `dir` with `ecp5` as the ECP5 definition's text (the
+    /// committed file or a mutant of it), `+seed=seed +cycles=20000`; the simulator's
+    /// output.
+    pub fn compare(&self, dir: &Path, ecp5: &str, seed: u32) -> String {
+        let renamed = self.module.replacen("pixelproc_", "generic_", 1);
+        std::fs::write(
+            dir.join("generic.v"),
+            self.generic.replace(self.module, &renamed),
+        )
+        .expect("write generic.v");
+        std::fs::write(dir.join("ecp5.v"), ecp5).expect("write ecp5.v");
+        let sim = Path::new(env!("CARGO_MANIFEST_DIR")).join("../synth/ecp5/sim");
+        let sources = [
+            sim.join(self.testbench),
+            dir.join("generic.v"),
+            dir.join("ecp5.v"),
+            sim.join(self.model),
+        ];
+        icarus_run(
+            dir,
+            &sources,
+            &[format!("+seed={seed}"), "+cycles=20000".into()],
+        )
+    }
+
+    /// The whole check, in `dir`: the committed ECP5 definition (`synth/ecp5/<module>.v`)
+    /// matches the generic one for seeds 1, 2 and 3, with at least `min_compared` clocks
+    /// compared and the output changing on more than 15,000 of them; then each wiring
+    /// mistake `(what, text in the module, replacement)` must make the comparison report a
+    /// `MISMATCH`. Panics with the simulator's output otherwise.
+    pub fn check(&self, dir: &Path, min_compared: u64, mutants: &[(&str, &str, &str)]) {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../synth/ecp5")
+            .join(format!("{}.v", self.module));
+        let ecp5 = std::fs::read_to_string(&path).expect("the ECP5 module");
+        let passed = |text: &str| match pass_counts(text).as_deref() {
+            Some(&[compared, changes]) => Some((compared, changes)),
+            _ => None,
+        };
+        for seed in [1, 2, 3] {
+            let text = self.compare(dir, &ecp5, seed);
+            let (compared, changes) =
+                passed(&text).unwrap_or_else(|| panic!("seed {seed}: no PASS:\n{text}"));
+            // Every clock compared, and the output moving on most of them.
+            assert!(
+                compared >= min_compared && changes > 15_000,
+                "seed {seed}: {text}"
+            );
+        }
+        for &(what, from, to) in mutants {
+            let text = self.compare(dir, &mutant(&ecp5, what, from, to), 1);
+            assert!(
+                passed(&text).is_none() && text.contains("MISMATCH"),
+                "{what}: the comparison did not fail:\n{text}"
+            );
+        }
+    }
+}
+
 /// The port fields of a `stim.hex` line above the span word (`cmd_word[255:0]`), named
 /// as the array's input ports.
 const STIM_BG: Field = Field {
