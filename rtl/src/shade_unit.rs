@@ -195,8 +195,8 @@ pub struct ShadeUnit {
     s4_meta: DFF<Bits<META_W>>,
     /// The products c·F and d·G per channel: operands registered with stage 4, products
     /// with stage 5 (on an FPGA the DSP block's own registers).
-    mf: [MulReg; 3],
-    md: [MulReg; 3],
+    mf: Vec<MulReg>,
+    md: Vec<MulReg>,
     s5_v: DFF<Bit>,
     s5_word: DFF<Bits<READOUT_W>>,
     s5_meta: DFF<Bits<META_W>>,
@@ -244,6 +244,7 @@ pub struct ShadeUnit {
     k_zero8: Constant<Bits<8>>,
     k_zero54: Constant<Bits<{ 3 * PROD_W }>>,
     k_zero27: Constant<Bits<27>>,
+    k_zero32: Constant<Bits<32>>,
 }
 
 /// Width of a table entry `{G, F}`.
@@ -252,8 +253,17 @@ const _: () = assert!(ENTRY_W == crate::bank_ram::ENTRY_W);
 const _: () = assert!(FACTOR_BITS == 9);
 
 impl ShadeUnit {
-    /// A unit that shades (`shading`) or passes colours through with the same latency.
+    /// A unit that shades (`shading`) or passes colours through with the same latency;
+    /// without shading it has no table and no multipliers, and the table-write ports are
+    /// unused.
     pub fn new(shading: bool) -> ShadeUnit {
+        // Without shading the pixel only needs the latency: no table, no multipliers
+        // (as instances, synthesis could not remove them; the colour is passed through).
+        let (banks, groups, channels) = if shading {
+            (BANKS, TW_GROUPS, 3)
+        } else {
+            (0, 0, 0)
+        };
         ShadeUnit {
             clock: Default::default(),
             rst: Default::default(),
@@ -266,10 +276,10 @@ impl ShadeUnit {
             out_valid: Default::default(),
             out_word: Default::default(),
             out_meta: Default::default(),
-            banks: (0..BANKS).map(|_| Default::default()).collect(),
-            tw_we: (0..BANKS).map(|_| Default::default()).collect(),
-            tw_a: (0..TW_GROUPS).map(|_| Default::default()).collect(),
-            tw_d: (0..TW_GROUPS).map(|_| Default::default()).collect(),
+            banks: (0..banks).map(|_| Default::default()).collect(),
+            tw_we: (0..banks).map(|_| Default::default()).collect(),
+            tw_a: (0..groups).map(|_| Default::default()).collect(),
+            tw_d: (0..groups).map(|_| Default::default()).collect(),
             s1_v: Default::default(),
             s1_word: Default::default(),
             s1_meta: Default::default(),
@@ -283,14 +293,14 @@ impl ShadeUnit {
             s3_word: Default::default(),
             s3_meta: Default::default(),
             s3_d: Default::default(),
-            s3_e: (0..TW_GROUPS).map(|_| Default::default()).collect(),
+            s3_e: (0..groups).map(|_| Default::default()).collect(),
             s3_grp: Default::default(),
             s3_over: Default::default(),
             s4_v: Default::default(),
             s4_word: Default::default(),
             s4_meta: Default::default(),
-            mf: Default::default(),
-            md: Default::default(),
+            mf: (0..channels).map(|_| Default::default()).collect(),
+            md: (0..channels).map(|_| Default::default()).collect(),
             s5_v: Default::default(),
             s5_word: Default::default(),
             s5_meta: Default::default(),
@@ -335,6 +345,7 @@ impl ShadeUnit {
             k_zero8: Constant::new(0u64.to_bits()),
             k_zero54: Constant::new(0u64.to_bits()),
             k_zero27: Constant::new(0u64.to_bits()),
+            k_zero32: Constant::new(0u64.to_bits()),
         }
     }
 }
@@ -415,6 +426,8 @@ impl Logic for ShadeUnit {
         // multiplexer in one clock, from block RAMs spread over the die, was the core's
         // critical path), the group bits, and whether the override (background, or no
         // shading) applies.
+        // (Driven outside the loops too: without shading they do not run.)
+        self.l_eg.next = self.k_zero_e.val();
         for g in 0..self.s3_e.len() {
             self.s3_e[g].clock.next = self.clock.val();
             self.l_eg.next = self.k_zero_e.val();
@@ -451,7 +464,8 @@ impl Logic for ShadeUnit {
         self.l_rgb3.next = self.s3_word.q.val().get_value_rgb();
         self.l_pf.next = self.k_zero54.val();
         self.l_pd.next = self.k_zero54.val();
-        for c in 0..3 {
+        self.l_p.next = self.k_zero32.val();
+        for c in 0..self.mf.len() {
             self.mf[c].clock.next = self.clock.val();
             self.md[c].clock.next = self.clock.val();
             self.l_ch.next = self.l_rgb3.val().get_bits::<8>(8 * c);
@@ -519,6 +533,10 @@ impl Logic for ShadeUnit {
                 self.l_d.next = self.l_diff.val().get_bits::<8>(0);
             }
             self.l_out.next = (self.l_out.val() >> 8) | (bit_cast::<24, 8>(self.l_d.val()) << 16);
+        }
+        if !self.k_on.val() {
+            // No shading: the colour passes unchanged (as `F = 256`, `G = 0` would give).
+            self.l_out.next = self.s6_word.q.val().get_value_rgb();
         }
         self.l_word.next = self.s6_word.q.val();
         self.l_word.next.set_value_rgb(self.l_out.val());

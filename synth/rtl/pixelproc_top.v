@@ -3148,6 +3148,7 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     localparam  k_zero8 = 8'h0;
     localparam  k_zero54 = 54'h0;
     localparam  k_zero27 = 27'h0;
+    localparam  k_zero32 = 32'h0;
     
     // Stub signals
     reg  banks$0$clock;
@@ -4623,6 +4624,7 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         s2_meta$d = s1_meta$q;
         s2_hi$d = s1_hi$q;
         s2_d$d = l_dd;
+        l_eg = k_zero_e;
         s3_e$0$clock = clock;
         l_eg = k_zero_e;
         if (s2_hi$q[(32'h0)+:(3)] == 0) begin
@@ -4759,6 +4761,7 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         l_rgb3 = s3_word$q[(32'ha)+:(24)];
         l_pf = k_zero54;
         l_pd = k_zero54;
+        l_p = k_zero32;
         mf$0$clock = clock;
         md$0$clock = clock;
         l_ch = l_rgb3[(32'h8 * 0)+:(8)];
@@ -4866,6 +4869,9 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
             l_d = l_diff[(32'h0)+:(8)];
         end
         l_out = (l_out >> 32'h8) | ({{16{1'b0}}, l_d} << 32'h10);
+        if (~k_on) begin
+            l_out = s6_word$q[(32'ha)+:(24)];
+        end
         l_word = s6_word$q;
         l_word[(32'ha)+:(24)] = l_out;
         s7_v$d = s6_v$q;
