@@ -349,8 +349,11 @@ fn render_row(
     let mut st = AbufferStats::default();
     let RowScratch { rows, pixel } = scratch;
     rows.build(j, width, setups, members, size);
-    for px in rgb_row.chunks_mut(3) {
-        px.copy_from_slice(&bg);
+    for px in rgb_row.chunks_exact_mut(3) {
+        let [r, g, b] = bg;
+        px[0] = r;
+        px[1] = g;
+        px[2] = b;
     }
     for iu in 0..width as usize {
         let frags = rows.pixel(iu);

@@ -328,6 +328,8 @@ pub struct DepthSelector {
     /// The same searches of a full mask as the ordering depth they give without a max:
     /// [`FullPick`] per table and start corner.
     full_pick: Vec<[FullPick; 4]>,
+    /// `size.full()`.
+    full_mask: u64,
 }
 
 /// The nearest-depth pick of a full mask from one start corner of one table: the offsets
@@ -378,6 +380,7 @@ impl DepthSelector {
             tables,
             full,
             full_pick,
+            full_mask: size.full(),
         }
     }
 
@@ -396,6 +399,25 @@ impl DepthSelector {
     /// The seed's diagonal tables.
     pub fn diagonal(&self) -> &SearchTables {
         &self.tables[DIAGONAL]
+    }
+
+    /// [`DepthSelector::select`] without the farthest depth, its most common case (the
+    /// search of a full mask: a triangle covering the whole pixel) inlined where it is
+    /// called, the same folded pick as there.
+    #[inline(always)]
+    pub fn select_nearest(&self, variant: DepthSelect, mask: u64, plane: &FragPlane) -> DepthPick {
+        if variant == DepthSelect::Search && mask & self.full_mask == self.full_mask {
+            let corner = Corner::of_min(plane.sx, plane.sy);
+            let f = &self.full_pick[DIAGONAL][corner.code() as usize];
+            let z = |(dx, dy): (i64, i64)| plane.zc + plane.sx * dx + plane.sy * dy;
+            return DepthPick {
+                zmin: z(f.ends[0]).min(z(f.ends[1])),
+                zmax: None,
+                evals: f.evals,
+                steps: f.steps,
+            };
+        }
+        self.select(variant, mask, plane, false)
     }
 
     /// Ordering depths of a fragment with fraction `mask` (non-zero) and `plane` under

@@ -8,7 +8,7 @@ use super::AbufferError;
 use crate::mask::{MaskEdges, RowMasks};
 use crate::raster::edge::check_depths;
 use crate::raster::rows::Bands;
-use crate::raster::{round_div, PlaneStepper, RoundDivStep, RoundDivSteps};
+use crate::raster::{round_div, PlaneStepper, RoundDivStep, RoundDivSteps, RoundDivSteps64};
 use crate::setup::{ExactPlane, SetupError, SnappedTri};
 use pixelproc_formats::abuffer::{saturate_plane, FragPlane, MaskSize, PLANE_FRAC};
 use pixelproc_formats::{I_FRAC, MAX_SCREEN, SUBPIXEL_ONE};
@@ -154,16 +154,10 @@ impl FragSetup {
         [0, 1, 2].map(|k| Self::row_step(&self.c[k], 0, &self.steps[k + 1], i0, j))
     }
 
-    /// The fragment whose depth and colour planes the steppers are at (see
-    /// [`FragSetup::depth_steps`], [`FragSetup::colour_steps`]).
+    /// The fragment whose depth plane the stepper is at (see [`FragSetup::depth_steps`]),
+    /// with colour `rgb_q12` ([`RowColour`]).
     #[inline]
-    fn fragment_from<Z: PlaneStepper, C: PlaneStepper>(
-        &self,
-        z: &Z,
-        c: &[C; 3],
-        mask: u64,
-    ) -> Fragment {
-        let max = 255i128 << I_FRAC;
+    fn fragment_from<Z: PlaneStepper>(&self, z: &Z, rgb_q12: [u32; 3], mask: u64) -> Fragment {
         Fragment {
             mask,
             plane: FragPlane {
@@ -171,7 +165,7 @@ impl FragSetup {
                 sx: self.sx,
                 sy: self.sy,
             },
-            rgb_q12: c.map(|s| s.value().clamp(0, max) as u32),
+            rgb_q12,
             tag: self.tag,
             decal: self.decal,
             prim: self.prim,
@@ -286,13 +280,18 @@ impl RowFrags {
             let z = t.depth_steps(a, j);
             let steps = (b - a + 1) as u64;
             match (z.narrow(steps), t.flat) {
-                (Some(z), Some(rgb)) => emit(frags, end, t, rm, (z, rgb.map(Constant)), full),
-                (None, Some(rgb)) => emit(frags, end, t, rm, (z, rgb.map(Constant)), full),
+                (Some(z), Some(rgb)) => emit(frags, end, t, rm, (z, Flat::of(rgb)), full),
+                (None, Some(rgb)) => emit(frags, end, t, rm, (z, Flat::of(rgb)), full),
                 (z64, None) => {
                     let [c0, c1, c2] = t.colour_steps(a, j);
                     match (z64, [c0, c1, c2].map(|c| c.narrow(steps))) {
                         (Some(z), [Some(r), Some(g), Some(bl)]) => {
-                            emit(frags, end, t, rm, (z, [r, g, bl]), full)
+                            let c = [r, g, bl];
+                            if c.iter().all(|s| s.stays_within(steps, 0, COLOUR_Q12_MAX)) {
+                                emit(frags, end, t, rm, (z, InRange(c)), full)
+                            } else {
+                                emit(frags, end, t, rm, (z, c), full)
+                            }
                         }
                         _ => emit(frags, end, t, rm, (z, [c0, c1, c2]), full),
                     }
@@ -312,12 +311,12 @@ impl RowFrags {
 /// `i`'s next free slot), the depth and colour planes stepped from the first touched
 /// pixel.
 #[inline]
-fn emit<Z: PlaneStepper, C: PlaneStepper>(
+fn emit<Z: PlaneStepper, C: RowColour>(
     frags: &mut [Fragment],
     end: &mut [u32],
     t: &FragSetup,
     rm: &RowMasks,
-    (mut z, mut c): (Z, [C; 3]),
+    (mut z, mut c): (Z, C),
     full: u64,
 ) {
     let rc = rm.cov;
@@ -328,27 +327,75 @@ fn emit<Z: PlaneStepper, C: PlaneStepper>(
         };
         if mask != 0 {
             let at = &mut end[i as usize];
-            frags[*at as usize] = t.fragment_from(&z, &c, mask);
+            frags[*at as usize] = t.fragment_from(&z, c.rgb_q12(), mask);
             *at += 1;
         }
         z.advance();
-        for s in c.iter_mut() {
-            s.advance();
-        }
+        c.advance();
     }
 }
 
-/// The value of a constant plane (a flat triangle's colour): the same at every pixel.
-#[derive(Clone, Copy, Debug)]
-struct Constant(i128);
+/// The largest colour value, 255 in Q8.12.
+const COLOUR_Q12_MAX: i64 = 255 << I_FRAC;
 
-impl PlaneStepper for Constant {
+/// A fragment's colour along a row of pixels: Q8.12 per channel, each colour plane's value
+/// clamped to `0..=COLOUR_Q12_MAX`.
+trait RowColour {
+    /// The colour at the current pixel.
+    fn rgb_q12(&self) -> [u32; 3];
+    /// Moves one pixel on.
+    fn advance(&mut self);
+}
+
+/// A flat triangle's colour (every colour plane constant), clamped once: the same at
+/// every pixel.
+#[derive(Clone, Copy, Debug)]
+struct Flat([u32; 3]);
+
+impl Flat {
+    /// The colour of the constant planes `rgb`.
     #[inline]
-    fn value(&self) -> i128 {
+    fn of(rgb: [i128; 3]) -> Flat {
+        Flat(rgb.map(|v| v.clamp(0, COLOUR_Q12_MAX as i128) as u32))
+    }
+}
+
+impl RowColour for Flat {
+    #[inline]
+    fn rgb_q12(&self) -> [u32; 3] {
         self.0
     }
     #[inline]
     fn advance(&mut self) {}
+}
+
+/// The three colour planes stepped, each value clamped.
+impl<S: PlaneStepper> RowColour for [S; 3] {
+    #[inline]
+    fn rgb_q12(&self) -> [u32; 3] {
+        self.map(|s| s.value().clamp(0, COLOUR_Q12_MAX as i128) as u32)
+    }
+    #[inline]
+    fn advance(&mut self) {
+        self.iter_mut().for_each(|s| s.advance());
+    }
+}
+
+/// The three colour planes stepped in 64 bits over a run that
+/// [`RoundDivSteps64::stays_within`] `0..=COLOUR_Q12_MAX` at every pixel: the clamp is the
+/// identity there and is left out.
+#[derive(Clone, Copy, Debug)]
+struct InRange([RoundDivSteps64; 3]);
+
+impl RowColour for InRange {
+    #[inline]
+    fn rgb_q12(&self) -> [u32; 3] {
+        self.0.map(|s| s.value() as u32)
+    }
+    #[inline]
+    fn advance(&mut self) {
+        self.0.iter_mut().for_each(|s| s.advance());
+    }
 }
 
 /// A filler for fragment slots not yet written.
@@ -385,8 +432,16 @@ mod tests {
             };
             let v = [p(), p(), p()];
             let z = [0; 3].map(|_| (rng.unit() * 16_000_000.0) as u32 + 16);
-            let rgb =
-                |rng: &mut crate::rng::Lcg64| [0; 3].map(|_| (rng.unit() * 255.0 * 4096.0) as u32);
+            // Channels at either end of the range as often as inside it: fragments of
+            // pixels whose centre lies outside the triangle extrapolate past the ends, where
+            // the clamp acts.
+            let rgb = |rng: &mut crate::rng::Lcg64| {
+                [0; 3].map(|_| match rng.step() % 3 {
+                    0 => 0,
+                    1 => 255 << I_FRAC,
+                    _ => (rng.unit() * 255.0 * 4096.0) as u32,
+                })
+            };
             // Every other triangle flat (one colour at all three vertices).
             let c = if k % 2 == 0 {
                 let one = rgb(&mut rng);
@@ -407,7 +462,7 @@ mod tests {
         let flat = set.0.iter().filter(|t| t.flat.is_some()).count();
         assert!(flat > 20 && flat < set.0.len(), "{flat} flat");
         let mut rf = RowFrags::default();
-        let mut compared = 0;
+        let (mut compared, mut clamped) = (0, 0);
         for j in 0..h as i64 {
             rf.build(j, w, &set.0, set.1.members(set.1.of_row(j)), size);
             for i in 0..w as usize {
@@ -422,8 +477,22 @@ mod tests {
                     .collect();
                 assert_eq!(got, &want[..], "pixel ({i}, {j})");
                 compared += want.len();
+                clamped += set
+                    .0
+                    .iter()
+                    .filter(|t| t.edges.fraction_mask(i as i64, j) != 0)
+                    .filter(|t| {
+                        t.c.iter().any(|p| {
+                            let v = p.at_centre(i as i64, j, 0);
+                            !(0..=255 << I_FRAC).contains(&v)
+                        })
+                    })
+                    .count();
             }
         }
-        assert!(compared > 2000, "{compared}");
+        assert!(
+            compared > 2000 && clamped > 100,
+            "{compared} fragments, {clamped} clamped"
+        );
     }
 }

@@ -146,6 +146,25 @@ pub(crate) struct RoundDivSteps64 {
     den: i64,
 }
 
+impl RoundDivSteps64 {
+    /// Whether the current value and those of the next `steps` advances all lie in
+    /// `lo..=hi` (a sufficient test: `false` can come for a run that stays inside). An
+    /// advance adds `dq` or `dq + 1`, so after `k` advances the value lies in
+    /// `[q + k·dq, q + k·(dq + 1)]`. `steps` at most what [`RoundDivSteps::narrow`] was
+    /// given: it keeps `|q| + (|dq| + 1)·(steps + 1)` below 2^62, so these bounds fit
+    /// 64 bits.
+    #[inline]
+    pub(crate) fn stays_within(&self, steps: u64, lo: i64, hi: i64) -> bool {
+        debug_assert!(
+            (self.q.unsigned_abs() as u128)
+                + (self.dq.unsigned_abs() as u128 + 1) * (steps as u128 + 1)
+                < 1 << 62
+        );
+        let k = steps as i64;
+        self.q + k * self.dq.min(0) >= lo && self.q + k * (self.dq + 1).max(0) <= hi
+    }
+}
+
 /// A stepper of exact rounded quotients ([`RoundDivSteps`] or its narrowed form).
 pub(crate) trait PlaneStepper: Copy {
     /// The current value.
@@ -532,6 +551,47 @@ mod tests {
     fn round_div_wide(n: i128, d: i128) -> i128 {
         let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
         (2 * n + d).div_euclid(2 * d)
+    }
+
+    /// `stays_within` is never wrong when it says yes: on random steppers (slopes of
+    /// either sign, ranges the run starts in, leaves, or touches), every value of the run
+    /// lies in the range when it says so; and it says so for most runs that stay well
+    /// inside.
+    #[test]
+    fn stays_within_is_sound() {
+        let mut rng = crate::rng::Lcg64(0x57a9_5011);
+        let (mut yes, mut inside) = (0, 0);
+        for _ in 0..20_000 {
+            let mut draw = |m: i64| (rng.step() % (2 * m as u64 + 1)) as i64 - m;
+            let d = draw(1 << 20).abs().max(1) as i128;
+            let dn = draw(1 << 24) as i128;
+            let n0 = draw(1 << 40) as i128;
+            let steps = (draw(60).abs() + 1) as u64;
+            let Some(mut st) = RoundDivSteps::new(n0, dn, d).narrow(steps) else {
+                continue;
+            };
+            let v0 = PlaneStepper::value(&st) as i64;
+            // A range around the start: sometimes generous, sometimes tight.
+            let (lo, hi) = (v0 - draw(1 << 12).abs(), v0 + draw(1 << 12).abs());
+            let say = st.stays_within(steps, lo, hi);
+            let mut all = true;
+            for k in 0..=steps as i128 {
+                let v = PlaneStepper::value(&st) as i64;
+                assert_eq!(v as i128, round_div_wide(n0 + k * dn, d));
+                all &= lo <= v && v <= hi;
+                st.advance();
+            }
+            assert!(
+                !say || all,
+                "{n0} + k·{dn} / {d}, {steps} steps, {lo}..={hi}"
+            );
+            yes += say as u32;
+            inside += all as u32;
+        }
+        assert!(
+            yes > 2000 && inside > yes,
+            "{yes} said inside, {inside} inside"
+        );
     }
 
     #[test]
