@@ -325,7 +325,7 @@ impl GroupAcc {
 const PLAIN_MAX: usize = 16;
 
 /// A merged group of [`PixelScratch::process_plain`].
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 struct PlainGroup {
     mask: u64,
     zmin: i64,
@@ -339,15 +339,6 @@ struct PlainGroup {
 }
 
 impl PlainGroup {
-    const EMPTY: PlainGroup = PlainGroup {
-        mask: 0,
-        zmin: i64::MAX,
-        zmax: i64::MIN,
-        prim: u32::MAX,
-        first: u32::MAX,
-        parts: 0,
-    };
-
     /// The packing key of [`GroupAcc::key`] without decals.
     #[inline]
     fn key(&self) -> (i64, i64, u32, u32) {
@@ -385,6 +376,20 @@ pub(crate) struct PixelScratch {
     /// Members of the group being packed: (zmin, zmax, not decal, tie, fragment).
     parts: Vec<(i64, i64, bool, i64, usize)>,
     visible: Vec<u64>,
+    /// The fixed-size buffers of [`PixelScratch::process_plain`].
+    plain: PlainScratch,
+}
+
+/// Buffers of [`PixelScratch::process_plain`], indexed by fragment (or group): only the
+/// first `n` entries of a pixel are read, each written first, so nothing is cleared
+/// between pixels.
+#[derive(Default)]
+struct PlainScratch {
+    zmin: [i64; PLAIN_MAX],
+    hi: [i64; PLAIN_MAX],
+    keys: [u128; PLAIN_MAX],
+    groups: [PlainGroup; PLAIN_MAX],
+    group_of: [u8; PLAIN_MAX],
 }
 
 impl PixelScratch {
@@ -468,9 +473,13 @@ impl PixelScratch {
         covered: u64,
     ) -> PixelSummary {
         let n = frags.len();
-        let mut zmin = [0i64; PLAIN_MAX];
-        let mut hi = [0i64; PLAIN_MAX];
-        let mut keys = [0u128; PLAIN_MAX];
+        let PlainScratch {
+            zmin,
+            hi,
+            keys,
+            groups,
+            group_of,
+        } = &mut self.plain;
         let (mut evals, mut steps) = (0, 0);
         for (k, f) in frags.iter().enumerate() {
             let p = sel.select_nearest(variant, f.mask, &f.plane);
@@ -481,43 +490,58 @@ impl PixelScratch {
             hi[k] = h;
             keys[k] = sweep_key(f.tag, lo, k);
         }
-        let keys = &mut keys[..n];
-        keys.sort_unstable();
-        // The merge sweep of `merge_sweep`, each component made a group as it closes.
-        let member = |key: u128| (key & ((1 << 48) - 1)) as usize;
-        let start = |key: u128| ((key >> 48) as u64 ^ (1 << 63)) as i64;
-        let mut groups = [PlainGroup::EMPTY; PLAIN_MAX];
-        let mut group_of = [0u8; PLAIN_MAX];
+        let single = |q: usize| PlainGroup {
+            mask: frags[q].mask,
+            zmin: zmin[q],
+            zmax: zmin[q],
+            prim: frags[q].prim,
+            first: q as u32,
+            parts: 1,
+        };
         let mut ng = 0;
-        let mut k = 0;
-        while k < n {
-            let head = member(keys[k]);
-            let (tag, mut h) = (frags[head].tag, hi[head]);
-            let mut e = k + 1;
-            while e < n {
-                let q = member(keys[e]);
-                if frags[q].tag != tag || start(keys[e]) > h {
-                    break;
+        if (1..n).all(|a| (0..a).all(|b| frags[a].tag != frags[b].tag)) {
+            // No two fragments share a tag: nothing merges, every fragment is a group
+            // (the packing order does not depend on the order of the groups).
+            for q in 0..n {
+                groups[q] = single(q);
+            }
+            ng = n;
+        } else {
+            let keys = &mut keys[..n];
+            keys.sort_unstable();
+            // The merge sweep of `merge_sweep`, each component made a group as it closes.
+            let member = |key: u128| (key & ((1 << 48) - 1)) as usize;
+            let start = |key: u128| ((key >> 48) as u64 ^ (1 << 63)) as i64;
+            let mut k = 0;
+            while k < n {
+                let head = member(keys[k]);
+                let (tag, mut h) = (frags[head].tag, hi[head]);
+                let mut e = k + 1;
+                while e < n {
+                    let q = member(keys[e]);
+                    if frags[q].tag != tag || start(keys[e]) > h {
+                        break;
+                    }
+                    h = h.max(hi[q]);
+                    e += 1;
                 }
-                h = h.max(hi[q]);
-                e += 1;
+                let mut g = single(head);
+                g.parts = (e - k) as u32;
+                for &key in &keys[k + 1..e] {
+                    let q = member(key);
+                    g.mask |= frags[q].mask;
+                    g.zmin = g.zmin.min(zmin[q]);
+                    g.zmax = g.zmax.max(zmin[q]);
+                    g.prim = g.prim.min(frags[q].prim);
+                    g.first = g.first.min(q as u32);
+                }
+                for &key in &keys[k..e] {
+                    group_of[member(key)] = ng as u8;
+                }
+                groups[ng] = g;
+                ng += 1;
+                k = e;
             }
-            let mut g = PlainGroup {
-                parts: (e - k) as u32,
-                ..PlainGroup::EMPTY
-            };
-            for &key in &keys[k..e] {
-                let q = member(key);
-                group_of[q] = ng as u8;
-                g.mask |= frags[q].mask;
-                g.zmin = g.zmin.min(zmin[q]);
-                g.zmax = g.zmax.max(zmin[q]);
-                g.prim = g.prim.min(frags[q].prim);
-                g.first = g.first.min(q as u32);
-            }
-            groups[ng] = g;
-            ng += 1;
-            k = e;
         }
         let groups = &groups[..ng];
         // Packing, until no bit is free.
