@@ -502,8 +502,8 @@ impl PixelScratch {
         if (1..n).all(|a| (0..a).all(|b| frags[a].tag != frags[b].tag)) {
             // No two fragments share a tag: nothing merges, every fragment is a group
             // (the packing order does not depend on the order of the groups).
-            for q in 0..n {
-                groups[q] = single(q);
+            for (q, g) in groups[..n].iter_mut().enumerate() {
+                *g = single(q);
             }
             ng = n;
         } else {
