@@ -407,17 +407,24 @@ impl DepthSelector {
     #[inline(always)]
     pub fn select_nearest(&self, variant: DepthSelect, mask: u64, plane: &FragPlane) -> DepthPick {
         if variant == DepthSelect::Search && mask & self.full_mask == self.full_mask {
-            let corner = Corner::of_min(plane.sx, plane.sy);
-            let f = &self.full_pick[DIAGONAL][corner.code() as usize];
-            let z = |(dx, dy): (i64, i64)| plane.zc + plane.sx * dx + plane.sy * dy;
-            return DepthPick {
-                zmin: z(f.ends[0]).min(z(f.ends[1])),
-                zmax: None,
-                evals: f.evals,
-                steps: f.steps,
-            };
+            return self.full_pick(DIAGONAL, plane);
         }
         self.select(variant, mask, plane, false)
+    }
+
+    /// The nearest-depth pick of a full mask on table `ti` ([`FullPick`]: the search on
+    /// the cached full-mask result, folded).
+    #[inline(always)]
+    fn full_pick(&self, ti: usize, plane: &FragPlane) -> DepthPick {
+        let corner = Corner::of_min(plane.sx, plane.sy);
+        let f = &self.full_pick[ti][corner.code() as usize];
+        let z = |(dx, dy): (i64, i64)| plane.zc + plane.sx * dx + plane.sy * dy;
+        DepthPick {
+            zmin: z(f.ends[0]).min(z(f.ends[1])),
+            zmax: None,
+            evals: f.evals,
+            steps: f.steps,
+        }
     }
 
     /// Ordering depths of a fragment with fraction `mask` (non-zero) and `plane` under
@@ -466,14 +473,7 @@ impl DepthSelector {
                 let full = self.size.full();
                 if !want_max && mask & full == full {
                     // The search below on the cached full-mask result, folded.
-                    let f = &self.full_pick[ti][corner.code() as usize];
-                    let z = |(dx, dy): (i64, i64)| plane.zc + plane.sx * dx + plane.sy * dy;
-                    return DepthPick {
-                        zmin: z(f.ends[0]).min(z(f.ends[1])),
-                        zmax: None,
-                        evals: f.evals,
-                        steps: f.steps,
-                    };
+                    return self.full_pick(ti, plane);
                 }
                 let mut pick = DepthPick {
                     zmin: plane.zc,

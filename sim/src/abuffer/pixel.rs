@@ -321,6 +321,24 @@ impl GroupAcc {
     }
 }
 
+/// A group's visible bits `vis` shared out among its members in packing order: each
+/// takes the bits of its mask still left, until none is.
+#[inline]
+fn share_visible(
+    visible: &mut [u64],
+    frags: &[Fragment],
+    order: impl Iterator<Item = usize>,
+    mut vis: u64,
+) {
+    for q in order {
+        if vis == 0 {
+            break;
+        }
+        visible[q] = frags[q].mask & vis;
+        vis &= !frags[q].mask;
+    }
+}
+
 /// Most fragments a pixel may have for [`PixelScratch::process_plain`].
 const PLAIN_MAX: usize = 16;
 
@@ -560,7 +578,7 @@ impl PixelScratch {
             };
             taken |= 1 << g;
             let gr = &groups[g];
-            let mut vis = gr.mask & free;
+            let vis = gr.mask & free;
             free &= !gr.mask;
             if gr.parts == 1 {
                 let q = gr.first as usize;
@@ -577,13 +595,7 @@ impl PixelScratch {
             }
             let parts = &mut parts[..np];
             parts.sort_unstable();
-            for &(_, _, q) in parts.iter() {
-                if vis == 0 {
-                    break;
-                }
-                self.visible[q] = frags[q].mask & vis;
-                vis &= !frags[q].mask;
-            }
+            share_visible(&mut self.visible, frags, parts.iter().map(|p| p.2), vis);
         }
         PixelSummary {
             rgb: resolve_bits(frags, &self.visible, free, bg, size),
@@ -695,7 +707,7 @@ impl PixelScratch {
             };
             let gr = &mut self.groups[g];
             gr.taken = true;
-            let mut vis = gr.mask & free;
+            let vis = gr.mask & free;
             free &= !gr.mask;
             if gr.parts == 1 {
                 self.visible[gr.first] = frags[gr.first].mask & vis;
@@ -709,13 +721,12 @@ impl PixelScratch {
                     (p.zmin, p.zmax.unwrap_or(p.zmin), !frags[q].decal, tie(q), q)
                 }));
             self.parts.sort_unstable();
-            for &(_, _, _, _, q) in &self.parts {
-                if vis == 0 {
-                    break;
-                }
-                self.visible[q] = frags[q].mask & vis;
-                vis &= !frags[q].mask;
-            }
+            share_visible(
+                &mut self.visible,
+                frags,
+                self.parts.iter().map(|p| p.4),
+                vis,
+            );
         }
         PixelSummary {
             rgb: resolve_bits(frags, &self.visible, free, bg, size),
