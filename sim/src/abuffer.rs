@@ -48,6 +48,7 @@ use thread_local::ThreadLocal;
 
 mod fragment;
 mod pixel;
+mod scratch;
 mod search_stream;
 use fragment::{frag_setups, RowFrags};
 pub use fragment::{FragSetup, Fragment};
@@ -409,7 +410,7 @@ fn render_row(
 #[derive(Default)]
 struct RowScratch {
     rows: RowFrags,
-    pixel: pixel::PixelScratch,
+    pixel: scratch::PixelScratch,
 }
 
 #[cfg(test)]
