@@ -328,8 +328,6 @@ pub struct DepthSelector {
     /// The same searches of a full mask as the ordering depth they give without a max:
     /// [`FullPick`] per table and start corner.
     full_pick: Vec<[FullPick; 4]>,
-    /// `size.full()`.
-    full_mask: u64,
 }
 
 /// The nearest-depth pick of a full mask from one start corner of one table: the offsets
@@ -380,7 +378,6 @@ impl DepthSelector {
             tables,
             full,
             full_pick,
-            full_mask: size.full(),
         }
     }
 
@@ -406,7 +403,8 @@ impl DepthSelector {
     /// called, the same folded pick as there.
     #[inline(always)]
     pub fn select_nearest(&self, variant: DepthSelect, mask: u64, plane: &FragPlane) -> DepthPick {
-        if variant == DepthSelect::Search && mask & self.full_mask == self.full_mask {
+        let full = self.size.full();
+        if variant == DepthSelect::Search && mask & full == full {
             return self.full_pick(DIAGONAL, plane);
         }
         self.select(variant, mask, plane, false)

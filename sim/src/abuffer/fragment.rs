@@ -174,11 +174,10 @@ impl FragSetup {
 
     /// The fragment of pixel (i, j) with a given mask.
     pub fn fragment(&self, i: i64, j: i64, mask: u64) -> Fragment {
-        let max = 255i128 << I_FRAC;
         Fragment {
             mask,
             plane: self.plane_at(i, j),
-            rgb_q12: self.c.map(|p| p.at_centre(i, j, 0).clamp(0, max) as u32),
+            rgb_q12: self.c.map(|p| clamp_q12(p.at_centre(i, j, 0))),
             tag: self.tag,
             decal: self.decal,
             prim: self.prim,
@@ -338,6 +337,12 @@ fn emit<Z: PlaneStepper, C: RowColour>(
 /// The largest colour value, 255 in Q8.12.
 const COLOUR_Q12_MAX: i64 = 255 << I_FRAC;
 
+/// A colour plane's value clamped to `0..=COLOUR_Q12_MAX`, a fragment's channel.
+#[inline]
+fn clamp_q12(v: i128) -> u32 {
+    v.clamp(0, COLOUR_Q12_MAX as i128) as u32
+}
+
 /// A fragment's colour along a row of pixels: Q8.12 per channel, each colour plane's value
 /// clamped to `0..=COLOUR_Q12_MAX`.
 trait RowColour {
@@ -356,7 +361,7 @@ impl Flat {
     /// The colour of the constant planes `rgb`.
     #[inline]
     fn of(rgb: [i128; 3]) -> Flat {
-        Flat(rgb.map(|v| v.clamp(0, COLOUR_Q12_MAX as i128) as u32))
+        Flat(rgb.map(clamp_q12))
     }
 }
 
@@ -373,7 +378,7 @@ impl RowColour for Flat {
 impl<S: PlaneStepper> RowColour for [S; 3] {
     #[inline]
     fn rgb_q12(&self) -> [u32; 3] {
-        self.map(|s| s.value().clamp(0, COLOUR_Q12_MAX as i128) as u32)
+        self.map(|s| clamp_q12(s.value()))
     }
     #[inline]
     fn advance(&mut self) {
