@@ -50,7 +50,8 @@ mod fragment;
 mod pixel;
 mod scratch;
 mod search_stream;
-use fragment::{frag_setups, RowFrags};
+use crate::mask::RowMasks;
+use fragment::{frag_setups, BandMasks, RowFrags};
 pub use fragment::{FragSetup, Fragment};
 pub use pixel::{
     coplanar_common_depth, merge, pack, process_pixel, resolve, Group, Packed, PixelOut,
@@ -228,7 +229,7 @@ pub fn multi_fragment_pixels(
     Ok(per_row.into_iter().flatten().collect())
 }
 
-/// Renders triangles (scene order) with the A-buffer, every output. Rows run in parallel
+/// Renders triangles (scene order) with the A-buffer, every output. Bands of rows run in parallel
 /// with identical results.
 pub fn render_abuffer(
     tris: &[SnappedTri],
@@ -246,6 +247,15 @@ fn rows_of<T>(v: &mut [T], w: usize, h: usize) -> Vec<&mut [T]> {
         (0..h).map(|_| <&mut [T]>::default()).collect()
     } else {
         v.chunks_mut(w).collect()
+    }
+}
+
+/// Row `r` of a band of `w`-wide rows, or an empty row when the buffer is not made.
+fn band_row<T>(band: &mut [T], w: usize, r: usize) -> &mut [T] {
+    if band.is_empty() {
+        band
+    } else {
+        &mut band[w * r..w * (r + 1)]
     }
 }
 
@@ -270,27 +280,39 @@ pub fn render_abuffer_with(
     // One scratch per worker thread for the whole frame (rayon's `map_init` would make a
     // new one for every piece of work it splits off, growing its buffers again each time).
     let scratch: ThreadLocal<RefCell<RowScratch>> = ThreadLocal::new();
+    // Bands of rows in parallel: each band's masks are made once for its rows.
+    let bh = bands.band() as usize;
+    let nb = bands.len();
     let stats = rgb
-        .par_chunks_mut(w * 3)
-        .zip(rows_of(&mut coverage, w, h))
-        .zip(rows_of(&mut fragments, w, h))
-        .zip(rows_of(&mut visible, w, h))
+        .par_chunks_mut((w * 3 * bh).max(1))
+        .zip(rows_of(&mut coverage, w * bh, nb))
+        .zip(rows_of(&mut fragments, w * bh, nb))
+        .zip(rows_of(&mut visible, w * bh, nb))
         .enumerate()
-        .map(|(j, (((rgb_row, cov_row), frag_row), vis_row))| {
-            let band = bands.members(bands.of_row(j as i64));
-            render_row(
-                j as i64,
-                width,
-                (&setups, band),
-                &sel,
-                params,
-                bg,
-                rgb_row,
-                cov_row,
-                frag_row,
-                vis_row,
-                &mut scratch.get_or_default().borrow_mut(),
-            )
+        .map(|(b, (((rgb_band, cov_band), frag_band), vis_band))| {
+            let sc = &mut *scratch.get_or_default().borrow_mut();
+            let (j0, j1) = bands.rows(b);
+            sc.band.fill((j0, j1), width, &setups, bands.members(b));
+            let mut st = AbufferStats::default();
+            for j in j0..=j1 {
+                let r = (j - j0) as usize;
+                let rgb_row = &mut rgb_band[w * 3 * r..w * 3 * (r + 1)];
+                st.add(&render_row(
+                    j,
+                    width,
+                    (&setups, sc.band.row(j)),
+                    &sel,
+                    params,
+                    bg,
+                    rgb_row,
+                    band_row(cov_band, w, r),
+                    band_row(frag_band, w, r),
+                    band_row(vis_band, w, r),
+                    &mut sc.rows,
+                    &mut sc.pixel,
+                ));
+            }
+            st
         })
         .reduce(AbufferStats::default, |mut a, b| {
             a.add(&b);
@@ -335,7 +357,7 @@ fn compare_variants(
 fn render_row(
     j: i64,
     width: u32,
-    (setups, members): (&[FragSetup], &[u32]),
+    (setups, masks): (&[FragSetup], &[(u32, RowMasks)]),
     sel: &DepthSelector,
     params: &AbufferParams,
     bg: [u8; 3],
@@ -343,13 +365,13 @@ fn render_row(
     cov_row: &mut [u16],
     frag_row: &mut [u16],
     vis_row: &mut [i32],
-    scratch: &mut RowScratch,
+    rows: &mut RowFrags,
+    pixel: &mut scratch::PixelScratch,
 ) -> AbufferStats {
     let size = params.size;
     let full = size.full();
     let mut st = AbufferStats::default();
-    let RowScratch { rows, pixel } = scratch;
-    rows.build(j, width, setups, members, size);
+    rows.build_from(j, width, setups, masks, size);
     for px in rgb_row.chunks_exact_mut(3) {
         let [r, g, b] = bg;
         px[0] = r;
@@ -409,6 +431,7 @@ fn render_row(
 /// Buffers one rendering thread reuses from row to row.
 #[derive(Default)]
 struct RowScratch {
+    band: BandMasks,
     rows: RowFrags,
     pixel: scratch::PixelScratch,
 }

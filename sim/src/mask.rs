@@ -24,8 +24,8 @@
 //! on their union exactly once.
 
 use crate::raster::edge::{check_coords, rewind, winding, EdgeFn};
+use crate::raster::floor_div;
 use crate::raster::rows::touched_rows;
-use crate::raster::{ceil_div, floor_div};
 use crate::setup::{SetupError, SnappedTri};
 use pixelproc_formats::abuffer::MaskSize;
 use pixelproc_formats::SUBPIXEL_ONE;
@@ -177,6 +177,7 @@ impl MaskEdges {
     /// (which the tests hold against it).
     #[cfg(test)]
     fn subrow_interval(&self, y_sub: i64) -> Option<(i64, i64)> {
+        use crate::raster::ceil_div;
         let y = 2 * y_sub + 1;
         let (mut lo, mut hi) = (i64::MIN / 4, i64::MAX / 4);
         for e in &self.edges {
@@ -201,71 +202,113 @@ impl MaskEdges {
         (lo <= hi).then_some((lo, hi))
     }
 
-    /// [`MaskEdges::subrow_interval`] of the `m` subpixel rows of pixel row `j` (`lo > hi`
+    /// [`MaskEdges::subrow_interval`] of the `m` subpixel rows of each pixel row `j_first`,
+    /// `j_first + 1`, … (`rows` of them), handed to `f(j, intervals)` in order (`lo > hi`
     /// for none; entries past `m` are empty): per sloped edge one division on the first
-    /// subpixel row, then exact floor steps.
+    /// subpixel row, then exact floor steps from one subpixel row to the next, also across
+    /// pixel rows.
     ///
     /// A left edge (`ax > 0`) bounds `lo = ceil((−k − ax) / 2ax) = −⌊(k + ax) / 2ax⌋`, a
     /// right edge `hi = ceil((k + ax) / −2ax) − 1 = −⌊(−k − ax) / −2ax⌋ − 1`, and `k` grows
     /// by `2·by` per subpixel row.
-    fn subrow_intervals(&self, j: i64) -> [(i64, i64); 8] {
+    fn subrow_intervals(
+        &self,
+        j_first: i64,
+        rows: usize,
+        mut f: impl FnMut(i64, &[(i64, i64); 8]),
+    ) {
         let m = self.size.m() as usize;
-        let y0 = 2 * (m as i64 * j) + 1;
-        let (mut lo, mut hi) = ([i64::MIN / 4; 8], [i64::MAX / 4; 8]);
-        let mut empty = [false; 8];
-        for e in &self.edges {
+        let y0 = 2 * (m as i64 * j_first) + 1;
+        // Per edge, `⌊num / d⌋` as quotient and remainder, one subpixel row before the
+        // first (every row then takes the same step); `num` is `k + ax` for a left edge,
+        // `−k − ax` for a right one, and `k` for a horizontal one (`d = 1`, steps `2·by`),
+        // which is inside where `k > thr`.
+        let mut q = [0i64; 3];
+        let mut rem = [0i64; 3];
+        let mut d = [1i64; 3];
+        let mut step = [(0i64, 0i64); 3];
+        let (mut left, mut right, mut flat) = ([false; 3], [false; 3], [false; 3]);
+        let mut thr = [0i64; 3];
+        for (x, e) in self.edges.iter().enumerate() {
             let k0 = e.by * y0 + e.c0;
-            let (sign, d) = match e.ax.signum() {
-                1 => (1, 2 * e.ax),
-                -1 => (-1, -2 * e.ax),
+            let num = match e.ax.signum() {
+                1 => {
+                    left[x] = true;
+                    d[x] = 2 * e.ax;
+                    step[x] = e.step;
+                    k0 + e.ax
+                }
+                -1 => {
+                    right[x] = true;
+                    d[x] = -2 * e.ax;
+                    step[x] = e.step;
+                    -(k0 + e.ax)
+                }
                 _ => {
-                    for (r, out) in empty.iter_mut().enumerate().take(m) {
-                        *out |= !e.inside(k0 + 2 * e.by * r as i64);
-                    }
-                    continue;
+                    flat[x] = true;
+                    thr[x] = if e.edge.inside(0) { -1 } else { 0 };
+                    step[x] = (2 * e.by, 0);
+                    k0
                 }
             };
-            let num = sign * (k0 + e.ax);
-            let (mut q, mut rem) = (floor_div(num, d), num.rem_euclid(d));
-            for r in 0..m {
-                if r > 0 {
-                    q += e.step.0;
-                    rem += e.step.1;
-                    if rem >= d {
-                        rem -= d;
-                        q += 1;
-                    }
-                }
-                if sign > 0 {
-                    lo[r] = lo[r].max(-q);
-                } else {
-                    hi[r] = hi[r].min(-q - 1);
-                }
+            q[x] = floor_div(num, d[x]) - step[x].0;
+            rem[x] = num.rem_euclid(d[x]) - step[x].1;
+            if rem[x] < 0 {
+                rem[x] += d[x];
+                q[x] -= 1;
             }
         }
-        let mut rows = [(1, 0); 8];
-        for r in 0..m {
-            if !empty[r] && lo[r] <= hi[r] {
-                rows[r] = (lo[r], hi[r]);
+        for row in 0..rows {
+            let mut out = [(1, 0); 8];
+            for o in out.iter_mut().take(m) {
+                let (mut lo, mut hi, mut outside) = (i64::MIN / 4, i64::MAX / 4, false);
+                for x in 0..3 {
+                    q[x] += step[x].0;
+                    rem[x] += step[x].1;
+                    let wrap = rem[x] >= d[x];
+                    rem[x] -= if wrap { d[x] } else { 0 };
+                    q[x] += wrap as i64;
+                    lo = lo.max(if left[x] { -q[x] } else { i64::MIN / 4 });
+                    hi = hi.min(if right[x] { -q[x] - 1 } else { i64::MAX / 4 });
+                    outside |= flat[x] & (q[x] <= thr[x]);
+                }
+                if !outside && lo <= hi {
+                    *o = (lo, hi);
+                }
             }
+            f(j_first + row as i64, &out);
         }
-        rows
     }
 
     /// [`MaskEdges::row_coverage`] with the covered subpixel columns of each subpixel row,
     /// from which [`RowMasks::mask`] gives every pixel's fraction mask without evaluating
     /// the edges per pixel.
     pub fn row_masks(&self, j: i64, width: u32) -> Option<RowMasks> {
-        if j < self.row_min || j > self.row_max {
-            return None;
+        let mut out = None;
+        self.band_row_masks(j, j, width, |_, rm| out = Some(rm));
+        out
+    }
+
+    /// [`MaskEdges::row_masks`] of every row `j0..=j1` the triangle covers, handed to
+    /// `f(j, masks)` in row order: the same masks, with one division per sloped edge for
+    /// all the rows instead of one per row.
+    pub fn band_row_masks(&self, j0: i64, j1: i64, width: u32, mut f: impl FnMut(i64, RowMasks)) {
+        let (lo, hi) = (j0.max(self.row_min), j1.min(self.row_max));
+        if lo > hi {
+            return;
         }
-        let rows = self.subrow_intervals(j);
-        let cov = self.coverage_of(&rows, width)?;
-        Some(RowMasks {
-            size: self.size,
-            rows,
-            cov,
-        })
+        self.subrow_intervals(lo, (hi - lo + 1) as usize, |j, rows| {
+            if let Some(cov) = self.coverage_of(rows, width) {
+                f(
+                    j,
+                    RowMasks {
+                        size: self.size,
+                        rows: *rows,
+                        cov,
+                    },
+                );
+            }
+        });
     }
 
     /// Which pixels of row `j` within `0..width` the triangle touches and fully covers, or
@@ -298,8 +341,17 @@ impl MaskEdges {
         if lo_min > hi_max {
             return None;
         }
-        let (tlo, thi) = (lo_min.div_euclid(n), hi_max.div_euclid(n));
-        let (flo, fhi) = (ceil_div(lo_max, n), (hi_min + 1).div_euclid(n) - 1);
+        // The clamped bounds are ≥ 0 (and `hi_min + 1` too): floor division is `/`, and
+        // for the usual power-of-two `n` a shift.
+        let div = |x: i64| {
+            if n.count_ones() == 1 {
+                x >> n.trailing_zeros()
+            } else {
+                x / n
+            }
+        };
+        let (tlo, thi) = (div(lo_min), div(hi_max));
+        let (flo, fhi) = (div(lo_max + n - 1), div(hi_min + 1) - 1);
         let full = (all_rows && flo <= fhi).then_some((flo, fhi));
         Some(RowCoverage {
             touched: (tlo, thi),
@@ -370,14 +422,27 @@ mod tests {
             let Some(e) = MaskEdges::new(&t, size).unwrap() else {
                 continue;
             };
-            for j in -2..h as i64 + 2 {
-                // The stepped intervals are the direct ones on every subpixel row, also
-                // off screen.
-                let stepped = e.subrow_intervals(j);
+            // The intervals stepped from one division are the direct ones on every
+            // subpixel row, also off screen and across pixel rows.
+            let mut rows_seen = 0;
+            e.subrow_intervals(-2, h as usize + 4, |j, stepped| {
+                assert_eq!(j, rows_seen - 2);
+                rows_seen += 1;
                 for (r, &got) in stepped.iter().enumerate().take(m as usize) {
                     let direct = e.subrow_interval(m as i64 * j + r as i64);
                     assert_eq!((got.0 <= got.1).then_some(got), direct, "{k} row {j}.{r}");
                 }
+            });
+            assert_eq!(rows_seen, h as i64 + 4);
+            // A band's masks are the rows' own, for bands starting anywhere.
+            let j0 = (k as i64 % 5) - 2;
+            let mut band = Vec::new();
+            e.band_row_masks(j0, j0 + 6, w, |j, rm| band.push((j, rm.rows, rm.cov)));
+            let own: Vec<_> = (j0..=j0 + 6)
+                .filter_map(|j| e.row_masks(j, w).map(|rm| (j, rm.rows, rm.cov)))
+                .collect();
+            assert_eq!(band, own, "{k}");
+            for j in -2..h as i64 + 2 {
                 if !(0..h as i64).contains(&j) {
                     continue;
                 }

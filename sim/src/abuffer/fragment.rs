@@ -246,17 +246,34 @@ impl RowFrags {
         members: &[u32],
         size: MaskSize,
     ) {
-        let w = width as usize;
-        self.masks.clear();
-        self.diff.clear();
-        self.diff.resize(w + 1, 0);
+        let mut masks = std::mem::take(&mut self.masks);
+        masks.clear();
         for &k in members {
             if let Some(rm) = setups[k as usize].edges.row_masks(j, width) {
-                let (a, b) = rm.cov.touched;
-                self.diff[a as usize] += 1;
-                self.diff[b as usize + 1] -= 1;
-                self.masks.push((k, rm));
+                masks.push((k, rm));
             }
+        }
+        self.build_from(j, width, setups, &masks, size);
+        self.masks = masks;
+    }
+
+    /// The fragments of row `j` from its masks `masks` (setup index and masks of every
+    /// triangle that touches the row, scene order), grouped by pixel.
+    pub(super) fn build_from(
+        &mut self,
+        j: i64,
+        width: u32,
+        setups: &[FragSetup],
+        masks: &[(u32, RowMasks)],
+        size: MaskSize,
+    ) {
+        let w = width as usize;
+        self.diff.clear();
+        self.diff.resize(w + 1, 0);
+        for (_, rm) in masks {
+            let (a, b) = rm.cov.touched;
+            self.diff[a as usize] += 1;
+            self.diff[b as usize + 1] -= 1;
         }
         self.start.clear();
         self.start.push(0);
@@ -273,7 +290,7 @@ impl RowFrags {
         }
         let full = size.full();
         let (frags, end) = (&mut self.frags, &mut self.end);
-        for (k, rm) in &self.masks {
+        for (k, rm) in masks {
             let t = &setups[*k as usize];
             let (a, b) = rm.cov.touched;
             let z = t.depth_steps(a, j);
@@ -303,6 +320,46 @@ impl RowFrags {
     #[inline]
     pub(super) fn pixel(&self, i: usize) -> &[Fragment] {
         &self.frags[self.start[i] as usize..self.end[i] as usize]
+    }
+}
+
+/// The masks of the rows of one band: per row, the setup index and [`RowMasks`] of every
+/// triangle that touches it, in scene order. Each triangle's edges are set up once for the
+/// band ([`MaskEdges::band_row_masks`]) instead of once per row. Buffers are reused from
+/// band to band.
+#[derive(Default)]
+pub(super) struct BandMasks {
+    /// First row of the band.
+    j0: i64,
+    rows: Vec<Vec<(u32, RowMasks)>>,
+}
+
+impl BandMasks {
+    /// The masks of rows `j0..=j1` of the triangles `setups[members[..]]` (scene order).
+    pub(super) fn fill(
+        &mut self,
+        (j0, j1): (i64, i64),
+        width: u32,
+        setups: &[FragSetup],
+        members: &[u32],
+    ) {
+        let n = (j1 - j0 + 1).max(0) as usize;
+        if self.rows.len() < n {
+            self.rows.resize_with(n, Vec::new);
+        }
+        self.rows.iter_mut().for_each(Vec::clear);
+        self.j0 = j0;
+        let rows = &mut self.rows;
+        for &k in members {
+            setups[k as usize]
+                .edges
+                .band_row_masks(j0, j1, width, |j, rm| rows[(j - j0) as usize].push((k, rm)));
+        }
+    }
+
+    /// The masks of row `j` of the band.
+    pub(super) fn row(&self, j: i64) -> &[(u32, RowMasks)] {
+        &self.rows[(j - self.j0) as usize]
     }
 }
 
