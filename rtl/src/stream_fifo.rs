@@ -27,10 +27,14 @@
 //!   `push`;
 //! - `level = wr − rd + dv`, `in_ready = ¬rst ∧ level ≠ 2^A`.
 //!
-//! `level ≠ 2^A` is read from a register, `full`, kept equal to `level = 2^A` after every
-//! edge: `full := level = 2^A − 1` on a push without a pop, `0` on a pop without a push,
-//! unchanged otherwise (`level' = level + push − pop`). So no pointer arithmetic sits
-//! between the pointers and the write enable. Likewise `wr ≠ rd` is read from a register,
+//! `level` is read from a register, `lv`, kept equal to `wr − rd + dv` after every edge:
+//! `+1` on a push without a pop, `−1` on a pop without a push, unchanged otherwise
+//! (`level' = level + push − pop`), `0` after `rst`. `level ≠ 2^A` is read from another,
+//! `full`, kept equal to `level = 2^A`: `full := lv = 2^A − 1` on a push without a pop,
+//! `0` on a pop without a push, unchanged otherwise. So no pointer arithmetic sits
+//! between the pointers and the write enable, nor between the pointers and `full` (the
+//! difference `wr − rd + dv` in front of `full`'s compare was the core's critical path at
+//! two placement seeds, `docs/fpga.md`). Likewise `wr ≠ rd` is read from a register,
 //! `ne`, kept equal to it after every edge: `1` after a push, `0` after a fetch without a
 //! push from `wr = rd + 1`, unchanged otherwise (and `0` after `rst`); so the fetch
 //! decision, the head register's clock enable, reads a flip-flop instead of comparing
@@ -86,20 +90,16 @@ pub struct StreamFifo<D: Synth, const A: usize, const A1: usize> {
     dv: DFF<Bit>,
     full: DFF<Bit>,
     ne: DFF<Bit>,
+    lv: DFF<Bits<A1>>,
     l_pop: Signal<Local, Bit>,
     l_fetch: Signal<Local, Bit>,
     l_push: Signal<Local, Bit>,
-    l_wr: Signal<Local, Bits<A1>>,
-    l_rd: Signal<Local, Bits<A1>>,
-    l_level: Signal<Local, Bits<A1>>,
-    l_dv: Signal<Local, Bits<A1>>,
     l_ra_inc: Signal<Local, Bits<A>>,
     l_ra_next: Signal<Local, Bits<A>>,
     l_wa_next: Signal<Local, Bits<A>>,
     l_one: Signal<Local, Bit>,
     k_one: Constant<Bits<A1>>,
     k_zero: Constant<Bits<A1>>,
-    k_full: Constant<Bits<A1>>,
     k_almost: Constant<Bits<A1>>,
     k_one_a: Constant<Bits<A>>,
     k_zero_a: Constant<Bits<A>>,
@@ -139,20 +139,16 @@ impl<D: Synth, const A: usize, const A1: usize> StreamFifo<D, A, A1> {
             dv: Default::default(),
             full: Default::default(),
             ne: Default::default(),
+            lv: Default::default(),
             l_pop: Default::default(),
             l_fetch: Default::default(),
             l_push: Default::default(),
-            l_wr: Default::default(),
-            l_rd: Default::default(),
-            l_level: Default::default(),
-            l_dv: Default::default(),
             l_ra_inc: Default::default(),
             l_ra_next: Default::default(),
             l_wa_next: Default::default(),
             l_one: Default::default(),
             k_one: Constant::new(1u64.to_bits()),
             k_zero: Constant::new(0u64.to_bits()),
-            k_full: Constant::new((1u64 << A).to_bits()),
             k_almost: Constant::new(((1u64 << A) - 1).to_bits()),
             k_one_a: Constant::new(1u64.to_bits()),
             k_zero_a: Constant::new(0u64.to_bits()),
@@ -178,32 +174,20 @@ impl<D: Synth, const A: usize, const A1: usize> StreamFifo<D, A, A1> {
 impl<D: Synth, const A: usize, const A1: usize> Logic for StreamFifo<D, A, A1> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, head, wa, ww, ra, rw, dv, full, ne);
+        dff_setup!(self, clock, head, wa, ww, ra, rw, dv, full, ne, lv);
         self.ram.clock.next = self.clock.val();
-        // The two pointers as `A + 1`-bit numbers.
-        self.l_wr.next = bit_cast::<A1, A>(self.wa.q.val());
-        if self.ww.q.val() {
-            self.l_wr.next = bit_cast::<A1, A>(self.wa.q.val()) | self.k_full.val();
-        }
-        self.l_rd.next = bit_cast::<A1, A>(self.ra.q.val());
-        if self.rw.q.val() {
-            self.l_rd.next = bit_cast::<A1, A>(self.ra.q.val()) | self.k_full.val();
-        }
-        self.l_dv.next = self.k_zero.val();
-        if self.dv.q.val() {
-            self.l_dv.next = self.k_one.val();
-        }
-        self.l_level.next = (self.l_wr.val() - self.l_rd.val()) + self.l_dv.val();
-        self.level.next = self.l_level.val();
+        self.level.next = self.lv.q.val();
         self.in_ready.next = !self.full.q.val() & !self.rst.val();
         self.l_pop.next = self.dv.q.val() & self.out_ready.val();
         self.l_fetch.next = self.ne.q.val() & (!self.dv.q.val() | self.l_pop.val());
         self.l_push.next = self.in_valid.val() & self.in_ready.val();
         if self.l_push.val() & !self.l_pop.val() {
-            self.full.d.next = self.l_level.val() == self.k_almost.val();
+            self.full.d.next = self.lv.q.val() == self.k_almost.val();
+            self.lv.d.next = self.lv.q.val() + self.k_one.val();
         }
         if !self.l_push.val() & self.l_pop.val() {
             self.full.d.next = false;
+            self.lv.d.next = self.lv.q.val() - self.k_one.val();
         }
         // Read side: the RAM's address registers load the pointer's next value, so
         // they read `mem[rd]` as the pointer register does.
@@ -248,6 +232,7 @@ impl<D: Synth, const A: usize, const A1: usize> Logic for StreamFifo<D, A, A1> {
             self.dv.d.next = false;
             self.full.d.next = false;
             self.ne.d.next = false;
+            self.lv.d.next = self.k_zero.val();
         }
         self.wa.d.next = self.l_wa_next.val();
         self.ra.d.next = self.l_ra_next.val();
