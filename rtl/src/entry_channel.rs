@@ -3,8 +3,8 @@
 //!
 //! Stages E2 to E4 of [`crate::pixel_array`] for one channel: E2 registers `IL` and
 //! `dI` (0 unless the command is a SPAN), E3 forms the two 16 × 16 partial products of
-//! the tile offset `m` and `dI`, E4 adds them to two partial sums,
-//! `m·dI = m·u21 − s·m·2^21` (`u21` = `dI` as unsigned, `s` its sign). The outputs are the
+//! the tile offset `m` and `dI` and `IL − s·m·2^21`, E4 adds them to two partial sums,
+//! `IL + m·dI = (IL − s·m·2^21) + m·u21` (`u21` = `dI` as unsigned, `s` its sign). The outputs are the
 //! sum of the E4 registers and the E4 copy of `dI`: the channel's part of the token for
 //! processor 0. The array builds three of these and owns `m` (shared with the depth).
 
@@ -39,15 +39,18 @@ pub struct EntryChannel {
     pub span: Signal<In, Bit>,
     /// The tile offset `m` E2 loads (the multipliers register their own copies).
     pub m1: Signal<In, Bits<MUL_W>>,
-    /// The tile offset `m` registered in E3.
-    pub m3: Signal<In, Bits<MUL_W>>,
+    /// The tile offset `m` registered in E2.
+    pub m2: Signal<In, Bits<MUL_W>>,
     /// `IL + m·dI`, Q22.12 two's complement: processor 0's accumulator.
     pub i: Signal<Out, Bits<IACC_W>>,
     /// `dI` in E4.
     pub o_di: Signal<Out, Bits<DI_W>>,
     e2_il: DFF<Bits<IL_W>>,
     e2_di: DFF<Bits<DI_W>>,
-    e3_il: DFF<Bits<IL_W>>,
+    /// `IL − s·m·2^21` (`s` the sign of dI): the signed product's correction taken here
+    /// from E2's fabric registers, so that E4's adds take the DSP products with nothing
+    /// in front of them.
+    e3_ils: DFF<Bits<IACC_W>>,
     e3_di: DFF<Bits<DI_W>>,
     /// The partial products m·dI (low 16 bits of dI, the bits above): operands registered
     /// with E2, products with E3 (on an FPGA the DSP block's own registers).
@@ -58,7 +61,6 @@ pub struct EntryChannel {
     e4_a: DFF<Bits<IACC_W>>,
     e4_b: DFF<Bits<IACC_W>>,
     l_dihi: Signal<Local, Bits<MUL_W>>,
-    l_m34: Signal<Local, Bits<IACC_W>>,
     k_zero: Constant<Bits<DI_W>>,
 }
 
@@ -71,12 +73,12 @@ impl EntryChannel {
             di: Default::default(),
             span: Default::default(),
             m1: Default::default(),
-            m3: Default::default(),
+            m2: Default::default(),
             i: Default::default(),
             o_di: Default::default(),
             e2_il: Default::default(),
             e2_di: Default::default(),
-            e3_il: Default::default(),
+            e3_ils: Default::default(),
             e3_di: Default::default(),
             mp: Default::default(),
             l_di1: Default::default(),
@@ -84,7 +86,6 @@ impl EntryChannel {
             e4_a: Default::default(),
             e4_b: Default::default(),
             l_dihi: Default::default(),
-            l_m34: Default::default(),
             k_zero: Constant::new(0u64.to_bits()),
         }
     }
@@ -99,7 +100,7 @@ impl Default for EntryChannel {
 impl Logic for EntryChannel {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, e2_il, e2_di, e3_il, e3_di, e4_di, e4_a, e4_b);
+        dff_setup!(self, clock, e2_il, e2_di, e3_ils, e3_di, e4_di, e4_a, e4_b);
         // ---- E2: no increment unless SPAN.
         self.e2_il.d.next = self.il.val();
         self.l_di1.next = self.k_zero.val();
@@ -108,7 +109,11 @@ impl Logic for EntryChannel {
         }
         self.e2_di.d.next = self.l_di1.val();
         // ---- E3: partial products m·dI, 16×16 unsigned, of the operands E2 loads.
-        self.e3_il.d.next = self.e2_il.q.val();
+        self.e3_ils.d.next = bit_cast::<IACC_W, IL_W>(self.e2_il.q.val());
+        if self.e2_di.q.val().get_bit(20) {
+            self.e3_ils.d.next = bit_cast::<IACC_W, IL_W>(self.e2_il.q.val())
+                - (bit_cast::<IACC_W, MUL_W>(self.m2.val()) << 21);
+        }
         self.e3_di.d.next = self.e2_di.q.val();
         self.l_dihi.next = bit_cast::<MUL_W, DI_HI_W>(self.l_di1.val().get_bits::<DI_HI_W>(16));
         for k in 0..2 {
@@ -117,16 +122,10 @@ impl Logic for EntryChannel {
         }
         self.mp[0].b.next = self.l_di1.val().get_bits::<MUL_W>(0);
         self.mp[1].b.next = self.l_dihi.val();
-        // ---- E4: m·dI = m·u21 − s·m·2^21.
+        // ---- E4: m·dI = m·u21 − s·m·2^21, the second term in E3's `e3_ils`.
         self.e4_di.d.next = self.e3_di.q.val();
-        self.l_m34.next = bit_cast::<IACC_W, MUL_W>(self.m3.val());
-        self.e4_a.d.next = bit_cast::<IACC_W, IL_W>(self.e3_il.q.val())
-            + bit_cast::<IACC_W, PROD_W>(self.mp[0].p.val());
+        self.e4_a.d.next = self.e3_ils.q.val() + bit_cast::<IACC_W, PROD_W>(self.mp[0].p.val());
         self.e4_b.d.next = bit_cast::<IACC_W, PROD_W>(self.mp[1].p.val()) << 16;
-        if self.e3_di.q.val().get_bit(20) {
-            self.e4_b.d.next =
-                (bit_cast::<IACC_W, PROD_W>(self.mp[1].p.val()) << 16) - (self.l_m34.val() << 21);
-        }
         self.i.next = self.e4_a.q.val() + self.e4_b.q.val();
         self.o_di.next = self.e4_di.q.val();
     }

@@ -137,6 +137,11 @@ pub struct PixelProcessorArray {
     e1_bg: DFF<Bits<RGB_BITS>>,
     e1_word: DFF<Bits<SPAN_W>>,
     e1_base: DFF<Bits<X_W>>,
+    /// `base − XL` of the command, registered: the tile offset's subtraction done in
+    /// front of E1, so that E2 feeds the multipliers' operand registers through one gate.
+    e1_d: DFF<Bits<REL_W>>,
+    /// The command in E1 is a SPAN (what `e1_op = SPAN` says, registered on its own).
+    e1_span: DFF<Bit>,
     e1_rd: DFF<Bits<X_W>>,
     // E2: decoded word, tile offset m = max(0, base − XL).
     e2_head: DFF<Bits<HEAD_W>>,
@@ -145,8 +150,10 @@ pub struct PixelProcessorArray {
     e2_dz: DFF<Bits<DZ_W>>,
     // E3: partial products.
     e3_head: DFF<Bits<HEAD_W>>,
-    e3_m: DFF<Bits<MUL_W>>,
-    e3_zl: DFF<Bits<ZL_W>>,
+    /// `ZL − s·m·2^38` (`s` the sign of dZ): the correction of the signed product
+    /// `m·dZ` taken here from E2's fabric registers, so that E4's adds take the DSP
+    /// products with nothing in front of them.
+    e3_zs: DFF<Bits<ZACC_W>>,
     e3_dz: DFF<Bits<DZ_W>>,
     /// The partial products m·dZ (low, middle, high 16 bits of dZ): operands registered
     /// with E2, products with E3 (on an FPGA the DSP block's own registers).
@@ -165,19 +172,17 @@ pub struct PixelProcessorArray {
     k_nop: Constant<Bits<OP_BITS>>,
     k_span: Constant<Bits<OP_BITS>>,
     k_attr_op: Constant<Bits<ATTR_W>>,
-    k_one14: Constant<Bits<REL_W>>,
     k_zero16: Constant<Bits<MUL_W>>,
     k_zero38: Constant<Bits<DZ_W>>,
-    l_xl: Signal<Local, Bits<REL_W>>,
     l_xr: Signal<Local, Bits<REL_W>>,
     l_base: Signal<Local, Bits<REL_W>>,
-    l_d: Signal<Local, Bits<REL_W>>,
+    /// `base − XL` of the command at the inputs.
+    l_d0: Signal<Local, Bits<REL_W>>,
     /// The values E2's `m` and `dZ` registers load (the multipliers' operands).
     l_m1: Signal<Local, Bits<MUL_W>>,
     l_dz1: Signal<Local, Bits<DZ_W>>,
     l_dzmid: Signal<Local, Bits<MUL_W>>,
     l_dzhi: Signal<Local, Bits<MUL_W>>,
-    l_m44: Signal<Local, Bits<ZACC_W>>,
     l_head: Signal<Local, Bits<HEAD_W>>,
     k_zero_head: Constant<Bits<HEAD_W>>,
     /// E2..E4 of the red, green and blue channels.
@@ -226,14 +231,15 @@ impl PixelProcessorArray {
             e1_bg: Default::default(),
             e1_word: Default::default(),
             e1_base: Default::default(),
+            e1_d: Default::default(),
+            e1_span: Default::default(),
             e1_rd: Default::default(),
             e2_head: Default::default(),
             e2_m: Default::default(),
             e2_zl: Default::default(),
             e2_dz: Default::default(),
             e3_head: Default::default(),
-            e3_m: Default::default(),
-            e3_zl: Default::default(),
+            e3_zs: Default::default(),
             e3_dz: Default::default(),
             mz: Default::default(),
             e4_head: Default::default(),
@@ -252,18 +258,15 @@ impl PixelProcessorArray {
             k_nop: Constant::new(OP_NOP.to_bits()),
             k_span: Constant::new(OP_SPAN.to_bits()),
             k_attr_op: Constant::new((Attr::Op.code() as u64).to_bits()),
-            k_one14: k(1),
             k_zero16: k(0),
             k_zero38: k(0),
-            l_xl: Default::default(),
             l_xr: Default::default(),
             l_base: Default::default(),
-            l_d: Default::default(),
+            l_d0: Default::default(),
             l_m1: Default::default(),
             l_dz1: Default::default(),
             l_dzmid: Default::default(),
             l_dzhi: Default::default(),
-            l_m44: Default::default(),
             l_head: Default::default(),
             k_zero_head: k(0),
             chans: std::array::from_fn(|_| EntryChannel::new()),
@@ -294,8 +297,8 @@ impl Logic for PixelProcessorArray {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, e1_op, e1_bg, e1_word, e1_base, e1_rd, e2_head, e2_m, e2_zl, e2_dz,
-            e3_head, e3_m, e3_zl, e3_dz, e4_head, e4_dz, e4_za, e4_zb
+            self, clock, e1_op, e1_bg, e1_word, e1_base, e1_d, e1_span, e1_rd, e2_head, e2_m,
+            e2_zl, e2_dz, e3_head, e3_zs, e3_dz, e4_head, e4_dz, e4_za, e4_zb
         );
         // ---- E1: register every input.
         self.e1_op.d.next = self.k_nop.val();
@@ -309,12 +312,15 @@ impl Logic for PixelProcessorArray {
         self.e1_bg.d.next = self.cmd_bg.val();
         self.e1_word.d.next = self.cmd_word.val();
         self.e1_base.d.next = self.tile_base.val();
+        self.l_d0.next = bit_cast::<REL_W, X_W>(self.tile_base.val())
+            - bit_cast::<REL_W, X_W>(self.cmd_word.val().get_value_xl());
+        self.e1_d.d.next = self.l_d0.val();
+        self.e1_span.d.next =
+            self.cmd_valid.val() & (self.cmd_op.val() == self.k_span.val()) & !self.rst.val();
         self.e1_rd.d.next = self.rd_addr.val();
         // ---- E2: decode the span word (fields of `pixelproc_formats::SPAN_FIELDS`).
-        self.l_xl.next = bit_cast::<REL_W, X_W>(self.e1_word.q.val().get_value_xl());
         self.l_xr.next = bit_cast::<REL_W, X_W>(self.e1_word.q.val().get_value_xr());
         self.l_base.next = bit_cast::<REL_W, X_W>(self.e1_base.q.val());
-        self.l_d.next = self.l_base.val() - self.l_xl.val();
         self.l_head.next = self.k_zero_head.val();
         self.l_head.next.set_value_op(self.e1_op.q.val());
         self.l_head
@@ -329,9 +335,7 @@ impl Logic for PixelProcessorArray {
         self.l_head
             .next
             .set_value_chan(self.e1_word.q.val().get_value_chan());
-        self.l_head
-            .next
-            .set_value_rel_l((self.l_xl.val() - self.l_base.val()) - self.k_one14.val());
+        self.l_head.next.set_value_rel_l(!self.e1_d.q.val()); // XL − base − 1 = −(base − XL) − 1
         self.l_head
             .next
             .set_value_rel_r(self.l_xr.val() - self.l_base.val());
@@ -340,12 +344,11 @@ impl Logic for PixelProcessorArray {
         self.l_dz1.next = self.e1_word.q.val().get_value_dz();
         // Tile offset: the span started `base − XL` columns before this tile.
         self.l_m1.next = self.k_zero16.val();
-        if !self.l_d.val().get_bit(13) {
-            self.l_m1.next = bit_cast::<MUL_W, REL_W>(self.l_d.val());
+        if self.e1_span.q.val() & !self.e1_d.q.val().get_bit(13) {
+            self.l_m1.next = bit_cast::<MUL_W, REL_W>(self.e1_d.q.val());
         }
-        if self.e1_op.q.val() != self.k_span.val() {
+        if !self.e1_span.q.val() {
             // No increments; CLEAR_LINE carries the background in the Z accumulator.
-            self.l_m1.next = self.k_zero16.val();
             self.l_dz1.next = self.k_zero38.val();
             self.e2_zl.d.next = bit_cast::<ZL_W, RGB_BITS>(self.e1_bg.q.val());
         }
@@ -353,7 +356,7 @@ impl Logic for PixelProcessorArray {
         self.e2_dz.d.next = self.l_dz1.val();
         // ---- E2..E4 of the colour channels, one block each; their results packed red
         // first for processor 0 (`bit_cast` cannot take the loop index: go through locals).
-        self.l_span.next = self.e1_op.q.val() == self.k_span.val();
+        self.l_span.next = self.e1_span.q.val();
         self.l_il3.next = self.e1_word.q.val().get_value_il();
         self.l_di3.next = self.e1_word.q.val().get_value_di();
         self.l_ti.next = self.k_zero_i3.val();
@@ -364,7 +367,7 @@ impl Logic for PixelProcessorArray {
             self.chans[c].di.next = self.l_di3.val().get_bits::<DI_W>(21 * c);
             self.chans[c].span.next = self.l_span.val();
             self.chans[c].m1.next = self.l_m1.val();
-            self.chans[c].m3.next = self.e3_m.q.val();
+            self.chans[c].m2.next = self.e2_m.q.val();
             self.l_ch_i.next = self.chans[c].i.val();
             self.l_ch_di.next = self.chans[c].o_di.val();
             self.l_ti.next =
@@ -375,8 +378,11 @@ impl Logic for PixelProcessorArray {
         // ---- E3: partial products m·dZ (3), 16×16 unsigned, of the operands E2 loads
         // (each multiplier registers its own copy with E2 and its product with E3).
         self.e3_head.d.next = self.e2_head.q.val();
-        self.e3_m.d.next = self.e2_m.q.val();
-        self.e3_zl.d.next = self.e2_zl.q.val();
+        self.e3_zs.d.next = bit_cast::<ZACC_W, ZL_W>(self.e2_zl.q.val());
+        if self.e2_dz.q.val().get_bit(37) {
+            self.e3_zs.d.next = bit_cast::<ZACC_W, ZL_W>(self.e2_zl.q.val())
+                - (bit_cast::<ZACC_W, MUL_W>(self.e2_m.q.val()) << 38);
+        }
         self.e3_dz.d.next = self.e2_dz.q.val();
         self.l_dzmid.next = self.l_dz1.val().get_bits::<MUL_W>(16);
         self.l_dzhi.next = bit_cast::<MUL_W, DZ_HI_W>(self.l_dz1.val().get_bits::<DZ_HI_W>(32));
@@ -387,19 +393,13 @@ impl Logic for PixelProcessorArray {
         self.mz[0].b.next = self.l_dz1.val().get_bits::<MUL_W>(0);
         self.mz[1].b.next = self.l_dzmid.val();
         self.mz[2].b.next = self.l_dzhi.val();
-        // ---- E4: m·dZ = m·u38 − s·m·2^38 (u38 = dZ as unsigned).
+        // ---- E4: m·dZ = m·u38 − s·m·2^38 (u38 = dZ as unsigned); the second term is
+        // in E3's `e3_zs`, so Z = (ZL − s·m·2^38 + m·u38[0:16]) + m·u38[16:38]·2^16.
         self.e4_head.d.next = self.e3_head.q.val();
         self.e4_dz.d.next = self.e3_dz.q.val();
-        self.l_m44.next = bit_cast::<ZACC_W, MUL_W>(self.e3_m.q.val());
-        self.e4_za.d.next = bit_cast::<ZACC_W, ZL_W>(self.e3_zl.q.val())
-            + bit_cast::<ZACC_W, PROD_W>(self.mz[0].p.val());
+        self.e4_za.d.next = self.e3_zs.q.val() + bit_cast::<ZACC_W, PROD_W>(self.mz[0].p.val());
         self.e4_zb.d.next = (bit_cast::<ZACC_W, PROD_W>(self.mz[1].p.val()) << 16)
             + (bit_cast::<ZACC_W, PROD_W>(self.mz[2].p.val()) << 32);
-        if self.e3_dz.q.val().get_bit(37) {
-            self.e4_zb.d.next = ((bit_cast::<ZACC_W, PROD_W>(self.mz[1].p.val()) << 16)
-                + (bit_cast::<ZACC_W, PROD_W>(self.mz[2].p.val()) << 32))
-                - (self.l_m44.val() << 38);
-        }
         // ---- The systolic chain: E4 feeds processor 0, processor p feeds p + 1.
         for i in 0..self.procs.len() {
             self.procs[i].clock.next = self.clock.val();
