@@ -33,7 +33,11 @@
 //! between a compare and its register, and the write enable is one LUT level from
 //! flip-flops. `Z < ZB` and `Z <= ZB` share one carry chain: `{Z, 1} < {ZB, 1}` and
 //! `{Z, 0} < {ZB, 1}`, the low bit from the token's `le` flag (an OP span of a decal),
-//! decoded once at the array's entry and carried from processor to processor.
+//! decoded once at the array's entry and carried from processor to processor. ZB takes
+//! the write at once (the bypass needs it); RGB and NCLASS take it one edge later from
+//! stage C (`w_c`, `rgb_c`, `ncl_c`), so their clock enable is one flip-flop rather than
+//! the write decision; the line capture and [`PixelProcessor::probe`] read the stage-C
+//! values while such a write is pending.
 //!
 //! **OP span** (`op = SPAN`, `attr = OP`): if `XL <= col <= XR` and `Z < ZB` (`Z <= ZB`
 //! for a decal span), `ZB := Z`, `RGB := clamp(I >> 12, 0, 255)` per channel,
@@ -181,6 +185,16 @@ pub struct PixelProcessor {
     zb_r: DFF<Bits<ZB_W>>,
     rgb_r: DFF<Bits<RGB_BITS>>,
     nclass_r: DFF<Bits<NCLASS_W>>,
+    /// Stage C: stage B wrote at the last edge (`w_c`), with the RGB and NCLASS it wrote
+    /// (`rgb_c`, `ncl_c`); RGB and NCLASS take them at the next edge (see "Decide, then
+    /// write").
+    w_c: DFF<Bit>,
+    rgb_c: DFF<Bits<RGB_BITS>>,
+    ncl_c: DFF<Bits<NCLASS_W>>,
+    /// RGB and NCLASS as the processor's state has them: the stage C values while a
+    /// write is pending there.
+    l_rgb_now: Signal<Local, Bits<RGB_BITS>>,
+    l_ncl_now: Signal<Local, Bits<NCLASS_W>>,
     /// The readout registers, as the packed readout word.
     cap_r: DFF<Bits<READOUT_W>>,
     l_cap: Signal<Local, Bits<READOUT_W>>,
@@ -282,6 +296,11 @@ impl PixelProcessor {
             zb_r: Default::default(),
             rgb_r: Default::default(),
             nclass_r: Default::default(),
+            w_c: Default::default(),
+            rgb_c: Default::default(),
+            ncl_c: Default::default(),
+            l_rgb_now: Default::default(),
+            l_ncl_now: Default::default(),
             cap_r: Default::default(),
             l_cap: Default::default(),
             k_cap_reset: Constant::new(
@@ -341,12 +360,12 @@ impl PixelProcessor {
         };
         ProcRegs {
             zb: self.zb_r.q.val().to_u32(),
-            rgb: self.rgb_r.q.val().to_u32(),
+            rgb: self.l_rgb_now.val().to_u32(),
             dsf,
             fsf,
             count,
             mask,
-            nclass: self.nclass_r.q.val().to_u8(),
+            nclass: self.l_ncl_now.val().to_u8(),
             sh: self.sh_r.q.val().to_u32(),
             won: self.won_r.q.val(),
         }
@@ -367,7 +386,8 @@ impl Logic for PixelProcessor {
         dff_setup!(
             self, clock, tok_head, tok_z, tok_dz, tok_i, tok_di, tok_le, b_op, b_attr, b_covered,
             b_p_held, b_p_new, b_p_far, b_sel_new, b_sel_far, b_gate, b_hi_ok, b_z, b_rgb,
-            b_nclass, zb_r, rgb_r, nclass_r, cap_r, rdsel_r, b_won_upd, b_sh_write, won_r, sh_r
+            b_nclass, zb_r, rgb_r, nclass_r, w_c, rgb_c, ncl_c, cap_r, rdsel_r, b_won_upd,
+            b_sh_write, won_r, sh_r
         );
         // ---- Stage A: the token register, loaded every clock.
         self.tok_head.d.next = self.t_head.val();
@@ -438,8 +458,21 @@ impl Logic for PixelProcessor {
         self.zb_next.next = self.zb_r.q.val();
         if self.write_b.val() {
             self.zb_next.next = self.b_z.q.val();
-            self.rgb_r.d.next = self.b_rgb.q.val();
-            self.nclass_r.d.next = self.b_nclass.q.val();
+        }
+        // RGB and NCLASS one edge later, from stage C: their clock enable is a flip-flop,
+        // not the write decision (whose fan-out to 56 registers was a critical path).
+        self.w_c.d.next = self.write_b.val();
+        self.rgb_c.d.next = self.b_rgb.q.val();
+        self.ncl_c.d.next = self.b_nclass.q.val();
+        if self.w_c.q.val() {
+            self.rgb_r.d.next = self.rgb_c.q.val();
+            self.nclass_r.d.next = self.ncl_c.q.val();
+        }
+        self.l_rgb_now.next = self.rgb_r.q.val();
+        self.l_ncl_now.next = self.nclass_r.q.val();
+        if self.w_c.q.val() {
+            self.l_rgb_now.next = self.rgb_c.q.val();
+            self.l_ncl_now.next = self.ncl_c.q.val();
         }
         // Shadow logic (absent without shadows: flags, counter and mask read 0).
         self.dsf_now.next = false;
@@ -462,10 +495,10 @@ impl Logic for PixelProcessor {
         // New scanline: copy the finished line into the readout registers (the fields of
         // `pixelproc_formats::regs::READOUT_FIELDS`), then clear.
         self.l_cap.next = self.k_zero_rd.val();
-        self.l_cap.next.set_value_nclass(self.nclass_r.q.val());
+        self.l_cap.next.set_value_nclass(self.l_ncl_now.val());
         self.l_cap.next.set_value_mask(self.mask_now.val());
         self.l_cap.next.set_value_zb(self.zb_r.q.val());
-        self.l_cap.next.set_value_rgb(self.rgb_r.q.val());
+        self.l_cap.next.set_value_rgb(self.l_rgb_now.val());
         self.l_cap.next.set_value_dsf(self.dsf_now.val());
         self.l_cap.next.set_value_fsf(self.fsf_now.val());
         self.l_cap.next.set_value_count(self.count_now.val());
