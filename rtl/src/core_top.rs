@@ -138,7 +138,9 @@ pub struct PixelprocCore<const IA: usize, const IA1: usize> {
     l_arr: Signal<Local, Bit>,
     l_issue: Signal<Local, Bit>,
     l_go: Signal<Local, Bit>,
-    l_delta: Signal<Local, Bits<6>>,
+    l_cp1: Signal<Local, Bits<6>>,
+    l_cm1: Signal<Local, Bits<6>>,
+    l_cm2: Signal<Local, Bits<6>>,
     l_pop: Signal<Local, Bit>,
     l_lost: Signal<Local, Bit>,
     l_t1: Signal<Local, Bits<3>>,
@@ -227,7 +229,9 @@ impl<const IA: usize, const IA1: usize> PixelprocCore<IA, IA1> {
             l_arr: Default::default(),
             l_issue: Default::default(),
             l_go: Default::default(),
-            l_delta: Default::default(),
+            l_cp1: Default::default(),
+            l_cm1: Default::default(),
+            l_cm2: Default::default(),
             l_pop: Default::default(),
             l_lost: Default::default(),
             l_t1: Default::default(),
@@ -343,10 +347,11 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
         }
         self.array.cmd_bg.next = self.l_data.val().get_value_bg();
         self.array.cmd_word.next = self.l_data.val();
+        // The tile's first column, for the commands that use it (SPAN and CHECK: their
+        // range and the tile offset): `base_r`, which a TILE beat loads. The CLEAR_LINE a
+        // TILE or END beat sends ignores it, so no decode of the head beat sits in front
+        // of the array's tile-offset subtraction.
         self.array.tile_base.next = self.base_r.q.val();
-        if self.l_tile.val() {
-            self.array.tile_base.next = self.l_data.val().get_value_base();
-        }
         // ---- Shading-table writes.
         // `l_issue & l_table`, spelled without the readout hold: a TABLE beat is never a
         // TILE or END, so it issues whenever it is at the head and `rst` is 0. The
@@ -468,21 +473,23 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
         // never in a correct core): level' + inflight' exactly.
         self.l_pop.next = self.out_fifo.out_valid.val() & self.m_axis_tready.val();
         self.l_lost.next = self.shade.out_valid.val() & !self.out_fifo.in_ready.val();
-        // The change (+1 .. −2) is decoded from the three bits first: one adder, not three
-        // in a row.
-        self.l_delta.next = self.k_zero6.val();
+        // The change (+1 .. −2) is decoded from the three bits while the three possible
+        // sums, straight from `credit`, run in parallel: the decode selects a sum instead
+        // of feeding an adder (`l_go` itself depends on `credit`).
+        self.l_cp1.next = self.credit.q.val() + self.k_one6.val();
+        self.l_cm1.next = self.credit.q.val() + self.k_minus1_6.val();
+        self.l_cm2.next = self.credit.q.val() + self.k_minus2_6.val();
         if self.l_go.val() & !self.l_pop.val() & !self.l_lost.val() {
-            self.l_delta.next = self.k_one6.val();
+            self.credit.d.next = self.l_cp1.val();
         }
         if (self.l_go.val() & self.l_pop.val() & self.l_lost.val())
             | (!self.l_go.val() & (self.l_pop.val() ^ self.l_lost.val()))
         {
-            self.l_delta.next = self.k_minus1_6.val();
+            self.credit.d.next = self.l_cm1.val();
         }
         if !self.l_go.val() & self.l_pop.val() & self.l_lost.val() {
-            self.l_delta.next = self.k_minus2_6.val();
+            self.credit.d.next = self.l_cm2.val();
         }
-        self.credit.d.next = self.credit.q.val() + self.l_delta.val();
         // ---- Pixel stream.
         self.out_fifo.out_ready.next = self.m_axis_tready.val();
         self.m_axis_tvalid.next = self.out_fifo.out_valid.val();

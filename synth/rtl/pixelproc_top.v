@@ -150,7 +150,9 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     reg  l_arr;
     reg  l_issue;
     reg  l_go;
-    reg  [5:0] l_delta;
+    reg  [5:0] l_cp1;
+    reg  [5:0] l_cm1;
+    reg  [5:0] l_cm2;
     reg  l_pop;
     reg  l_lost;
     reg  [2:0] l_t1;
@@ -220,7 +222,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         .q(base_r$q),
         .clock(base_r$clock)
     );
-    pixelproc_top$array$procs$b_covered pend_v(
+    pixelproc_top$array$e1_span pend_v(
         .d(pend_v$d),
         .q(pend_v$q),
         .clock(pend_v$clock)
@@ -230,12 +232,12 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         .q(pend_last$q),
         .clock(pend_last$clock)
     );
-    pixelproc_top$array$procs$b_covered pend_sof(
+    pixelproc_top$array$e1_span pend_sof(
         .d(pend_sof$d),
         .q(pend_sof$q),
         .clock(pend_sof$clock)
     );
-    pixelproc_top$array$procs$b_covered job_v(
+    pixelproc_top$array$e1_span job_v(
         .d(job_v$d),
         .q(job_v$q),
         .clock(job_v$clock)
@@ -250,7 +252,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         .q(job_last$q),
         .clock(job_last$clock)
     );
-    pixelproc_top$array$procs$b_covered job_sof(
+    pixelproc_top$array$e1_span job_sof(
         .d(job_sof$d),
         .q(job_sof$q),
         .clock(job_sof$clock)
@@ -285,7 +287,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         .q(credit$q),
         .clock(credit$clock)
     );
-    pixelproc_top$array$procs$b_covered err(
+    pixelproc_top$array$e1_span err(
         .d(err$d),
         .q(err$q),
         .clock(err$clock)
@@ -354,9 +356,6 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         array$cmd_bg = l_data[(32'h0)+:(24)];
         array$cmd_word = l_data;
         array$tile_base = base_r$q;
-        if (l_tile) begin
-            array$tile_base = l_data[(32'h18)+:(12)];
-        end
         shade$tw_en = in_fifo$out_valid & l_table & ~rst;
         shade$tw_addr = l_data[(32'h0)+:(15)];
         shade$tw_data = l_data[(32'hf)+:(18)];
@@ -443,17 +442,18 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         end
         l_pop = out_fifo$out_valid & m_axis_tready;
         l_lost = shade$out_valid & ~out_fifo$in_ready;
-        l_delta = k_zero6;
+        l_cp1 = credit$q + k_one6;
+        l_cm1 = credit$q + k_minus1_6;
+        l_cm2 = credit$q + k_minus2_6;
         if (l_go & ~l_pop & ~l_lost) begin
-            l_delta = k_one6;
+            credit$d = l_cp1;
         end
         if ((l_go & l_pop & l_lost) | (~l_go & (l_pop ^ l_lost))) begin
-            l_delta = k_minus1_6;
+            credit$d = l_cm1;
         end
         if (~l_go & l_pop & l_lost) begin
-            l_delta = k_minus2_6;
+            credit$d = l_cm2;
         end
-        credit$d = credit$q + l_delta;
         out_fifo$out_ready = m_axis_tready;
         m_axis_tvalid = out_fifo$out_valid;
         m_axis_tdata = out_fifo$out_data[(32'h0)+:(24)];
@@ -505,7 +505,6 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     localparam  k_nop = 3'b0;
     localparam  k_span = 3'b10;
     localparam  k_attr_op = 2'b0;
-    localparam  k_one14 = 14'b1;
     localparam  k_zero16 = 16'h0;
     localparam  k_zero38 = 38'h0;
     localparam  k_zero_head = 46'h0;
@@ -645,6 +644,12 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [11:0] e1_base$d;
     wire  [11:0] e1_base$q;
     reg  e1_base$clock;
+    reg  [13:0] e1_d$d;
+    wire  [13:0] e1_d$q;
+    reg  e1_d$clock;
+    reg  e1_span$d;
+    wire  e1_span$q;
+    reg  e1_span$clock;
     reg  [11:0] e1_rd$d;
     wire  [11:0] e1_rd$q;
     reg  e1_rd$clock;
@@ -663,12 +668,9 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [45:0] e3_head$d;
     wire  [45:0] e3_head$q;
     reg  e3_head$clock;
-    reg  [15:0] e3_m$d;
-    wire  [15:0] e3_m$q;
-    reg  e3_m$clock;
-    reg  [35:0] e3_zl$d;
-    wire  [35:0] e3_zl$q;
-    reg  e3_zl$clock;
+    reg  [43:0] e3_zs$d;
+    wire  [43:0] e3_zs$q;
+    reg  e3_zs$clock;
     reg  [37:0] e3_dz$d;
     wire  [37:0] e3_dz$q;
     reg  e3_dz$clock;
@@ -704,7 +706,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [20:0] chans$0$di;
     reg  chans$0$span;
     reg  [15:0] chans$0$m1;
-    reg  [15:0] chans$0$m3;
+    reg  [15:0] chans$0$m2;
     wire  [33:0] chans$0$i;
     wire  [20:0] chans$0$o_di;
     reg  chans$1$clock;
@@ -712,7 +714,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [20:0] chans$1$di;
     reg  chans$1$span;
     reg  [15:0] chans$1$m1;
-    reg  [15:0] chans$1$m3;
+    reg  [15:0] chans$1$m2;
     wire  [33:0] chans$1$i;
     wire  [20:0] chans$1$o_di;
     reg  chans$2$clock;
@@ -720,22 +722,20 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
     reg  [20:0] chans$2$di;
     reg  chans$2$span;
     reg  [15:0] chans$2$m1;
-    reg  [15:0] chans$2$m3;
+    reg  [15:0] chans$2$m2;
     wire  [33:0] chans$2$i;
     wire  [20:0] chans$2$o_di;
     
     // Local signals
     reg  [98:0] l_grp$0;
     reg  [98:0] l_rd;
-    reg  [13:0] l_xl;
     reg  [13:0] l_xr;
     reg  [13:0] l_base;
-    reg  [13:0] l_d;
+    reg  [13:0] l_d0;
     reg  [15:0] l_m1;
     reg  [37:0] l_dz1;
     reg  [15:0] l_dzmid;
     reg  [15:0] l_dzhi;
-    reg  [43:0] l_m44;
     reg  [45:0] l_head;
     reg  l_span;
     reg  [59:0] l_il3;
@@ -902,6 +902,16 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .q(e1_base$q),
         .clock(e1_base$clock)
     );
+    pixelproc_top$array$e1_d e1_d(
+        .d(e1_d$d),
+        .q(e1_d$q),
+        .clock(e1_d$clock)
+    );
+    pixelproc_top$array$e1_span e1_span(
+        .d(e1_span$d),
+        .q(e1_span$q),
+        .clock(e1_span$clock)
+    );
     pixelproc_top$array$e1_base e1_rd(
         .d(e1_rd$d),
         .q(e1_rd$q),
@@ -932,15 +942,10 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .q(e3_head$q),
         .clock(e3_head$clock)
     );
-    pixelproc_top$array$e2_m e3_m(
-        .d(e3_m$d),
-        .q(e3_m$q),
-        .clock(e3_m$clock)
-    );
-    pixelproc_top$array$e2_zl e3_zl(
-        .d(e3_zl$d),
-        .q(e3_zl$q),
-        .clock(e3_zl$clock)
+    pixelproc_top$array$e3_zs e3_zs(
+        .d(e3_zs$d),
+        .q(e3_zs$q),
+        .clock(e3_zs$clock)
     );
     pixelproc_top$array$e2_dz e3_dz(
         .d(e3_dz$d),
@@ -975,12 +980,12 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .q(e4_dz$q),
         .clock(e4_dz$clock)
     );
-    pixelproc_top$array$e4_za e4_za(
+    pixelproc_top$array$e3_zs e4_za(
         .d(e4_za$d),
         .q(e4_za$q),
         .clock(e4_za$clock)
     );
-    pixelproc_top$array$e4_za e4_zb(
+    pixelproc_top$array$e3_zs e4_zb(
         .d(e4_zb$d),
         .q(e4_zb$q),
         .clock(e4_zb$clock)
@@ -996,7 +1001,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .di(chans$0$di),
         .span(chans$0$span),
         .m1(chans$0$m1),
-        .m3(chans$0$m3),
+        .m2(chans$0$m2),
         .i(chans$0$i),
         .o_di(chans$0$o_di)
     );
@@ -1006,7 +1011,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .di(chans$1$di),
         .span(chans$1$span),
         .m1(chans$1$m1),
-        .m3(chans$1$m3),
+        .m2(chans$1$m2),
         .i(chans$1$i),
         .o_di(chans$1$o_di)
     );
@@ -1016,7 +1021,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         .di(chans$2$di),
         .span(chans$2$span),
         .m1(chans$2$m1),
-        .m3(chans$2$m3),
+        .m2(chans$2$m2),
         .i(chans$2$i),
         .o_di(chans$2$o_di)
     );
@@ -1027,14 +1032,15 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         e1_bg$clock = clock;
         e1_word$clock = clock;
         e1_base$clock = clock;
+        e1_d$clock = clock;
+        e1_span$clock = clock;
         e1_rd$clock = clock;
         e2_head$clock = clock;
         e2_m$clock = clock;
         e2_zl$clock = clock;
         e2_dz$clock = clock;
         e3_head$clock = clock;
-        e3_m$clock = clock;
-        e3_zl$clock = clock;
+        e3_zs$clock = clock;
         e3_dz$clock = clock;
         e4_head$clock = clock;
         e4_dz$clock = clock;
@@ -1044,14 +1050,15 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         e1_bg$d = e1_bg$q;
         e1_word$d = e1_word$q;
         e1_base$d = e1_base$q;
+        e1_d$d = e1_d$q;
+        e1_span$d = e1_span$q;
         e1_rd$d = e1_rd$q;
         e2_head$d = e2_head$q;
         e2_m$d = e2_m$q;
         e2_zl$d = e2_zl$q;
         e2_dz$d = e2_dz$q;
         e3_head$d = e3_head$q;
-        e3_m$d = e3_m$q;
-        e3_zl$d = e3_zl$q;
+        e3_zs$d = e3_zs$q;
         e3_dz$d = e3_dz$q;
         e4_head$d = e4_head$q;
         e4_dz$d = e4_dz$q;
@@ -1067,34 +1074,34 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         e1_bg$d = cmd_bg;
         e1_word$d = cmd_word;
         e1_base$d = tile_base;
+        l_d0 = {{2{1'b0}}, tile_base} - {{2{1'b0}}, cmd_word[(32'h2)+:(12)]};
+        e1_d$d = l_d0;
+        e1_span$d = cmd_valid & (cmd_op == k_span) & ~rst;
         e1_rd$d = rd_addr;
-        l_xl = {{2{1'b0}}, e1_word$q[(32'h2)+:(12)]};
         l_xr = {{2{1'b0}}, e1_word$q[(32'he)+:(12)]};
         l_base = {{2{1'b0}}, e1_base$q};
-        l_d = l_base - l_xl;
         l_head = k_zero_head;
         l_head[(32'h0)+:(3)] = e1_op$q;
         l_head[(32'h3)+:(2)] = e1_word$q[(32'h0)+:(2)];
         l_head[(32'h5)+:(1)] = e1_word$q[(32'hf7)+:(1)];
         l_head[(32'h6)+:(8)] = e1_word$q[(32'hef)+:(8)];
         l_head[(32'h2a)+:(4)] = e1_word$q[(32'hf8)+:(4)];
-        l_head[(32'he)+:(14)] = (l_xl - l_base) - k_one14;
+        l_head[(32'he)+:(14)] = ~e1_d$q;
         l_head[(32'h1c)+:(14)] = l_xr - l_base;
         e2_head$d = l_head;
         e2_zl$d = e1_word$q[(32'h1a)+:(36)];
         l_dz1 = e1_word$q[(32'h3e)+:(38)];
         l_m1 = k_zero16;
-        if (~l_d[32'hd]) begin
-            l_m1 = {{2{1'b0}}, l_d};
+        if (e1_span$q & ~e1_d$q[32'hd]) begin
+            l_m1 = {{2{1'b0}}, e1_d$q};
         end
-        if (e1_op$q != k_span) begin
-            l_m1 = k_zero16;
+        if (~e1_span$q) begin
             l_dz1 = k_zero38;
             e2_zl$d = {{12{1'b0}}, e1_bg$q};
         end
         e2_m$d = l_m1;
         e2_dz$d = l_dz1;
-        l_span = e1_op$q == k_span;
+        l_span = e1_span$q;
         l_il3 = e1_word$q[(32'h64)+:(60)];
         l_di3 = e1_word$q[(32'ha0)+:(63)];
         l_ti = k_zero_i3;
@@ -1104,7 +1111,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         chans$0$di = l_di3[(32'h15 * 0)+:(21)];
         chans$0$span = l_span;
         chans$0$m1 = l_m1;
-        chans$0$m3 = e3_m$q;
+        chans$0$m2 = e2_m$q;
         l_ch_i = chans$0$i;
         l_ch_di = chans$0$o_di;
         l_ti = (l_ti >> 32'h22) | ({{68{1'b0}}, l_ch_i} << 32'h44);
@@ -1114,7 +1121,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         chans$1$di = l_di3[(32'h15 * 1)+:(21)];
         chans$1$span = l_span;
         chans$1$m1 = l_m1;
-        chans$1$m3 = e3_m$q;
+        chans$1$m2 = e2_m$q;
         l_ch_i = chans$1$i;
         l_ch_di = chans$1$o_di;
         l_ti = (l_ti >> 32'h22) | ({{68{1'b0}}, l_ch_i} << 32'h44);
@@ -1124,14 +1131,16 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         chans$2$di = l_di3[(32'h15 * 2)+:(21)];
         chans$2$span = l_span;
         chans$2$m1 = l_m1;
-        chans$2$m3 = e3_m$q;
+        chans$2$m2 = e2_m$q;
         l_ch_i = chans$2$i;
         l_ch_di = chans$2$o_di;
         l_ti = (l_ti >> 32'h22) | ({{68{1'b0}}, l_ch_i} << 32'h44);
         l_tdi = (l_tdi >> 32'h15) | ({{42{1'b0}}, l_ch_di} << 32'h2a);
         e3_head$d = e2_head$q;
-        e3_m$d = e2_m$q;
-        e3_zl$d = e2_zl$q;
+        e3_zs$d = {{8{1'b0}}, e2_zl$q};
+        if (e2_dz$q[32'h25]) begin
+            e3_zs$d = {{8{1'b0}}, e2_zl$q} - ({{28{1'b0}}, e2_m$q} << 32'h26);
+        end
         e3_dz$d = e2_dz$q;
         l_dzmid = l_dz1[(32'h10)+:(16)];
         l_dzhi = {{10{1'b0}}, l_dz1[(32'h20)+:(6)]};
@@ -1146,12 +1155,8 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
         mz$2$b = l_dzhi;
         e4_head$d = e3_head$q;
         e4_dz$d = e3_dz$q;
-        l_m44 = {{28{1'b0}}, e3_m$q};
-        e4_za$d = {{8{1'b0}}, e3_zl$q} + {{12{1'b0}}, mz$0$p};
+        e4_za$d = e3_zs$q + {{12{1'b0}}, mz$0$p};
         e4_zb$d = ({{12{1'b0}}, mz$1$p} << 32'h10) + ({{12{1'b0}}, mz$2$p} << 32'h20);
-        if (e3_dz$q[32'h25]) begin
-            e4_zb$d = (({{12{1'b0}}, mz$1$p} << 32'h10) + ({{12{1'b0}}, mz$2$p} << 32'h20)) - (l_m44 << 32'h26);
-        end
         procs$0$clock = clock;
         procs$1$clock = clock;
         procs$2$clock = clock;
@@ -1243,7 +1248,7 @@ module pixelproc_top$array(clock,rst,cmd_valid,cmd_op,cmd_bg,cmd_word,tile_base,
 endmodule // pixelproc_top$array
 
 
-module pixelproc_top$array$chans(clock,il,di,span,m1,m3,i,o_di);
+module pixelproc_top$array$chans(clock,il,di,span,m1,m2,i,o_di);
     
     // Module arguments
     input wire  clock;
@@ -1251,7 +1256,7 @@ module pixelproc_top$array$chans(clock,il,di,span,m1,m3,i,o_di);
     input wire  [20:0] di;
     input wire  span;
     input wire  [15:0] m1;
-    input wire  [15:0] m3;
+    input wire  [15:0] m2;
     output reg  [33:0] i;
     output reg  [20:0] o_di;
     
@@ -1265,9 +1270,9 @@ module pixelproc_top$array$chans(clock,il,di,span,m1,m3,i,o_di);
     reg  [20:0] e2_di$d;
     wire  [20:0] e2_di$q;
     reg  e2_di$clock;
-    reg  [19:0] e3_il$d;
-    wire  [19:0] e3_il$q;
-    reg  e3_il$clock;
+    reg  [33:0] e3_ils$d;
+    wire  [33:0] e3_ils$q;
+    reg  e3_ils$clock;
     reg  [20:0] e3_di$d;
     wire  [20:0] e3_di$q;
     reg  e3_di$clock;
@@ -1292,7 +1297,6 @@ module pixelproc_top$array$chans(clock,il,di,span,m1,m3,i,o_di);
     // Local signals
     reg  [20:0] l_di1;
     reg  [15:0] l_dihi;
-    reg  [33:0] l_m34;
     
     // Sub module instances
     pixelproc_top$array$chans$e2_il e2_il(
@@ -1305,10 +1309,10 @@ module pixelproc_top$array$chans(clock,il,di,span,m1,m3,i,o_di);
         .q(e2_di$q),
         .clock(e2_di$clock)
     );
-    pixelproc_top$array$chans$e2_il e3_il(
-        .d(e3_il$d),
-        .q(e3_il$q),
-        .clock(e3_il$clock)
+    pixelproc_top$array$chans$e3_ils e3_ils(
+        .d(e3_ils$d),
+        .q(e3_ils$q),
+        .clock(e3_ils$clock)
     );
     pixelproc_top$array$chans$e2_di e3_di(
         .d(e3_di$d),
@@ -1332,12 +1336,12 @@ module pixelproc_top$array$chans(clock,il,di,span,m1,m3,i,o_di);
         .q(e4_di$q),
         .clock(e4_di$clock)
     );
-    pixelproc_top$array$chans$e4_a e4_a(
+    pixelproc_top$array$chans$e3_ils e4_a(
         .d(e4_a$d),
         .q(e4_a$q),
         .clock(e4_a$clock)
     );
-    pixelproc_top$array$chans$e4_a e4_b(
+    pixelproc_top$array$chans$e3_ils e4_b(
         .d(e4_b$d),
         .q(e4_b$q),
         .clock(e4_b$clock)
@@ -1347,14 +1351,14 @@ module pixelproc_top$array$chans(clock,il,di,span,m1,m3,i,o_di);
     always @(*) begin
         e2_il$clock = clock;
         e2_di$clock = clock;
-        e3_il$clock = clock;
+        e3_ils$clock = clock;
         e3_di$clock = clock;
         e4_di$clock = clock;
         e4_a$clock = clock;
         e4_b$clock = clock;
         e2_il$d = e2_il$q;
         e2_di$d = e2_di$q;
-        e3_il$d = e3_il$q;
+        e3_ils$d = e3_ils$q;
         e3_di$d = e3_di$q;
         e4_di$d = e4_di$q;
         e4_a$d = e4_a$q;
@@ -1365,7 +1369,10 @@ module pixelproc_top$array$chans(clock,il,di,span,m1,m3,i,o_di);
             l_di1 = di;
         end
         e2_di$d = l_di1;
-        e3_il$d = e2_il$q;
+        e3_ils$d = {{14{1'b0}}, e2_il$q};
+        if (e2_di$q[32'h14]) begin
+            e3_ils$d = {{14{1'b0}}, e2_il$q} - ({{18{1'b0}}, m2} << 32'h15);
+        end
         e3_di$d = e2_di$q;
         l_dihi = {{11{1'b0}}, l_di1[(32'h10)+:(5)]};
         mp$0$clock = clock;
@@ -1375,12 +1382,8 @@ module pixelproc_top$array$chans(clock,il,di,span,m1,m3,i,o_di);
         mp$0$b = l_di1[(32'h0)+:(16)];
         mp$1$b = l_dihi;
         e4_di$d = e3_di$q;
-        l_m34 = {{18{1'b0}}, m3};
-        e4_a$d = {{14{1'b0}}, e3_il$q} + {{2{1'b0}}, mp$0$p};
+        e4_a$d = e3_ils$q + {{2{1'b0}}, mp$0$p};
         e4_b$d = {{2{1'b0}}, mp$1$p} << 32'h10;
-        if (e3_di$q[32'h14]) begin
-            e4_b$d = ({{2{1'b0}}, mp$1$p} << 32'h10) - (l_m34 << 32'h15);
-        end
         i = e4_a$q + e4_b$q;
         o_di = e4_di$q;
     end
@@ -1426,7 +1429,7 @@ module pixelproc_top$array$chans$e2_il(d,q,clock);
 endmodule // pixelproc_top$array$chans$e2_il
 
 
-module pixelproc_top$array$chans$e4_a(d,q,clock);
+module pixelproc_top$array$chans$e3_ils(d,q,clock);
     
     // Module arguments
     input wire  [33:0] d;
@@ -1442,7 +1445,7 @@ module pixelproc_top$array$chans$e4_a(d,q,clock);
        q <= d;
     end
           
-endmodule // pixelproc_top$array$chans$e4_a
+endmodule // pixelproc_top$array$chans$e3_ils
 
 
 module pixelproc_top$array$chans$mp(clock,a,b,p);
@@ -1497,6 +1500,25 @@ module pixelproc_top$array$e1_bg(d,q,clock);
 endmodule // pixelproc_top$array$e1_bg
 
 
+module pixelproc_top$array$e1_d(d,q,clock);
+    
+    // Module arguments
+    input wire  [13:0] d;
+    output reg  [13:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 14'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // pixelproc_top$array$e1_d
+
+
 module pixelproc_top$array$e1_op(d,q,clock);
     
     // Module arguments
@@ -1514,6 +1536,25 @@ module pixelproc_top$array$e1_op(d,q,clock);
     end
           
 endmodule // pixelproc_top$array$e1_op
+
+
+module pixelproc_top$array$e1_span(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // pixelproc_top$array$e1_span
 
 
 module pixelproc_top$array$e1_word(d,q,clock);
@@ -1611,7 +1652,7 @@ module pixelproc_top$array$e2_zl(d,q,clock);
 endmodule // pixelproc_top$array$e2_zl
 
 
-module pixelproc_top$array$e4_za(d,q,clock);
+module pixelproc_top$array$e3_zs(d,q,clock);
     
     // Module arguments
     input wire  [43:0] d;
@@ -1627,7 +1668,7 @@ module pixelproc_top$array$e4_za(d,q,clock);
        q <= d;
     end
           
-endmodule // pixelproc_top$array$e4_za
+endmodule // pixelproc_top$array$e3_zs
 
 
 module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,o_head,o_z,o_dz,o_i,o_di,o_le);
@@ -1772,6 +1813,15 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
     reg  [7:0] nclass_r$d;
     wire  [7:0] nclass_r$q;
     reg  nclass_r$clock;
+    reg  w_c$d;
+    wire  w_c$q;
+    reg  w_c$clock;
+    reg  [23:0] rgb_c$d;
+    wire  [23:0] rgb_c$q;
+    reg  rgb_c$clock;
+    reg  [7:0] ncl_c$d;
+    wire  [7:0] ncl_c$q;
+    reg  ncl_c$clock;
     reg  [98:0] cap_r$d;
     wire  [98:0] cap_r$q;
     reg  cap_r$clock;
@@ -1783,6 +1833,8 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
     reg  [13:0] l_rel_l;
     reg  [13:0] l_rel_r;
     reg  is_op_span;
+    reg  [23:0] l_rgb_now;
+    reg  [7:0] l_ncl_now;
     reg  [98:0] l_cap;
     reg  [43:0] dz_x;
     reg  right_of_xl;
@@ -1824,7 +1876,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         .q(tok_head$q),
         .clock(tok_head$clock)
     );
-    pixelproc_top$array$e4_za tok_z(
+    pixelproc_top$array$e3_zs tok_z(
         .d(tok_z$d),
         .q(tok_z$q),
         .clock(tok_z$clock)
@@ -1844,7 +1896,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         .q(tok_di$q),
         .clock(tok_di$clock)
     );
-    pixelproc_top$array$procs$b_covered tok_le(
+    pixelproc_top$array$e1_span tok_le(
         .d(tok_le$d),
         .q(tok_le$q),
         .clock(tok_le$clock)
@@ -1880,42 +1932,42 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         .q(b_attr$q),
         .clock(b_attr$clock)
     );
-    pixelproc_top$array$procs$b_covered b_covered(
+    pixelproc_top$array$e1_span b_covered(
         .d(b_covered$d),
         .q(b_covered$q),
         .clock(b_covered$clock)
     );
-    pixelproc_top$array$procs$b_covered b_p_held(
+    pixelproc_top$array$e1_span b_p_held(
         .d(b_p_held$d),
         .q(b_p_held$q),
         .clock(b_p_held$clock)
     );
-    pixelproc_top$array$procs$b_covered b_p_new(
+    pixelproc_top$array$e1_span b_p_new(
         .d(b_p_new$d),
         .q(b_p_new$q),
         .clock(b_p_new$clock)
     );
-    pixelproc_top$array$procs$b_covered b_p_far(
+    pixelproc_top$array$e1_span b_p_far(
         .d(b_p_far$d),
         .q(b_p_far$q),
         .clock(b_p_far$clock)
     );
-    pixelproc_top$array$procs$b_covered b_sel_new(
+    pixelproc_top$array$e1_span b_sel_new(
         .d(b_sel_new$d),
         .q(b_sel_new$q),
         .clock(b_sel_new$clock)
     );
-    pixelproc_top$array$procs$b_covered b_sel_far(
+    pixelproc_top$array$e1_span b_sel_far(
         .d(b_sel_far$d),
         .q(b_sel_far$q),
         .clock(b_sel_far$clock)
     );
-    pixelproc_top$array$procs$b_covered b_gate(
+    pixelproc_top$array$e1_span b_gate(
         .d(b_gate$d),
         .q(b_gate$q),
         .clock(b_gate$clock)
     );
-    pixelproc_top$array$procs$b_covered b_hi_ok(
+    pixelproc_top$array$e1_span b_hi_ok(
         .d(b_hi_ok$d),
         .q(b_hi_ok$q),
         .clock(b_hi_ok$clock)
@@ -1935,17 +1987,17 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         .q(b_nclass$q),
         .clock(b_nclass$clock)
     );
-    pixelproc_top$array$procs$b_covered b_won_upd(
+    pixelproc_top$array$e1_span b_won_upd(
         .d(b_won_upd$d),
         .q(b_won_upd$q),
         .clock(b_won_upd$clock)
     );
-    pixelproc_top$array$procs$b_covered b_sh_write(
+    pixelproc_top$array$e1_span b_sh_write(
         .d(b_sh_write$d),
         .q(b_sh_write$q),
         .clock(b_sh_write$clock)
     );
-    pixelproc_top$array$procs$b_covered won_r(
+    pixelproc_top$array$e1_span won_r(
         .d(won_r$d),
         .q(won_r$q),
         .clock(won_r$clock)
@@ -1970,12 +2022,27 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         .q(nclass_r$q),
         .clock(nclass_r$clock)
     );
+    pixelproc_top$array$e1_span w_c(
+        .d(w_c$d),
+        .q(w_c$q),
+        .clock(w_c$clock)
+    );
+    pixelproc_top$array$e1_bg rgb_c(
+        .d(rgb_c$d),
+        .q(rgb_c$q),
+        .clock(rgb_c$clock)
+    );
+    pixelproc_top$array$procs$b_nclass ncl_c(
+        .d(ncl_c$d),
+        .q(ncl_c$q),
+        .clock(ncl_c$clock)
+    );
     pixelproc_top$array$procs$cap_r cap_r(
         .d(cap_r$d),
         .q(cap_r$q),
         .clock(cap_r$clock)
     );
-    pixelproc_top$array$procs$b_covered rdsel_r(
+    pixelproc_top$array$e1_span rdsel_r(
         .d(rdsel_r$d),
         .q(rdsel_r$q),
         .clock(rdsel_r$clock)
@@ -2005,6 +2072,9 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         zb_r$clock = clock;
         rgb_r$clock = clock;
         nclass_r$clock = clock;
+        w_c$clock = clock;
+        rgb_c$clock = clock;
+        ncl_c$clock = clock;
         cap_r$clock = clock;
         rdsel_r$clock = clock;
         b_won_upd$clock = clock;
@@ -2033,6 +2103,9 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         zb_r$d = zb_r$q;
         rgb_r$d = rgb_r$q;
         nclass_r$d = nclass_r$q;
+        w_c$d = w_c$q;
+        rgb_c$d = rgb_c$q;
+        ncl_c$d = ncl_c$q;
         cap_r$d = cap_r$q;
         rdsel_r$d = rdsel_r$q;
         b_won_upd$d = b_won_upd$q;
@@ -2104,8 +2177,19 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         zb_next = zb_r$q;
         if (write_b) begin
             zb_next = b_z$q;
-            rgb_r$d = b_rgb$q;
-            nclass_r$d = b_nclass$q;
+        end
+        w_c$d = write_b;
+        rgb_c$d = b_rgb$q;
+        ncl_c$d = b_nclass$q;
+        if (w_c$q) begin
+            rgb_r$d = rgb_c$q;
+            nclass_r$d = ncl_c$q;
+        end
+        l_rgb_now = rgb_r$q;
+        l_ncl_now = nclass_r$q;
+        if (w_c$q) begin
+            l_rgb_now = rgb_c$q;
+            l_ncl_now = ncl_c$q;
         end
         dsf_now = 1'b0;
         fsf_now = 1'b0;
@@ -2123,10 +2207,10 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         count_now = parity$0$count;
         mask_now = parity$0$mask;
         l_cap = k_zero_rd;
-        l_cap[(32'h42)+:(8)] = nclass_r$q;
+        l_cap[(32'h42)+:(8)] = l_ncl_now;
         l_cap[(32'h3a)+:(8)] = mask_now;
         l_cap[(32'h22)+:(24)] = zb_r$q;
-        l_cap[(32'ha)+:(24)] = rgb_r$q;
+        l_cap[(32'ha)+:(24)] = l_rgb_now;
         l_cap[(32'h9)+:(1)] = dsf_now;
         l_cap[(32'h8)+:(1)] = fsf_now;
         l_cap[(32'h0)+:(8)] = count_now;
@@ -2204,25 +2288,6 @@ module pixelproc_top$array$procs$b_attr(d,q,clock);
     end
           
 endmodule // pixelproc_top$array$procs$b_attr
-
-
-module pixelproc_top$array$procs$b_covered(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // pixelproc_top$array$procs$b_covered
 
 
 module pixelproc_top$array$procs$b_nclass(d,q,clock);
@@ -2350,12 +2415,12 @@ module pixelproc_top$array$procs$parity(clock,rst,op,attr,covered,z_lt,light,dsf
     reg  flip;
     
     // Sub module instances
-    pixelproc_top$array$procs$b_covered dsf_r(
+    pixelproc_top$array$e1_span dsf_r(
         .d(dsf_r$d),
         .q(dsf_r$q),
         .clock(dsf_r$clock)
     );
-    pixelproc_top$array$procs$b_covered fsf_r(
+    pixelproc_top$array$e1_span fsf_r(
         .d(fsf_r$d),
         .q(fsf_r$q),
         .clock(fsf_r$clock)
@@ -2492,7 +2557,6 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
     // Constant declarations
     localparam  k_one = 6'b1;
     localparam  k_zero = 6'b0;
-    localparam  k_full = 6'b100000;
     localparam  k_almost = 6'b11111;
     localparam  k_one_a = 5'b1;
     localparam  k_zero_a = 5'b0;
@@ -2529,15 +2593,14 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
     reg  ne$d;
     wire  ne$q;
     reg  ne$clock;
+    reg  [5:0] lv$d;
+    wire  [5:0] lv$q;
+    reg  lv$clock;
     
     // Local signals
     reg  l_pop;
     reg  l_fetch;
     reg  l_push;
-    reg  [5:0] l_wr;
-    reg  [5:0] l_rd;
-    reg  [5:0] l_level;
-    reg  [5:0] l_dv;
     reg  [4:0] l_ra_inc;
     reg  [4:0] l_ra_next;
     reg  [4:0] l_wa_next;
@@ -2562,7 +2625,7 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         .q(wa$q),
         .clock(wa$clock)
     );
-    pixelproc_top$array$procs$b_covered ww(
+    pixelproc_top$array$e1_span ww(
         .d(ww$d),
         .q(ww$q),
         .clock(ww$clock)
@@ -2572,25 +2635,30 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         .q(ra$q),
         .clock(ra$clock)
     );
-    pixelproc_top$array$procs$b_covered rw(
+    pixelproc_top$array$e1_span rw(
         .d(rw$d),
         .q(rw$q),
         .clock(rw$clock)
     );
-    pixelproc_top$array$procs$b_covered dv(
+    pixelproc_top$array$e1_span dv(
         .d(dv$d),
         .q(dv$q),
         .clock(dv$clock)
     );
-    pixelproc_top$array$procs$b_covered full(
+    pixelproc_top$array$e1_span full(
         .d(full$d),
         .q(full$q),
         .clock(full$clock)
     );
-    pixelproc_top$array$procs$b_covered ne(
+    pixelproc_top$array$e1_span ne(
         .d(ne$d),
         .q(ne$q),
         .clock(ne$clock)
+    );
+    pixelproc_top$credit lv(
+        .d(lv$d),
+        .q(lv$q),
+        .clock(lv$clock)
     );
     
     // Update code
@@ -2603,6 +2671,7 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         dv$clock = clock;
         full$clock = clock;
         ne$clock = clock;
+        lv$clock = clock;
         head$d = head$q;
         wa$d = wa$q;
         ww$d = ww$q;
@@ -2611,30 +2680,20 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         dv$d = dv$q;
         full$d = full$q;
         ne$d = ne$q;
+        lv$d = lv$q;
         ram$clock = clock;
-        l_wr = {{1{1'b0}}, wa$q};
-        if (ww$q) begin
-            l_wr = {{1{1'b0}}, wa$q} | k_full;
-        end
-        l_rd = {{1{1'b0}}, ra$q};
-        if (rw$q) begin
-            l_rd = {{1{1'b0}}, ra$q} | k_full;
-        end
-        l_dv = k_zero;
-        if (dv$q) begin
-            l_dv = k_one;
-        end
-        l_level = (l_wr - l_rd) + l_dv;
-        level = l_level;
+        level = lv$q;
         in_ready = ~full$q & ~rst;
         l_pop = dv$q & out_ready;
         l_fetch = ne$q & (~dv$q | l_pop);
         l_push = in_valid & in_ready;
         if (l_push & ~l_pop) begin
-            full$d = l_level == k_almost;
+            full$d = lv$q == k_almost;
+            lv$d = lv$q + k_one;
         end
         if (~l_push & l_pop) begin
             full$d = 1'b0;
+            lv$d = lv$q - k_one;
         end
         l_ra_inc = ra$q + k_one_a;
         l_ra_next = ra$q;
@@ -2672,6 +2731,7 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
             dv$d = 1'b0;
             full$d = 1'b0;
             ne$d = 1'b0;
+            lv$d = k_zero;
         end
         wa$d = l_wa_next;
         ra$d = l_ra_next;
@@ -2857,7 +2917,6 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
     // Constant declarations
     localparam  k_one = 5'b1;
     localparam  k_zero = 5'b0;
-    localparam  k_full = 5'b10000;
     localparam  k_almost = 5'b1111;
     localparam  k_one_a = 4'h1;
     localparam  k_zero_a = 4'h0;
@@ -2894,15 +2953,14 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
     reg  ne$d;
     wire  ne$q;
     reg  ne$clock;
+    reg  [4:0] lv$d;
+    wire  [4:0] lv$q;
+    reg  lv$clock;
     
     // Local signals
     reg  l_pop;
     reg  l_fetch;
     reg  l_push;
-    reg  [4:0] l_wr;
-    reg  [4:0] l_rd;
-    reg  [4:0] l_level;
-    reg  [4:0] l_dv;
     reg  [3:0] l_ra_inc;
     reg  [3:0] l_ra_next;
     reg  [3:0] l_wa_next;
@@ -2927,7 +2985,7 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         .q(wa$q),
         .clock(wa$clock)
     );
-    pixelproc_top$array$procs$b_covered ww(
+    pixelproc_top$array$e1_span ww(
         .d(ww$d),
         .q(ww$q),
         .clock(ww$clock)
@@ -2937,25 +2995,30 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         .q(ra$q),
         .clock(ra$clock)
     );
-    pixelproc_top$array$procs$b_covered rw(
+    pixelproc_top$array$e1_span rw(
         .d(rw$d),
         .q(rw$q),
         .clock(rw$clock)
     );
-    pixelproc_top$array$procs$b_covered dv(
+    pixelproc_top$array$e1_span dv(
         .d(dv$d),
         .q(dv$q),
         .clock(dv$clock)
     );
-    pixelproc_top$array$procs$b_covered full(
+    pixelproc_top$array$e1_span full(
         .d(full$d),
         .q(full$q),
         .clock(full$clock)
     );
-    pixelproc_top$array$procs$b_covered ne(
+    pixelproc_top$array$e1_span ne(
         .d(ne$d),
         .q(ne$q),
         .clock(ne$clock)
+    );
+    pixelproc_top$in_fifo$ra lv(
+        .d(lv$d),
+        .q(lv$q),
+        .clock(lv$clock)
     );
     
     // Update code
@@ -2968,6 +3031,7 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         dv$clock = clock;
         full$clock = clock;
         ne$clock = clock;
+        lv$clock = clock;
         head$d = head$q;
         wa$d = wa$q;
         ww$d = ww$q;
@@ -2976,30 +3040,20 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         dv$d = dv$q;
         full$d = full$q;
         ne$d = ne$q;
+        lv$d = lv$q;
         ram$clock = clock;
-        l_wr = {{1{1'b0}}, wa$q};
-        if (ww$q) begin
-            l_wr = {{1{1'b0}}, wa$q} | k_full;
-        end
-        l_rd = {{1{1'b0}}, ra$q};
-        if (rw$q) begin
-            l_rd = {{1{1'b0}}, ra$q} | k_full;
-        end
-        l_dv = k_zero;
-        if (dv$q) begin
-            l_dv = k_one;
-        end
-        l_level = (l_wr - l_rd) + l_dv;
-        level = l_level;
+        level = lv$q;
         in_ready = ~full$q & ~rst;
         l_pop = dv$q & out_ready;
         l_fetch = ne$q & (~dv$q | l_pop);
         l_push = in_valid & in_ready;
         if (l_push & ~l_pop) begin
-            full$d = l_level == k_almost;
+            full$d = lv$q == k_almost;
+            lv$d = lv$q + k_one;
         end
         if (~l_push & l_pop) begin
             full$d = 1'b0;
+            lv$d = lv$q - k_one;
         end
         l_ra_inc = ra$q + k_one_a;
         l_ra_next = ra$q;
@@ -3037,6 +3091,7 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
             dv$d = 1'b0;
             full$d = 1'b0;
             ne$d = 1'b0;
+            lv$d = k_zero;
         end
         wa$d = l_wa_next;
         ra$d = l_ra_next;
@@ -3869,162 +3924,162 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .read_address(banks$31$read_address),
         .read_data(banks$31$read_data)
     );
-    pixelproc_top$array$procs$b_covered tw_we$0(
+    pixelproc_top$array$e1_span tw_we$0(
         .d(tw_we$0$d),
         .q(tw_we$0$q),
         .clock(tw_we$0$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$1(
+    pixelproc_top$array$e1_span tw_we$1(
         .d(tw_we$1$d),
         .q(tw_we$1$q),
         .clock(tw_we$1$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$2(
+    pixelproc_top$array$e1_span tw_we$2(
         .d(tw_we$2$d),
         .q(tw_we$2$q),
         .clock(tw_we$2$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$3(
+    pixelproc_top$array$e1_span tw_we$3(
         .d(tw_we$3$d),
         .q(tw_we$3$q),
         .clock(tw_we$3$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$4(
+    pixelproc_top$array$e1_span tw_we$4(
         .d(tw_we$4$d),
         .q(tw_we$4$q),
         .clock(tw_we$4$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$5(
+    pixelproc_top$array$e1_span tw_we$5(
         .d(tw_we$5$d),
         .q(tw_we$5$q),
         .clock(tw_we$5$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$6(
+    pixelproc_top$array$e1_span tw_we$6(
         .d(tw_we$6$d),
         .q(tw_we$6$q),
         .clock(tw_we$6$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$7(
+    pixelproc_top$array$e1_span tw_we$7(
         .d(tw_we$7$d),
         .q(tw_we$7$q),
         .clock(tw_we$7$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$8(
+    pixelproc_top$array$e1_span tw_we$8(
         .d(tw_we$8$d),
         .q(tw_we$8$q),
         .clock(tw_we$8$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$9(
+    pixelproc_top$array$e1_span tw_we$9(
         .d(tw_we$9$d),
         .q(tw_we$9$q),
         .clock(tw_we$9$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$10(
+    pixelproc_top$array$e1_span tw_we$10(
         .d(tw_we$10$d),
         .q(tw_we$10$q),
         .clock(tw_we$10$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$11(
+    pixelproc_top$array$e1_span tw_we$11(
         .d(tw_we$11$d),
         .q(tw_we$11$q),
         .clock(tw_we$11$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$12(
+    pixelproc_top$array$e1_span tw_we$12(
         .d(tw_we$12$d),
         .q(tw_we$12$q),
         .clock(tw_we$12$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$13(
+    pixelproc_top$array$e1_span tw_we$13(
         .d(tw_we$13$d),
         .q(tw_we$13$q),
         .clock(tw_we$13$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$14(
+    pixelproc_top$array$e1_span tw_we$14(
         .d(tw_we$14$d),
         .q(tw_we$14$q),
         .clock(tw_we$14$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$15(
+    pixelproc_top$array$e1_span tw_we$15(
         .d(tw_we$15$d),
         .q(tw_we$15$q),
         .clock(tw_we$15$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$16(
+    pixelproc_top$array$e1_span tw_we$16(
         .d(tw_we$16$d),
         .q(tw_we$16$q),
         .clock(tw_we$16$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$17(
+    pixelproc_top$array$e1_span tw_we$17(
         .d(tw_we$17$d),
         .q(tw_we$17$q),
         .clock(tw_we$17$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$18(
+    pixelproc_top$array$e1_span tw_we$18(
         .d(tw_we$18$d),
         .q(tw_we$18$q),
         .clock(tw_we$18$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$19(
+    pixelproc_top$array$e1_span tw_we$19(
         .d(tw_we$19$d),
         .q(tw_we$19$q),
         .clock(tw_we$19$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$20(
+    pixelproc_top$array$e1_span tw_we$20(
         .d(tw_we$20$d),
         .q(tw_we$20$q),
         .clock(tw_we$20$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$21(
+    pixelproc_top$array$e1_span tw_we$21(
         .d(tw_we$21$d),
         .q(tw_we$21$q),
         .clock(tw_we$21$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$22(
+    pixelproc_top$array$e1_span tw_we$22(
         .d(tw_we$22$d),
         .q(tw_we$22$q),
         .clock(tw_we$22$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$23(
+    pixelproc_top$array$e1_span tw_we$23(
         .d(tw_we$23$d),
         .q(tw_we$23$q),
         .clock(tw_we$23$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$24(
+    pixelproc_top$array$e1_span tw_we$24(
         .d(tw_we$24$d),
         .q(tw_we$24$q),
         .clock(tw_we$24$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$25(
+    pixelproc_top$array$e1_span tw_we$25(
         .d(tw_we$25$d),
         .q(tw_we$25$q),
         .clock(tw_we$25$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$26(
+    pixelproc_top$array$e1_span tw_we$26(
         .d(tw_we$26$d),
         .q(tw_we$26$q),
         .clock(tw_we$26$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$27(
+    pixelproc_top$array$e1_span tw_we$27(
         .d(tw_we$27$d),
         .q(tw_we$27$q),
         .clock(tw_we$27$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$28(
+    pixelproc_top$array$e1_span tw_we$28(
         .d(tw_we$28$d),
         .q(tw_we$28$q),
         .clock(tw_we$28$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$29(
+    pixelproc_top$array$e1_span tw_we$29(
         .d(tw_we$29$d),
         .q(tw_we$29$q),
         .clock(tw_we$29$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$30(
+    pixelproc_top$array$e1_span tw_we$30(
         .d(tw_we$30$d),
         .q(tw_we$30$q),
         .clock(tw_we$30$clock)
     );
-    pixelproc_top$array$procs$b_covered tw_we$31(
+    pixelproc_top$array$e1_span tw_we$31(
         .d(tw_we$31$d),
         .q(tw_we$31$q),
         .clock(tw_we$31$clock)
@@ -4069,7 +4124,7 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(tw_d$3$q),
         .clock(tw_d$3$clock)
     );
-    pixelproc_top$array$procs$b_covered s1_v(
+    pixelproc_top$array$e1_span s1_v(
         .d(s1_v$d),
         .q(s1_v$q),
         .clock(s1_v$clock)
@@ -4089,7 +4144,7 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(s1_hi$q),
         .clock(s1_hi$clock)
     );
-    pixelproc_top$array$procs$b_covered s2_v(
+    pixelproc_top$array$e1_span s2_v(
         .d(s2_v$d),
         .q(s2_v$q),
         .clock(s2_v$clock)
@@ -4114,7 +4169,7 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(s2_d$q),
         .clock(s2_d$clock)
     );
-    pixelproc_top$array$procs$b_covered s3_v(
+    pixelproc_top$array$e1_span s3_v(
         .d(s3_v$d),
         .q(s3_v$q),
         .clock(s3_v$clock)
@@ -4159,12 +4214,12 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(s3_grp$q),
         .clock(s3_grp$clock)
     );
-    pixelproc_top$array$procs$b_covered s3_over(
+    pixelproc_top$array$e1_span s3_over(
         .d(s3_over$d),
         .q(s3_over$q),
         .clock(s3_over$clock)
     );
-    pixelproc_top$array$procs$b_covered s4_v(
+    pixelproc_top$array$e1_span s4_v(
         .d(s4_v$d),
         .q(s4_v$q),
         .clock(s4_v$clock)
@@ -4215,7 +4270,7 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .b(md$2$b),
         .p(md$2$p)
     );
-    pixelproc_top$array$procs$b_covered s5_v(
+    pixelproc_top$array$e1_span s5_v(
         .d(s5_v$d),
         .q(s5_v$q),
         .clock(s5_v$clock)
@@ -4230,7 +4285,7 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(s5_meta$q),
         .clock(s5_meta$clock)
     );
-    pixelproc_top$array$procs$b_covered s6_v(
+    pixelproc_top$array$e1_span s6_v(
         .d(s6_v$d),
         .q(s6_v$q),
         .clock(s6_v$clock)
@@ -4255,7 +4310,7 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(s6_drop$q),
         .clock(s6_drop$clock)
     );
-    pixelproc_top$array$procs$b_covered s7_v(
+    pixelproc_top$array$e1_span s7_v(
         .d(s7_v$d),
         .q(s7_v$q),
         .clock(s7_v$clock)
