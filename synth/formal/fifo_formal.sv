@@ -20,6 +20,9 @@
 //      its fetch decision) equals `wr != rd` (level = wr - rd + out_valid). The flag is
 //      internal state no port shows, so fifo.sby exposes it as a port (`expose`) and
 //      the induction needs A6 as an invariant.
+//   A7 level == wr - rd + out_valid: the FIFO's level is a register of its own (`lv`,
+//      counted up and down; `level` shows it), so the induction needs its relation to
+//      the pointers (exposed like `ne`) as an invariant.
 //   A5 (DATA) out_valid -> out_data == tag(delivered): the head is the next beat in
 //      order, so content and order are right. Memory contents are not visible in the
 //      induction's free start state, so A5 is checked bounded only (task `data`).
@@ -38,6 +41,8 @@ module fifo_formal #(
     wire [W-1:0] out_data;
     wire [LW-1:0] level;
     wire ne;
+    wire [LW-2:0] wa, ra;  // the pointers' addresses; ww, rw their wrap bits
+    wire ww, rw;
     reg [15:0] n_in = 16'd0;   // beats accepted since the last reset (mod 2^16)
     reg [15:0] n_out = 16'd0;  // beats delivered since the last reset (mod 2^16)
 
@@ -51,7 +56,8 @@ module fifo_formal #(
         .clock(clock), .rst(rst),
         .in_valid(in_valid), .in_data(in_data), .in_ready(in_ready),
         .out_valid(out_valid), .out_data(out_data), .out_ready(out_ready),
-        .level(level), .\ne$q (ne)
+        .level(level), .\ne$q (ne),
+        .\wa$q (wa), .\ww$q (ww), .\ra$q (ra), .\rw$q (rw)
     );
 
     always @(posedge clock) begin
@@ -86,6 +92,7 @@ module fifo_formal #(
         A2_ready: assert (in_ready == (!rst && level != DEPTH));
         A3_valid: assert (!out_valid || level != 0);
         A6_nonempty: assert (ne == (level != {{(LW - 1){1'b0}}, out_valid}));
+        A7_level: assert (level == {ww, wa} - {rw, ra} + {{(LW - 1){1'b0}}, out_valid});
 `ifdef DATA
         A5_order: assert (!out_valid || out_data == tag(n_out));
 `endif
