@@ -4,9 +4,9 @@
 //! Stages E2 to E4 of [`crate::pixel_array`] for one channel: E2 registers `IL` and
 //! `dI` (0 unless the command is a SPAN), E3 forms the two 16 × 16 partial products of
 //! the tile offset `m` and `dI` and `IL − s·m·2^21`, E4 adds them to two partial sums,
-//! `IL + m·dI = (IL − s·m·2^21) + m·u21` (`u21` = `dI` as unsigned, `s` its sign). The outputs are the
-//! sum of the E4 registers and the E4 copy of `dI`: the channel's part of the token for
-//! processor 0. The array builds three of these and owns `m` (shared with the depth).
+//! `IL + m·dI = (IL − s·m·2^21) + m·u21` (`u21` = `dI` as unsigned, `s` its sign). The
+//! outputs are the sum of the E4 registers and the E4 copy of `dI`: the channel's part of
+//! the token for processor 0. The array builds three of these and owns `m` (shared with the depth).
 
 use crate::colour_lane::DI_W;
 use crate::mul_reg::MulReg;

@@ -335,7 +335,8 @@ impl Logic for PixelProcessorArray {
         self.l_head
             .next
             .set_value_chan(self.e1_word.q.val().get_value_chan());
-        self.l_head.next.set_value_rel_l(!self.e1_d.q.val()); // XL − base − 1 = −(base − XL) − 1
+        // XL − base − 1 = −(base − XL) − 1, the complement of `e1_d`.
+        self.l_head.next.set_value_rel_l(!self.e1_d.q.val());
         self.l_head
             .next
             .set_value_rel_r(self.l_xr.val() - self.l_base.val());
