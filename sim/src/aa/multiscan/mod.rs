@@ -81,7 +81,7 @@ mod spans;
 mod walk;
 use colour::ColourRow;
 use filter::{accumulate_box, accumulate_filtered, dominant, tables, PixMem, Tables};
-use spans::{prepare, Cand, MsTri};
+use spans::{prepare, Cand, CandHit, MsTri};
 use walk::{walk, Active, Piece, WalkScratch};
 
 /// Q.16 pixel unit.
@@ -153,7 +153,7 @@ impl<'a> MsFrame<'a> {
     /// order, into `act`.
     fn hits(
         &self,
-        cand: &[Cand<'a>],
+        (cand, hit): (&[Cand], &[CandHit<'a>]),
         ynum: i64,
         from_above: bool,
         act: &mut Vec<Active<'a>>,
@@ -161,8 +161,9 @@ impl<'a> MsFrame<'a> {
     ) {
         act.clear();
         crow.clear();
-        act.extend(cand.iter().filter_map(|c| {
-            let (xl, xr) = c.interval(ynum, from_above)?;
+        act.extend(cand.iter().zip(hit).filter_map(|(c, h)| {
+            let (xl, xr) = c.interval(h.t, ynum, from_above)?;
+            let c = h;
             Some(Active {
                 t: c.t,
                 idx: c.idx,
@@ -197,6 +198,7 @@ impl<'a> MsFrame<'a> {
             walk: ws,
             act,
             cand,
+            hit,
             crow,
         } = rs;
         acc.reset(nr * w, self.visible);
@@ -205,14 +207,18 @@ impl<'a> MsFrame<'a> {
         // the band hits; each sub-scanline tests them exactly).
         let (ylo, yhi) = (256 * (j0 - 1), 256 * (j1 + 2));
         cand.clear();
-        cand.extend(
-            self.bands
-                .members(b)
-                .iter()
-                .map(|&k| &self.mt[k as usize])
-                .filter(|t| t.ymax >= ylo && t.ymin <= yhi)
-                .map(Cand::new),
-        );
+        hit.clear();
+        for t in self
+            .bands
+            .members(b)
+            .iter()
+            .map(|&k| &self.mt[k as usize])
+            .filter(|t| t.ymax >= ylo && t.ymin <= yhi)
+        {
+            cand.push(Cand::new(t));
+            hit.push(CandHit::new(t));
+        }
+        let cand = (&cand[..], &hit[..]);
         let (xa, xb) = match p.filter {
             Filter::Box => (0, width as i64 * ONE16),
             _ => (-ONE16 / 2, width as i64 * ONE16 + ONE16 / 2),
@@ -249,7 +255,13 @@ impl<'a> MsFrame<'a> {
                         npieces += pieces.len() as u64;
                         let r = row(ja);
                         accumulate_box(acc.row(r), pieces, act, crow, ynum, 1, self.bgc);
-                        if above && !cand.iter().any(|c| c.sides_differ(ynum)) {
+                        if above
+                            && !cand
+                                .0
+                                .iter()
+                                .zip(cand.1)
+                                .any(|(c, h)| c.sides_differ(h.t, ynum))
+                        {
                             // Both sides see the same spans: the same pieces.
                             let r = row(ja - 1);
                             accumulate_box(acc.row(r), pieces, act, crow, ynum, 1, self.bgc);
@@ -332,8 +344,9 @@ struct BandScratch<'a> {
     walk: WalkScratch,
     /// The triangles hit by the current sub-scanline.
     act: Vec<Active<'a>>,
-    /// The band's candidate triangles, packed for the hit tests.
-    cand: Vec<Cand<'a>>,
+    /// The band's candidate triangles, packed for the hit tests, and what a hit reads.
+    cand: Vec<Cand>,
+    hit: Vec<CandHit<'a>>,
     /// Per triangle of `act`, its colour planes on the line in 64-bit form, once set up
     /// (`Some(None)`: they do not fit).
     crow: Vec<Option<Option<ColourRow>>>,

@@ -253,33 +253,64 @@ impl MsTri {
 /// [`MsTri::interval`] rounds from [`MsEdge`].
 #[derive(Clone, Copy, Debug, Default)]
 struct Edge64 {
-    ya: i64,
-    yb: i64,
     a: i64,
     b: i64,
     d: i64,
 }
 
-/// A band's candidate triangle: the fields every sub-scanline's hit test reads, packed
-/// together and stored contiguously for the band (the full [`MsTri`] is read only for
-/// the triangles a sub-scanline hits, and then only for their colour).
-pub(super) struct Cand<'a> {
+impl Edge64 {
+    #[inline(always)]
+    fn x_at(&self, ynum: i64) -> i64 {
+        (2 * (self.a + self.b * ynum) + self.d).div_euclid(2 * self.d)
+    }
+}
+
+/// A band's candidate triangle as the hit test of every sub-scanline reads it, packed
+/// (104 bytes) and stored contiguously for the band; what a hit needs besides is in
+/// [`CandHit`], read only for the triangles a sub-scanline hits.
+///
+/// The edges are the triangle's two *chains*: the long edge, which spans the whole y
+/// extent, and the short edge on the line (`upper` above `split`, `lower` from `split`
+/// on). Every line the triangle spans meets the long edge and one short edge, and where
+/// it meets both short edges (`y = split`, the middle vertex) they meet it at the vertex,
+/// exactly: so the interval is the long edge's x and the chosen short edge's x, one
+/// compare instead of a test per edge. With a horizontal edge (left out of the edges)
+/// the two others both span the extent, and `upper = lower`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Cand {
+    ylo: i64,
+    yhi: i64,
+    split: i64,
+    long: Edge64,
+    upper: Edge64,
+    lower: Edge64,
+    /// An edge does not fit 64 bits: the triangle's own [`MsTri::interval`] is used.
+    wide: bool,
+}
+
+/// The rest of a band's candidate, read for the triangles a line hits.
+pub(super) struct CandHit<'a> {
     pub(super) t: &'a MsTri,
     /// Copies of the triangle's input index and decal flag.
     pub(super) idx: i32,
     pub(super) decal: bool,
-    ylo: i64,
-    yhi: i64,
-    /// Edges in 64-bit form, `ne` of them; `ne = 0` with `wide` when one does not fit.
-    edges: [Edge64; 3],
-    ne: u8,
-    wide: bool,
     /// The depth plane's rows (a copy of `t.rows[0]`).
     pub(super) z: RowPlanes,
 }
 
-impl<'a> Cand<'a> {
-    pub(super) fn new(t: &'a MsTri) -> Cand<'a> {
+impl<'a> CandHit<'a> {
+    pub(super) fn new(t: &'a MsTri) -> CandHit<'a> {
+        CandHit {
+            t,
+            idx: t.idx,
+            decal: t.decal,
+            z: t.rows[0],
+        }
+    }
+}
+
+impl Cand {
+    pub(super) fn new(t: &MsTri) -> Cand {
         // Every intermediate of the 64-bit rounding must stay inside `i64` for the
         // sub-scanlines the edge spans (`|ynum| ≤ max(|ya|, |yb|) / 256`).
         const LIM: i128 = 1 << 60;
@@ -292,56 +323,81 @@ impl<'a> Cand<'a> {
             let yn = (e.ya.unsigned_abs().max(e.yb.unsigned_abs()) / 256 + 1) as i128;
             let reach = a.abs().checked_add(b.abs().checked_mul(yn)?)?;
             (reach < LIM && d < LIM).then_some(Edge64 {
-                ya: e.ya,
-                yb: e.yb,
                 a: a as i64,
                 b: b as i64,
                 d: d as i64,
             })
         };
-        let mut edges = [Edge64::default(); 3];
-        let mut wide = false;
-        for (o, e) in edges.iter_mut().zip(&t.edges[..t.ne]) {
-            match narrow(e) {
-                Some(n) => *o = n,
-                None => wide = true,
-            }
-        }
-        Cand {
-            t,
-            idx: t.idx,
-            decal: t.decal,
+        let edges = &t.edges[..t.ne];
+        let wide = Cand {
             ylo: t.ylo,
             yhi: t.yhi,
-            edges,
-            ne: if wide { 0 } else { t.ne as u8 },
-            wide,
-            z: t.rows[0],
+            split: 0,
+            long: Edge64::default(),
+            upper: Edge64::default(),
+            lower: Edge64::default(),
+            wide: true,
+        };
+        // The long edge spans the extent; the upper one starts at the top, the lower one
+        // ends at the bottom (with a horizontal edge: both of the others span it).
+        let long = edges.iter().position(|e| e.ya == t.ylo && e.yb == t.yhi);
+        let (Some(l), 2 | 3) = (long, t.ne) else {
+            return wide;
+        };
+        let others = || (0..t.ne).filter(move |&k| k != l).map(|k| &edges[k]);
+        let upper = others().find(|e| e.ya == t.ylo);
+        let lower = others().find(|e| e.yb == t.yhi);
+        let (Some(u), Some(w)) = (upper, lower) else {
+            return wide;
+        };
+        // Where the lower edge takes over: the middle vertex (with a horizontal edge, the
+        // top, so the lower edge, the same as the upper one, is taken everywhere).
+        let split = w.ya;
+        match (narrow(&edges[l]), narrow(u), narrow(w)) {
+            (Some(long), Some(upper), Some(lower)) => Cand {
+                ylo: t.ylo,
+                yhi: t.yhi,
+                split,
+                long,
+                upper,
+                lower,
+                wide: false,
+            },
+            _ => wide,
         }
     }
 
-    /// [`MsTri::interval`] of the triangle.
+    /// [`MsTri::interval`] of the triangle `t` (the one this candidate was made from).
     #[inline]
-    pub(super) fn interval(&self, ynum: i64, from_above: bool) -> Option<(i64, i64)> {
+    pub(super) fn interval(&self, t: &MsTri, ynum: i64, from_above: bool) -> Option<(i64, i64)> {
         if self.wide {
-            return self.t.interval(ynum, from_above);
+            return t.interval(ynum, from_above);
         }
-        line_interval(
-            (self.ylo, self.yhi),
-            ynum,
-            from_above,
-            &self.edges[..self.ne as usize],
-            |e| (e.ya, e.yb),
-            |e| (2 * (e.a + e.b * ynum) + e.d).div_euclid(2 * e.d),
-        )
+        let y = 256 * ynum; // Q.8 · yden
+        let hit = if from_above {
+            self.ylo < y && y <= self.yhi
+        } else {
+            self.ylo <= y && y < self.yhi
+        };
+        if !hit {
+            return None;
+        }
+        let short = if y < self.split {
+            &self.upper
+        } else {
+            &self.lower
+        };
+        let (xa, xb) = (self.long.x_at(ynum), short.x_at(ynum));
+        let (lo, hi) = (xa.min(xb), xa.max(xb));
+        (lo < hi).then_some((lo, hi))
     }
 
-    /// [`MsTri::sides_differ`] of the triangle.
+    /// [`MsTri::sides_differ`] of the triangle `t`.
     #[inline]
-    pub(super) fn sides_differ(&self, ynum: i64) -> bool {
+    pub(super) fn sides_differ(&self, t: &MsTri, ynum: i64) -> bool {
         let y = 256 * ynum;
         (self.ylo == y || self.yhi == y)
-            && (self.interval(ynum, true).is_some() || self.interval(ynum, false).is_some())
+            && (self.interval(t, ynum, true).is_some() || self.interval(t, ynum, false).is_some())
     }
 }
 
@@ -437,9 +493,10 @@ mod tests {
                     for above in [false, true] {
                         let want = mt.interval(ynum, above);
                         hits += want.is_some() as usize;
-                        assert_eq!(c.interval(ynum, above), want, "triangle {k}, {ynum}/{yden}");
+                        let got = c.interval(&mt, ynum, above);
+                        assert_eq!(got, want, "triangle {k}, {ynum}/{yden}");
                     }
-                    assert_eq!(c.sides_differ(ynum), mt.sides_differ(ynum));
+                    assert_eq!(c.sides_differ(&mt, ynum), mt.sides_differ(ynum));
                 }
             }
         }
