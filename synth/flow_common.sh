@@ -37,19 +37,22 @@ check_export() {
 # MULT18X18D with its input and output registers).
 ECP5_CELLS="synth/ecp5/pixelproc_bank_ram.v synth/ecp5/pixelproc_mul_reg.v"
 
-# synth_ecp5_core OUT: Yosys synth_ecp5 of OUT/v/pixelproc_top.v (with $ECP5_CELLS) into
-# OUT/top.json.
+# synth_ecp5_core OUT [TOP EXTRA.v]: Yosys synth_ecp5 of OUT/v/pixelproc_top.v (with
+# $ECP5_CELLS) into OUT/top.json; with TOP and EXTRA.v, EXTRA.v is read too and TOP is
+# the top (the pin-level harness of synth/ecp5/harness.py).
 synth_ecp5_core() {
-  $YOSYS -p "read_verilog $1/v/pixelproc_top.v; read_verilog -overwrite $ECP5_CELLS; synth_ecp5 -top pixelproc_top -json $1/top.json; stat" > "$1/synth.log" 2>&1 \
+  local top=${2:-pixelproc_top} extra=${3:-}
+  $YOSYS -p "read_verilog $1/v/pixelproc_top.v $extra; read_verilog -overwrite $ECP5_CELLS; synth_ecp5 -top $top -json $1/top.json; stat" > "$1/synth.log" 2>&1 \
     || { echo "Yosys synthesis failed: $1/synth.log" >&2; grep -E "ERROR" "$1/synth.log" | head -5 >&2; exit 1; }
 }
 
 # pnr_ecp5 OUT SEED REPORT LOG: nextpnr-ecp5 on OUT/top.json (LFE5U-85F-6 CABGA381, out of
-# context, OUT/pixelproc.lpf), the report and log written in OUT; checks that the LPF's
-# 150 MHz clock constraint was applied.
+# context unless ECP5_OOC is set empty, OUT/pixelproc.lpf), the report and log written in
+# OUT; checks that the LPF's 150 MHz clock constraint was applied.
+ECP5_OOC=--out-of-context
 pnr_ecp5() {
   # Relative paths inside OUT: the PyPI build of nextpnr only sees the current directory.
-  (cd "$1" && $PNR --85k --speed 6 --package CABGA381 --json top.json --lpf pixelproc.lpf --lpf-allow-unconstrained --out-of-context \
+  (cd "$1" && $PNR --85k --speed 6 --package CABGA381 --json top.json --lpf pixelproc.lpf --lpf-allow-unconstrained $ECP5_OOC \
     --seed "$2" --timing-allow-fail --report "$3" > "$4" 2>&1)
   grep -q "constrain.*clock.*150" "$1/$4" || { echo "the LPF clock constraint was not applied (see $1/$4)" >&2; exit 1; }
 }
