@@ -104,6 +104,11 @@ pub(super) fn walk(
     };
     let mut cur: Option<usize> = None;
     let mut x = xa;
+    // The least depth any polygon of NEXT reaches on the line (`i64::MAX` when NEXT is
+    // empty), kept as NEXT changes: when the current polygon's greatest depth is not
+    // beyond it, no polygon of NEXT passes in front, and `first_pass` need not look.
+    let mut nmin = i64::MAX;
+    let qmin = |next: &[usize], zr: &[(i64, i64)]| next.iter().map(|&q| zr[q].0).min();
     for &key in ev.iter() {
         let (ex, kind, s) = (
             (key >> KEY_X) as i64 + xa,
@@ -116,6 +121,12 @@ pub(super) fn walk(
                 if ex <= x || next.is_empty() {
                     break;
                 }
+                if nmin >= wk.zrange[c].1 {
+                    // Every polygon of NEXT fails `first_pass`'s first test: its four
+                    // evaluations each are counted, as there.
+                    wk.evals += 4 * next.len() as u64;
+                    break;
+                }
                 match wk.first_pass(c, next, x, ex) {
                     Some(xs) if xs < ex => {
                         emit(out, act, x, xs, cur);
@@ -124,6 +135,7 @@ pub(super) fn walk(
                         // (a decal on the passing polygon's plane comes with it).
                         next.push(c);
                         cur = wk.nearest(next, xs).map(|b| next.swap_remove(b));
+                        nmin = qmin(next, wk.zrange).unwrap_or(i64::MAX);
                     }
                     _ => break,
                 }
@@ -135,19 +147,27 @@ pub(super) fn walk(
             match cur {
                 None => cur = Some(s),
                 Some(c) => {
-                    if wk.front(s, c, ex) {
-                        next.push(c);
+                    let back = if wk.front(s, c, ex) {
                         cur = Some(s);
+                        c
                     } else {
-                        next.push(s);
-                    }
+                        s
+                    };
+                    next.push(back);
+                    nmin = nmin.min(wk.zrange[back].0);
                 }
             }
         } else if cur == Some(s) {
             // The nearest polygon in NEXT becomes current.
             cur = wk.nearest(next, ex).map(|b| next.swap_remove(b));
+            if cur.is_some_and(|c| wk.zrange[c].0 == nmin) {
+                nmin = qmin(next, wk.zrange).unwrap_or(i64::MAX);
+            }
         } else if let Some(p) = next.iter().position(|&q| q == s) {
             next.swap_remove(p);
+            if wk.zrange[s].0 == nmin {
+                nmin = qmin(next, wk.zrange).unwrap_or(i64::MAX);
+            }
         }
     }
     emit(out, act, x, xb, cur);
