@@ -91,7 +91,9 @@ pub(super) struct ColourRow {
 }
 
 impl ColourRow {
-    /// The planes `c` for `x` in `[x0, x1]`, if they fit.
+    /// The planes `c` for `x` in `[x0, x1]`, if they fit. (Once per triangle and line:
+    /// out of line, so that [`PieceColour::new`] stays small.)
+    #[inline(never)]
     fn new(c: &[RowPlane; 3], x0: i64, x1: i64) -> Option<ColourRow> {
         const LIM: i128 = 1 << 62;
         let span = (x1 - x0) as i128;
@@ -151,6 +153,7 @@ impl ColourRow {
 
 impl<'a, 't> PieceColour<'a, 't> {
     /// The colours of piece `pc` on the sub-scanline `ynum`.
+    #[inline(always)]
     pub(super) fn new(
         act: &'a [Active<'t>],
         crow: &'a mut [Option<Option<ColourRow>>],
@@ -224,14 +227,20 @@ impl<'a, 't> PieceColour<'a, 't> {
     }
 
     /// The colour of the part `[x0, x1)`; `end` is the piece's end (how far steps go).
-    #[inline]
+    #[inline(always)]
     pub(super) fn at(&mut self, x0: i64, x1: i64, end: i64) -> [i64; 3] {
         let mid = (x0 + x1).div_euclid(2);
-        let a = match self.src {
-            ColourSource::Fixed(c) => return c,
-            ColourSource::Row(row, _) => return clamp_colour(row.at(mid)),
-            ColourSource::Wide(a) => a,
-        };
+        match self.src {
+            ColourSource::Fixed(c) => c,
+            ColourSource::Row(row, _) => clamp_colour(row.at(mid)),
+            ColourSource::Wide(a) => self.at_wide(a, mid, x0, x1, end),
+        }
+    }
+
+    /// [`PieceColour::at`] for a triangle whose planes do not fit 64 bits (rare: kept out
+    /// of line so the common cases stay small).
+    #[inline(never)]
+    fn at_wide(&mut self, a: &Active, mid: i64, x0: i64, x1: i64, end: i64) -> [i64; 3] {
         let clamp = |v: i128| (v as i64).clamp(0, COLOUR_MAX);
         if let Some((st, m)) = &mut self.steps {
             if *m == mid {
