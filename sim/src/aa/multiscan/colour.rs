@@ -124,7 +124,7 @@ impl ColourRow {
     }
 
     /// The three values at `x` (in the interval it was set up for).
-    #[inline]
+    #[inline(always)]
     fn at(&self, x: i64) -> [i64; 3] {
         let dx = x - self.x0;
         let mut v = [0; 3];

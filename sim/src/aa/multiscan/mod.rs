@@ -161,18 +161,19 @@ impl<'a> MsFrame<'a> {
     ) {
         act.clear();
         crow.clear();
-        act.extend(cand.iter().zip(hit).filter_map(|(c, h)| {
-            let (xl, xr) = c.interval(h.t, ynum, from_above)?;
-            let c = h;
-            Some(Active {
-                t: c.t,
-                idx: c.idx,
-                decal: c.decal,
-                z: c.z.row(ynum),
-                xl,
-                xr,
-            })
-        }));
+        act.reserve(cand.len());
+        for (c, h) in cand.iter().zip(hit) {
+            if let Some((xl, xr)) = c.interval(h.t, ynum, from_above) {
+                act.push(Active {
+                    t: h.t,
+                    idx: h.idx,
+                    decal: h.decal,
+                    z: h.z.row(ynum),
+                    xl,
+                    xr,
+                });
+            }
+        }
         crow.resize(act.len(), None);
     }
 
