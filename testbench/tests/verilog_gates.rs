@@ -136,17 +136,23 @@ fn yosys_synthesis_has_no_latches_or_loops() {
             "read_verilog {}; hierarchy -check -top {m}; proc; flatten; synth -top {m}{stages}; check -assert",
             f.display()
         );
-        let out = Command::new("yosys")
-            .args(["-q", "-p", &script])
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{m}: yosys check -assert failed:\n{}{}",
-            String::from_utf8_lossy(&out.stdout),
-            String::from_utf8_lossy(&out.stderr)
-        );
+        yosys_passes(&script, &m);
     }
+}
+
+/// Runs `yosys -q -p script`; fails the test with Yosys's output, under `what`, unless
+/// it succeeds.
+fn yosys_passes(script: &str, what: &str) {
+    let out = Command::new("yosys")
+        .args(["-q", "-p", script])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{what}: yosys check -assert failed:\n{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
 
 /// The pin-level harness of the ECP5 flow (`synth/ecp5/harness.py`, `synth/flow_ecp5.sh …
@@ -186,15 +192,6 @@ fn the_pin_harness_drives_every_input_of_the_core() {
             top.display(),
             harness.display()
         );
-        let out = Command::new("yosys")
-            .args(["-q", "-p", &script])
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "shadows {shadows}: yosys check -assert on the harness failed:\n{}{}",
-            String::from_utf8_lossy(&out.stdout),
-            String::from_utf8_lossy(&out.stderr)
-        );
+        yosys_passes(&script, &format!("the harness, shadows {shadows}"));
     }
 }
