@@ -186,38 +186,16 @@ pub(super) fn prepare(k: usize, t: &SnappedTri, yden: i64) -> Option<MsTri> {
     })
 }
 
-/// The interval `[lo, hi)` of a triangle of y extent `(ylo, yhi)` (Q.8 · `yden`) on the
-/// sub-scanline `ynum` (see [`MsTri::interval`]): the least and greatest x at which the
-/// edges that reach the line (`reach`, inclusive y extent) cross it (`x_at`, Q.16).
+/// Does a triangle of y extent `(ylo, yhi)` (Q.8 · `yden`) reach the sub-scanline at
+/// `y = 256·ynum` (Q.8 · `yden`)? From below: `ylo ≤ y < yhi`; from above (`y → y⁻`):
+/// `ylo < y ≤ yhi`.
 #[inline(always)]
-fn line_interval<E>(
-    (ylo, yhi): (i64, i64),
-    ynum: i64,
-    from_above: bool,
-    edges: &[E],
-    reach: impl Fn(&E) -> (i64, i64),
-    x_at: impl Fn(&E) -> i64,
-) -> Option<(i64, i64)> {
-    let y = 256 * ynum; // Q.8 · yden
-    let hit = if from_above {
+fn reaches((ylo, yhi): (i64, i64), y: i64, from_above: bool) -> bool {
+    if from_above {
         ylo < y && y <= yhi
     } else {
         ylo <= y && y < yhi
-    };
-    if !hit {
-        return None;
     }
-    let (mut lo, mut hi) = (i64::MAX, i64::MIN);
-    for e in edges {
-        let (ya, yb) = reach(e);
-        if y < ya || y > yb {
-            continue;
-        }
-        let x = x_at(e);
-        lo = lo.min(x);
-        hi = hi.max(x);
-    }
-    (lo < hi).then_some((lo, hi))
 }
 
 impl MsTri {
@@ -227,14 +205,22 @@ impl MsTri {
     /// (`ymin ≤ y < ymax`).
     #[inline]
     pub(super) fn interval(&self, ynum: i64, from_above: bool) -> Option<(i64, i64)> {
-        line_interval(
-            (self.ylo, self.yhi),
-            ynum,
-            from_above,
-            &self.edges[..self.ne],
-            |e| (e.ya, e.yb),
-            |e| round_div(e.a + e.b * ynum as i128, e.d) as i64,
-        )
+        let y = 256 * ynum; // Q.8 · yden
+        if !reaches((self.ylo, self.yhi), y, from_above) {
+            return None;
+        }
+        // The least and greatest x at which the edges that reach the line (inclusive y
+        // extent) cross it.
+        let (mut lo, mut hi) = (i64::MAX, i64::MIN);
+        for e in self.edges[..self.ne]
+            .iter()
+            .filter(|e| e.ya <= y && y <= e.yb)
+        {
+            let x = round_div(e.a + e.b * ynum as i128, e.d) as i64;
+            lo = lo.min(x);
+            hi = hi.max(x);
+        }
+        (lo < hi).then_some((lo, hi))
     }
 
     /// Does the sub-scanline `y = ynum/yden` see a different interval from above than
@@ -374,12 +360,7 @@ impl Cand {
             return t.interval(ynum, from_above);
         }
         let y = 256 * ynum; // Q.8 · yden
-        let hit = if from_above {
-            self.ylo < y && y <= self.yhi
-        } else {
-            self.ylo <= y && y < self.yhi
-        };
-        if !hit {
+        if !reaches((self.ylo, self.yhi), y, from_above) {
             return None;
         }
         let short = if y < self.split {

@@ -108,7 +108,8 @@ pub(super) fn walk(
     // empty), kept as NEXT changes: when the current polygon's greatest depth is not
     // beyond it, no polygon of NEXT passes in front, and `first_pass` need not look.
     let mut nmin = i64::MAX;
-    let qmin = |next: &[usize], zr: &[(i64, i64)]| next.iter().map(|&q| zr[q].0).min();
+    let qmin =
+        |next: &[usize], zr: &[(i64, i64)]| next.iter().map(|&q| zr[q].0).min().unwrap_or(i64::MAX);
     for &key in ev.iter() {
         let (ex, kind, s) = (
             (key >> KEY_X) as i64 + xa,
@@ -135,7 +136,7 @@ pub(super) fn walk(
                         // (a decal on the passing polygon's plane comes with it).
                         next.push(c);
                         cur = wk.nearest(next, xs).map(|b| next.swap_remove(b));
-                        nmin = qmin(next, wk.zrange).unwrap_or(i64::MAX);
+                        nmin = qmin(next, wk.zrange);
                     }
                     _ => break,
                 }
@@ -161,12 +162,12 @@ pub(super) fn walk(
             // The nearest polygon in NEXT becomes current.
             cur = wk.nearest(next, ex).map(|b| next.swap_remove(b));
             if cur.is_some_and(|c| wk.zrange[c].0 == nmin) {
-                nmin = qmin(next, wk.zrange).unwrap_or(i64::MAX);
+                nmin = qmin(next, wk.zrange);
             }
         } else if let Some(p) = next.iter().position(|&q| q == s) {
             next.swap_remove(p);
             if wk.zrange[s].0 == nmin {
-                nmin = qmin(next, wk.zrange).unwrap_or(i64::MAX);
+                nmin = qmin(next, wk.zrange);
             }
         }
     }
