@@ -9,7 +9,8 @@
 //!   functions and the top-left fill rule;
 //! - [`depth`]: the array's depth-test rule (`Z < ZB`, or `Z ≤ ZB` for a decal);
 //! - [`rows`]: which rows a triangle can touch, and binning triangles into row bands;
-//! - [`ceil_div`], [`floor_div`], [`round_div`]: exact integer division helpers;
+//! - [`ceil_div`], [`floor_div`], [`round_div`]: exact integer division helpers, and
+//!   [`divisor`]: floor division by a divisor prepared once, by multiplication;
 //! - [`SpanSink`] and [`SpanRaster`]: span scan conversion (through
 //!   [`crate::setup::TriSetup`]) separated from its consumers, in the way of a
 //!   "blitter": the converter calls `sink.span(prim, row, word)`; the array feed
@@ -17,6 +18,7 @@
 //!   post-process draw buffers ([`crate::aa::postfx::draw_buffers`]) implement it.
 
 pub mod depth;
+pub(crate) mod divisor;
 pub mod edge;
 pub mod rows;
 

@@ -8,6 +8,7 @@
 use super::spans::RowPlane;
 use super::walk::{Active, Piece};
 use super::{COLOUR_MAX, ONE16};
+use crate::raster::divisor::FloorDivisor;
 use crate::raster::{floor_div_wide, PlaneStepper, RoundDivStep, RoundDivSteps, RoundDivSteps64};
 
 /// Colours of one piece's parts, left to right: the background, or the polygon's colour
@@ -88,6 +89,8 @@ pub(super) struct ColourRow {
     r: [i64; 3],
     s2: [i64; 3],
     d2: [i64; 3],
+    /// `d2` prepared for division by multiplication.
+    div: [FloorDivisor; 3],
 }
 
 impl ColourRow {
@@ -103,6 +106,7 @@ impl ColourRow {
             r: [0; 3],
             s2: [0; 3],
             d2: [0; 3],
+            div: [c[0].div?.1, c[1].div?.1, c[2].div?.1],
         };
         for (ch, p) in c.iter().enumerate() {
             let d2 = 2 * p.d;
@@ -129,7 +133,7 @@ impl ColourRow {
         let dx = x - self.x0;
         let mut v = [0; 3];
         for (ch, v) in v.iter_mut().enumerate() {
-            *v = self.q[ch] + (self.r[ch] + self.s2[ch] * dx).div_euclid(self.d2[ch]);
+            *v = self.q[ch] + self.div[ch].floor(self.r[ch] + self.s2[ch] * dx);
         }
         v
     }
@@ -144,7 +148,7 @@ impl ColourRow {
         let dx = x - self.x0;
         let at = |ch: usize| {
             let n = self.r[ch] + self.s2[ch] * dx;
-            let q = n.div_euclid(self.d2[ch]);
+            let q = self.div[ch].floor(n);
             steps[ch].narrow_from(self.q[ch] + q, n - q * self.d2[ch])
         };
         Some([at(0)?, at(1)?, at(2)?])
@@ -281,10 +285,8 @@ mod tests {
                     v
                 }
             };
-            let planes = [0; 3].map(|_| RowPlane {
-                k: draw(bits + 10),
-                s: draw(bits.min(44)),
-                d: draw(bits).abs().max(1),
+            let planes = [0; 3].map(|_| {
+                RowPlane::new(draw(bits + 10), draw(bits.min(44)), draw(bits).abs().max(1))
             });
             let x0 = (draw(26) as i64).abs() - (1 << 20);
             let x1 = x0 + 1 + (draw(22) as i64).abs();
@@ -351,11 +353,8 @@ mod tests {
         let mut exact = 0;
         for _ in 0..2000 {
             let mut small = |m: u64| (rng.step() % (2 * m + 1)) as i128 - m as i128;
-            let planes = [0; 3].map(|_| RowPlane {
-                k: small(1 << 40),
-                s: small(1 << 10),
-                d: small(40).abs().max(1),
-            });
+            let planes = [0; 3]
+                .map(|_| RowPlane::new(small(1 << 40), small(1 << 10), small(40).abs().max(1)));
             let x0 = small(1 << 20) as i64;
             let x1 = x0 + 40 * ONE16;
             let Some(row) = ColourRow::new(&planes, x0, x1) else {

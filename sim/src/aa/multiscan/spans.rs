@@ -3,6 +3,7 @@
 //! planes restricted to a sub-scanline (see the module header of [`super`]).
 
 use super::{COLOUR_MAX, ONE16};
+use crate::raster::divisor::FloorDivisor;
 use crate::raster::{round_div, RoundDivStep};
 use crate::setup::ExactPlane as Plane;
 use crate::setup::SnappedTri;
@@ -13,9 +14,26 @@ pub(super) struct RowPlane {
     pub(super) k: i128,
     pub(super) s: i128,
     pub(super) d: i128,
+    /// `d` and `2d` prepared for division by multiplication, when `0 < d < 2^62`.
+    pub(super) div: Option<(FloorDivisor, FloorDivisor)>,
+}
+
+/// [`RowPlane::div`] for denominator `d`.
+fn divisors(d: i128) -> Option<(FloorDivisor, FloorDivisor)> {
+    Some((FloorDivisor::new(d)?, FloorDivisor::new(2 * d)?))
 }
 
 impl RowPlane {
+    /// The plane `(k + s·x16) / d` (its divisors prepared: once per plane, not per row).
+    pub(super) fn new(k: i128, s: i128, d: i128) -> RowPlane {
+        RowPlane {
+            k,
+            s,
+            d,
+            div: divisors(d),
+        }
+    }
+
     /// `round_div((k + s·x16) · 2^frac, d)`.
     #[inline]
     pub(super) fn at(&self, x16: i64, frac: u32) -> i64 {
@@ -24,16 +42,18 @@ impl RowPlane {
         // `0 ≤ r < d`: `⌊(2n·2^f + d) / 2d⌋ = q·2^f + ⌊(2r·2^f + d) / 2d⌋` (`q·d·2^(f+1)`
         // is a multiple of `2d`). `n` in `i64` and `0 < d < 2^(61 − f)` keep every
         // intermediate inside `i64`, and so does the result while `|q| < 2^(61 − f)`.
+        // Both divisions by multiplication ([`FloorDivisor`], prepared with the plane).
         // Otherwise the 128-bit division.
-        if let (true, Ok(n)) = (
-            frac <= 24 && 0 < self.d && self.d < 1i128 << (61 - frac),
+        if let (true, Some((dv, dv2)), Ok(n)) = (
+            frac <= 24 && self.d < 1i128 << (61 - frac),
+            &self.div,
             i64::try_from(n),
         ) {
             let d = self.d as i64;
-            let q = n.div_euclid(d);
+            let q = dv.floor(n);
             if q.unsigned_abs() < 1 << (61 - frac) {
                 let r = n - q * d;
-                return (q << frac) + ((r << (frac + 1)) + d).div_euclid(2 * d);
+                return (q << frac) + dv2.floor((r << (frac + 1)) + d);
             }
         }
         round_div(n << frac, self.d) as i64
@@ -49,6 +69,7 @@ pub(super) struct RowPlanes {
     pub(super) ky: i128,
     pub(super) s: i128,
     pub(super) d: i128,
+    div: Option<(FloorDivisor, FloorDivisor)>,
 }
 
 impl RowPlanes {
@@ -59,6 +80,7 @@ impl RowPlanes {
             ky: p.ny * 256 * 256,
             s: at0.s,
             d: at0.d,
+            div: at0.div,
         }
     }
 
@@ -68,6 +90,7 @@ impl RowPlanes {
             k: self.k0 + self.ky * ynum as i128,
             s: self.s,
             d: self.d,
+            div: self.div,
         }
     }
 }
@@ -80,11 +103,7 @@ impl Plane {
         let d = 256 * yd * self.area2;
         let k =
             self.v0 * d - self.nx * 256 * self.x0 * yd + self.ny * (256 * yn - self.y0 * yd) * 256;
-        RowPlane {
-            k,
-            s: self.nx * yd,
-            d,
-        }
+        RowPlane::new(k, self.nx * yd, d)
     }
 }
 
@@ -403,14 +422,14 @@ mod tests {
         for case in 0..200_000 {
             let kb = [30, 50, 61, 63, 70][case % 5];
             let db = [8, 30, 40, 41, 42, 50][(case / 5) % 6];
-            let p = RowPlane {
-                k: draw(kb),
-                s: draw(kb.min(40)),
-                d: match draw(db) {
+            let p = RowPlane::new(
+                draw(kb),
+                draw(kb.min(40)),
+                match draw(db) {
                     0 => 1,
                     d => d,
                 },
-            };
+            );
             let x = (draw(28) as i64).clamp(-(1 << 27), 1 << 28);
             for frac in [0, 12, 20] {
                 let want = round_div((p.k + p.s * x as i128) << frac, p.d) as i64;
