@@ -2,12 +2,15 @@
 //! it in the frame buffer"; section 6 for the table indexed by the normal class and the
 //! light mask or counter), on the core's readout path.
 //!
-//! Each pixel read out of the array passes through seven registers. The shading table
+//! Each pixel read out of the array passes through eight registers. The shading table
 //! (2^15 × 18 bits holding `{G, F}`, written through `tw_*`, indexed by
 //! `{NCLASS, MASK[2:0], COUNT[3:0]}`: `pixelproc_formats::core_stream::SHADE_ADDR_FIELDS`)
 //! is [`BANKS`] banks of 2^[`BANK_BITS`] entries ([`crate::bank_ram::BankRam`], one ECP5
-//! DP16KD each), all read with the low address bits. Stage 1 registers the readout word and
-//! reads every bank; stage 2 registers every bank's output (inside the bank: on an ECP5 the
+//! DP16KD each), all read with the low address bits. Stage 0 registers the readout word as
+//! it arrives: it comes from the array's readout group registers, which sit with their
+//! processors all over the die, and at N = 16 and N = 64 that route straight into the
+//! banks' address pins was the core's critical path on an ECP5 (`docs/fpga.md`). Stage 1
+//! registers it again and reads every bank; stage 2 registers every bank's output (inside the bank: on an ECP5 the
 //! block RAM's own output register), and per
 //! channel `d = max(0, c − s)` (`c` a colour channel, `s` the same channel of shade
 //! register `SH`); stage 3 picks, in each group of 8 banks, the entry of the addressed
@@ -38,12 +41,12 @@
 //! | port | dir | width | meaning |
 //! |---|---|---|---|
 //! | `clock` | in | 1 | rising edge |
-//! | `rst` | in | 1 | synchronous: no pixel leaves for the next seven edges |
+//! | `rst` | in | 1 | synchronous: no pixel leaves for the next eight edges |
 //! | `in_valid`, `in_word`, `in_meta` | in | 1, 99, 2 | a pixel: readout word, and two flags carried along |
 //! | `tw_en`, `tw_addr`, `tw_data` | in | 1, 15, 18 | table write `{G, F}` (ignored without shading); a write on these before edge `E` is in its bank at edge `E + 1` |
-//! | `out_valid`, `out_word`, `out_meta` | out | 1, 99, 2 | the pixel seven edges later, its RGB shaded |
+//! | `out_valid`, `out_word`, `out_meta` | out | 1, 99, 2 | the pixel eight edges later, its RGB shaded |
 //!
-//! Latency: a pixel on the inputs before edge `E` is on the outputs after edge `E + 6`
+//! Latency: a pixel on the inputs before edge `E` is on the outputs after edge `E + 7`
 //! ([`LATENCY`] edges).
 //!
 //! # Table writes
@@ -75,7 +78,7 @@ pub const META_W: usize = 2;
 /// Rising edges from a pixel on the inputs to the same pixel on the outputs
 /// (`pixelproc_formats::core_stream::SHADE_STAGES`, which the golden core model uses).
 pub const LATENCY: usize = pixelproc_formats::core_stream::SHADE_STAGES;
-const _: () = assert!(LATENCY == 7);
+const _: () = assert!(LATENCY == 8);
 
 /// Address bits of one table bank (2^10 × 18 bits: one ECP5 DP16KD).
 pub const BANK_BITS: usize = crate::bank_ram::BANK_BITS;
@@ -148,7 +151,7 @@ fn stage5_rounded(lit: u32, drop: u32) -> u32 {
 pub struct ShadeUnit {
     /// Clock.
     pub clock: Signal<In, Clock>,
-    /// Synchronous reset: empties the seven stages.
+    /// Synchronous reset: empties the eight stages.
     pub rst: Signal<In, Bit>,
     /// A pixel is on `in_word`.
     pub in_valid: Signal<In, Bit>,
@@ -172,6 +175,10 @@ pub struct ShadeUnit {
     tw_we: Vec<DFF<Bit>>,
     tw_a: Vec<DFF<Bits<BANK_BITS>>>,
     tw_d: Vec<DFF<Bits<ENTRY_W>>>,
+    /// Stage 0: the pixel as it arrives, registered before anything reads it.
+    s0_v: DFF<Bit>,
+    s0_word: DFF<Bits<READOUT_W>>,
+    s0_meta: DFF<Bits<META_W>>,
     s1_v: DFF<Bit>,
     s1_word: DFF<Bits<READOUT_W>>,
     s1_meta: DFF<Bits<META_W>>,
@@ -280,6 +287,9 @@ impl ShadeUnit {
             tw_we: (0..banks).map(|_| Default::default()).collect(),
             tw_a: (0..groups).map(|_| Default::default()).collect(),
             tw_d: (0..groups).map(|_| Default::default()).collect(),
+            s0_v: Default::default(),
+            s0_word: Default::default(),
+            s0_meta: Default::default(),
             s1_v: Default::default(),
             s1_word: Default::default(),
             s1_meta: Default::default(),
@@ -354,21 +364,28 @@ impl Logic for ShadeUnit {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, s1_v, s1_word, s1_meta, s1_hi, s2_v, s2_word, s2_meta, s2_hi, s2_d, s3_v,
-            s3_word, s3_meta, s3_d, s3_grp, s3_over, s4_v, s4_word, s4_meta, s5_v, s5_word,
-            s5_meta, s6_v, s6_word, s6_meta, s6_lit, s6_drop, s7_v, s7_word, s7_meta
+            self, clock, s0_v, s0_word, s0_meta, s1_v, s1_word, s1_meta, s1_hi, s2_v, s2_word,
+            s2_meta, s2_hi, s2_d, s3_v, s3_word, s3_meta, s3_d, s3_grp, s3_over, s4_v, s4_word,
+            s4_meta, s5_v, s5_word, s5_meta, s6_v, s6_word, s6_meta, s6_lit, s6_drop, s7_v,
+            s7_word, s7_meta
         );
-        // ---- Stage 1: register the pixel, read every bank at the low address bits.
+        // ---- Stage 0: register the pixel as it arrives (the core's readout word comes
+        // from the array's group registers, spread over the die with the processors: this
+        // register ends that route, and the banks' address starts from it).
+        self.s0_v.d.next = self.in_valid.val();
+        self.s0_word.d.next = self.in_word.val();
+        self.s0_meta.d.next = self.in_meta.val();
+        // ---- Stage 1: register the pixel again, read every bank at the low address bits.
         self.l_addr.next = self.k_zero_addr.val();
         self.l_addr
             .next
-            .set_value_scount(self.in_word.val().get_value_count_lo());
+            .set_value_scount(self.s0_word.q.val().get_value_count_lo());
         self.l_addr
             .next
-            .set_value_smask(self.in_word.val().get_value_mask_lo());
+            .set_value_smask(self.s0_word.q.val().get_value_mask_lo());
         self.l_addr
             .next
-            .set_value_snclass(self.in_word.val().get_value_nclass());
+            .set_value_snclass(self.s0_word.q.val().get_value_nclass());
         // Table writes, registered once (module header): a decoded write enable per bank,
         // the address and data per group of banks, loaded whenever `tw_addr` names the
         // group, write or not (the bank writes only with its enable, and a write's
@@ -399,9 +416,9 @@ impl Logic for ShadeUnit {
                     self.l_addr.val().get_bits::<BANK_BITS>(0);
             }
         }
-        self.s1_v.d.next = self.in_valid.val();
-        self.s1_word.d.next = self.in_word.val();
-        self.s1_meta.d.next = self.in_meta.val();
+        self.s1_v.d.next = self.s0_v.q.val();
+        self.s1_word.d.next = self.s0_word.q.val();
+        self.s1_meta.d.next = self.s0_meta.q.val();
         self.s1_hi.d.next = self.l_addr.val().get_bits::<HI_W>(10);
         // ---- Stage 2: every bank's entry, registered inside the bank (`BankRam`: on an
         // ECP5 the block RAM's output register); per channel d = max(0, c − s).
@@ -547,6 +564,7 @@ impl Logic for ShadeUnit {
         self.out_word.next = self.s7_word.q.val();
         self.out_meta.next = self.s7_meta.q.val();
         if self.rst.val() {
+            self.s0_v.d.next = false;
             self.s1_v.d.next = false;
             self.s2_v.d.next = false;
             self.s3_v.d.next = false;
@@ -626,7 +644,8 @@ mod tests {
 
     /// A table write lands [`TW_DELAY`] = 1 edge late, in every bank: with the write on
     /// `tw_*` before edge `E`, pixels of that entry entering stage 1 at `E` and `E + 1`
-    /// are shaded with the old entry, from `E + 2` on with the new one; and the write
+    /// (on the inputs before `E − 1` and `E`: stage 0 comes first) are shaded with the old
+    /// entry, from `E + 2` on with the new one; and the write
     /// reaches only its own word (a pixel of the same low address in the next bank keeps
     /// its entry).
     #[test]
@@ -664,13 +683,13 @@ mod tests {
             for _ in 0..2 {
                 edge(&mut u);
             }
-            // Edge E: the new write and the first pixel; then two more pixels of the
-            // entry, one of the neighbour, and the pipeline drains.
+            // Edge E − 1: the first pixel; edge E: the new write and the second pixel; then
+            // one more pixel of the entry, one of the neighbour, and the pipeline drains.
             let seq = [nc, nc, nc, nb];
             let want = [old, old, new, other];
             let mut got = Vec::new();
             for k in 0..seq.len() + LATENCY {
-                if k == 0 {
+                if k == 1 {
                     set(&mut u, true, a, new);
                 } else {
                     set(&mut u, false, 0, (0, 0));

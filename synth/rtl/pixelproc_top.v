@@ -3518,6 +3518,15 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  [17:0] tw_d$3$d;
     wire  [17:0] tw_d$3$q;
     reg  tw_d$3$clock;
+    reg  s0_v$d;
+    wire  s0_v$q;
+    reg  s0_v$clock;
+    reg  [98:0] s0_word$d;
+    wire  [98:0] s0_word$q;
+    reg  s0_word$clock;
+    reg  [1:0] s0_meta$d;
+    wire  [1:0] s0_meta$q;
+    reg  s0_meta$clock;
     reg  s1_v$d;
     wire  s1_v$q;
     reg  s1_v$clock;
@@ -4124,6 +4133,21 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(tw_d$3$q),
         .clock(tw_d$3$clock)
     );
+    pixelproc_top$array$e1_span s0_v(
+        .d(s0_v$d),
+        .q(s0_v$q),
+        .clock(s0_v$clock)
+    );
+    pixelproc_top$array$procs$cap_r s0_word(
+        .d(s0_word$d),
+        .q(s0_word$q),
+        .clock(s0_word$clock)
+    );
+    pixelproc_top$array$procs$b_attr s0_meta(
+        .d(s0_meta$d),
+        .q(s0_meta$q),
+        .clock(s0_meta$clock)
+    );
     pixelproc_top$array$e1_span s1_v(
         .d(s1_v$d),
         .q(s1_v$q),
@@ -4328,6 +4352,9 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     
     // Update code
     always @(*) begin
+        s0_v$clock = clock;
+        s0_word$clock = clock;
+        s0_meta$clock = clock;
         s1_v$clock = clock;
         s1_word$clock = clock;
         s1_meta$clock = clock;
@@ -4357,6 +4384,9 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         s7_v$clock = clock;
         s7_word$clock = clock;
         s7_meta$clock = clock;
+        s0_v$d = s0_v$q;
+        s0_word$d = s0_word$q;
+        s0_meta$d = s0_meta$q;
         s1_v$d = s1_v$q;
         s1_word$d = s1_word$q;
         s1_meta$d = s1_meta$q;
@@ -4386,10 +4416,13 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         s7_v$d = s7_v$q;
         s7_word$d = s7_word$q;
         s7_meta$d = s7_meta$q;
+        s0_v$d = in_valid;
+        s0_word$d = in_word;
+        s0_meta$d = in_meta;
         l_addr = k_zero_addr;
-        l_addr[(32'h0)+:(4)] = in_word[(32'h0)+:(4)];
-        l_addr[(32'h4)+:(3)] = in_word[(32'h3a)+:(3)];
-        l_addr[(32'h7)+:(8)] = in_word[(32'h42)+:(8)];
+        l_addr[(32'h0)+:(4)] = s0_word$q[(32'h0)+:(4)];
+        l_addr[(32'h4)+:(3)] = s0_word$q[(32'h3a)+:(3)];
+        l_addr[(32'h7)+:(8)] = s0_word$q[(32'h42)+:(8)];
         tw_we$0$clock = clock;
         tw_we$0$d = tw_en & k_on & (tw_addr[(32'ha)+:(5)] == 0);
         tw_we$1$clock = clock;
@@ -4646,9 +4679,9 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         banks$31$write_address = tw_a$3$q;
         banks$31$write_data = tw_d$3$q;
         banks$31$read_address = l_addr[(32'h0)+:(10)];
-        s1_v$d = in_valid;
-        s1_word$d = in_word;
-        s1_meta$d = in_meta;
+        s1_v$d = s0_v$q;
+        s1_word$d = s0_word$q;
+        s1_meta$d = s0_meta$q;
         s1_hi$d = l_addr[(32'ha)+:(5)];
         l_rgb = s1_word$q[(32'ha)+:(24)];
         l_sh = s1_word$q[(32'h4a)+:(24)];
@@ -4936,6 +4969,7 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         out_word = s7_word$q;
         out_meta = s7_meta$q;
         if (rst) begin
+            s0_v$d = 1'b0;
             s1_v$d = 1'b0;
             s2_v$d = 1'b0;
             s3_v$d = 1'b0;

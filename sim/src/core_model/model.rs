@@ -69,8 +69,9 @@ pub struct CoreModel {
     pending: (bool, u32, bool),
     job: Job,
     track: [Track; 3],
-    /// The shading step's stages: `s[0]` holds the pixel and its table entry (read as it
-    /// enters), the last stage's pixel goes to the output FIFO.
+    /// The shading step's stages: `s[0]` holds the pixel as it arrived, `s[1]` the pixel
+    /// and its table entry (read as it enters), the last stage's pixel goes to the output
+    /// FIFO.
     s: [Track; SHADE_STAGES],
     inflight: u32,
     pub(super) err: bool,
@@ -192,10 +193,10 @@ impl CoreModel {
                 (f as u32, g as u32)
             }
         };
-        // Readout pipeline: t1 <- go, t2 <- t1, t3 <- t2, s[0] <- t3 (+ table read),
-        // s[k] <- s[k − 1].
+        // Readout pipeline: t1 <- go, t2 <- t1, t3 <- t2, s[0] <- t3, s[1] <- s[0] (+ table
+        // read), s[k] <- s[k − 1].
         let s2_out = self.s[SHADE_STAGES - 1];
-        let mut s1_new = self.track[2];
+        let mut s1_new = self.s[0];
         (s1_new.factor, s1_new.drop) = old_table_entry(&s1_new, &self.table, self.shadows);
         // The TABLE write issued at the last edge lands now, after the read: a write issued
         // at edge E is seen by table reads at E + 2 and later (reset does not cancel it).
@@ -223,7 +224,8 @@ impl CoreModel {
             _ => {}
         }
         self.s.copy_within(0..SHADE_STAGES - 1, 1);
-        self.s[0] = s1_new;
+        self.s[1] = s1_new;
+        self.s[0] = self.track[2];
         self.track = [t1_new, self.track[0], self.track[1]];
         // Job wait and sweep.
         if self.job.valid && self.job.wait != 0 {
