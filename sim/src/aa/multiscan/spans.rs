@@ -16,16 +16,6 @@ pub(super) struct RowPlane {
     pub(super) d: i128,
     /// `d` and `2d` prepared for division by multiplication, when `0 < d < 2^62`.
     pub(super) div: Option<(FloorDivisor, FloorDivisor)>,
-    /// `|k| < 2^62` and `|s| < 2^33`: then `k + s·x16` fits an `i64` for every
-    /// `|x16| < 2^29` (every point of a screen of up to 2^12 pixels, Q.16), and is formed
-    /// in 64 bits.
-    narrow: bool,
-}
-
-/// [`RowPlane::narrow`] for `k` and `s`.
-#[inline]
-fn narrow(k: i128, s: i128) -> bool {
-    k.unsigned_abs() < 1 << 62 && s.unsigned_abs() < 1 << 33
 }
 
 /// [`RowPlane::div`] for denominator `d`.
@@ -41,28 +31,24 @@ impl RowPlane {
             s,
             d,
             div: divisors(d),
-            narrow: narrow(k, s),
         }
     }
 
     /// `round_div((k + s·x16) · 2^frac, d)`.
     #[inline]
     pub(super) fn at(&self, x16: i64, frac: u32) -> i64 {
+        let n = self.k + self.s * x16 as i128;
         // The same quotient from two 64-bit divisions where they fit: with `n = q·d + r`,
         // `0 ≤ r < d`: `⌊(2n·2^f + d) / 2d⌋ = q·2^f + ⌊(2r·2^f + d) / 2d⌋` (`q·d·2^(f+1)`
         // is a multiple of `2d`). `n` in `i64` and `0 < d < 2^(61 − f)` keep every
         // intermediate inside `i64`, and so does the result while `|q| < 2^(61 − f)`.
-        // Both divisions by multiplication ([`FloorDivisor`], prepared with the plane),
-        // and `n` itself in 64 bits where [`RowPlane::narrow`] shows it fits. Otherwise
-        // the 128-bit division.
-        let n64 = if self.narrow && x16.unsigned_abs() < 1 << 29 {
-            Ok(self.k as i64 + self.s as i64 * x16)
-        } else {
-            i64::try_from(self.k + self.s * x16 as i128)
-        };
-        if let (true, Some((dv, dv2)), Ok(n)) =
-            (frac <= 24 && self.d < 1i128 << (61 - frac), &self.div, n64)
-        {
+        // Both divisions by multiplication ([`FloorDivisor`], prepared with the plane).
+        // Otherwise the 128-bit division.
+        if let (true, Some((dv, dv2)), Ok(n)) = (
+            frac <= 24 && self.d < 1i128 << (61 - frac),
+            &self.div,
+            i64::try_from(n),
+        ) {
             let d = self.d as i64;
             let q = dv.floor(n);
             if q.unsigned_abs() < 1 << (61 - frac) {
@@ -70,7 +56,7 @@ impl RowPlane {
                 return (q << frac) + dv2.floor((r << (frac + 1)) + d);
             }
         }
-        round_div((self.k + self.s * x16 as i128) << frac, self.d) as i64
+        round_div(n << frac, self.d) as i64
     }
 }
 
@@ -100,13 +86,11 @@ impl RowPlanes {
 
     #[inline]
     pub(super) fn row(&self, ynum: i64) -> RowPlane {
-        let k = self.k0 + self.ky * ynum as i128;
         RowPlane {
-            k,
+            k: self.k0 + self.ky * ynum as i128,
             s: self.s,
             d: self.d,
             div: self.div,
-            narrow: narrow(k, self.s),
         }
     }
 }
@@ -452,27 +436,6 @@ mod tests {
                 assert_eq!(p.at(x, frac), want, "{p:?} at {x}, frac {frac}");
             }
         }
-        // At the ends of the 64-bit numerator (`narrow`): `k` and `s` up to and at their
-        // bounds, `x` up to and beyond `2^29`, with denominators small enough for the
-        // quotient's 64-bit path.
-        let (kmax, smax, xmax) = ((1i128 << 62) - 1, (1i128 << 33) - 1, (1i64 << 29) - 1);
-        let mut narrow_seen = 0;
-        for case in 0..60_000 {
-            let k = [kmax, -kmax, kmax + 1, 4 * kmax, draw(62)][case % 5];
-            let s = [smax, -smax, smax + 1, 4 * smax, -4 * smax, draw(33)][(case / 5) % 6];
-            let x = [xmax, -xmax, xmax + 1, 4 * xmax, draw(29) as i64][(case / 30) % 5];
-            let d = match draw(20 + (case % 21) as u32) {
-                0 => 1,
-                d => d.abs(),
-            };
-            let p = RowPlane::new(k, s, d);
-            narrow_seen += p.narrow as usize;
-            for frac in [0, 20] {
-                let want = round_div((k + s * x as i128) << frac, d) as i64;
-                assert_eq!(p.at(x, frac), want, "{p:?} at {x}, frac {frac}");
-            }
-        }
-        assert!(narrow_seen > 15_000, "{narrow_seen} narrow planes");
     }
 
     /// A candidate's 64-bit hit test gives the triangle's intervals on every sub-scanline
