@@ -36,9 +36,9 @@
 //! difference `wr − rd + dv` in front of `full`'s compare was the core's critical path at
 //! two placement seeds, `docs/fpga.md`). Likewise `wr ≠ rd` is read from a register,
 //! `ne`, kept equal to it after every edge: `1` after a push, `0` after a fetch without a
-//! push from `wr = rd + 1`, unchanged otherwise (and `0` after `rst`); so the fetch
-//! decision, the head register's clock enable, reads a flip-flop instead of comparing
-//! the pointers.
+//! push from `wr = rd + 1` (read as `lv − dv = 1` from the two registers, not from the
+//! pointers), unchanged otherwise (and `0` after `rst`); so the fetch decision, the head
+//! register's clock enable, reads a flip-flop instead of comparing the pointers.
 //!
 //! The RAM is a [`crate::lut_ram::SlicedLutRam`]: cut by data bits into
 //! [`StreamFifo::with_slices`] slices (one by default; 8 for the core's 260-bit command
@@ -99,6 +99,7 @@ pub struct StreamFifo<D: Synth, const A: usize, const A1: usize> {
     l_wa_next: Signal<Local, Bits<A>>,
     l_one: Signal<Local, Bit>,
     k_one: Constant<Bits<A1>>,
+    k_two: Constant<Bits<A1>>,
     k_zero: Constant<Bits<A1>>,
     k_almost: Constant<Bits<A1>>,
     k_one_a: Constant<Bits<A>>,
@@ -148,6 +149,7 @@ impl<D: Synth, const A: usize, const A1: usize> StreamFifo<D, A, A1> {
             l_wa_next: Default::default(),
             l_one: Default::default(),
             k_one: Constant::new(1u64.to_bits()),
+            k_two: Constant::new(2u64.to_bits()),
             k_zero: Constant::new(0u64.to_bits()),
             k_almost: Constant::new(((1u64 << A) - 1).to_bits()),
             k_one_a: Constant::new(1u64.to_bits()),
@@ -204,10 +206,16 @@ impl<D: Synth, const A: usize, const A1: usize> Logic for StreamFifo<D, A, A1> {
         self.out_valid.next = self.dv.q.val();
         self.out_data.next = self.head.q.val();
         // `ne = (wr != rd)`: a push leaves an entry behind the read pointer; a fetch
-        // without a push empties the RAM part iff it held one entry, `wr = rd + 1`.
-        // (A fetch needs `wr != rd`, and `wr - rd <= 2^A`, so the `A`-bit addresses
-        // decide: `wa = ra + 1` only at `wr - rd = 1`.)
-        self.l_one.next = self.wa.q.val() == self.l_ra_inc.val();
+        // without a push empties the RAM part iff it held one entry, `wr - rd = 1`, read
+        // from registers: `wr - rd = lv - dv` (`lv` is `wr - rd + dv` after every edge),
+        // so `wr - rd = 1` is `lv = 2` with `dv`, `lv = 1` without: two compares with
+        // constants instead of an increment of the read pointer and a compare with the
+        // write pointer (that carry chain in front of `ne` was the core's critical path at
+        // every placement seed of N = 8 with shadows, `docs/fpga.md`).
+        self.l_one.next = self.lv.q.val() == self.k_one.val();
+        if self.dv.q.val() {
+            self.l_one.next = self.lv.q.val() == self.k_two.val();
+        }
         if self.l_fetch.val() & !self.l_push.val() & self.l_one.val() {
             self.ne.d.next = false;
         }

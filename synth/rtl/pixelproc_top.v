@@ -2556,6 +2556,7 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
     
     // Constant declarations
     localparam  k_one = 6'b1;
+    localparam  k_two = 6'b10;
     localparam  k_zero = 6'b0;
     localparam  k_almost = 6'b11111;
     localparam  k_one_a = 5'b1;
@@ -2707,7 +2708,10 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         dv$d = l_fetch | (dv$q & ~l_pop);
         out_valid = dv$q;
         out_data = head$q;
-        l_one = wa$q == l_ra_inc;
+        l_one = lv$q == k_one;
+        if (dv$q) begin
+            l_one = lv$q == k_two;
+        end
         if (l_fetch & ~l_push & l_one) begin
             ne$d = 1'b0;
         end
@@ -2916,6 +2920,7 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
     
     // Constant declarations
     localparam  k_one = 5'b1;
+    localparam  k_two = 5'b10;
     localparam  k_zero = 5'b0;
     localparam  k_almost = 5'b1111;
     localparam  k_one_a = 4'h1;
@@ -3067,7 +3072,10 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         dv$d = l_fetch | (dv$q & ~l_pop);
         out_valid = dv$q;
         out_data = head$q;
-        l_one = wa$q == l_ra_inc;
+        l_one = lv$q == k_one;
+        if (dv$q) begin
+            l_one = lv$q == k_two;
+        end
         if (l_fetch & ~l_push & l_one) begin
             ne$d = 1'b0;
         end
