@@ -155,18 +155,8 @@ pub struct PixelProcessor {
     tok_le: DFF<Bit>,
     /// Step and clamp of the red, green and blue channels.
     lanes: [ColourLane; 3],
-    /// The token's opcode for stage B, held **encoded** ([`encode_op`]): held as it is,
-    /// it would load what the next processor's token register loads (both sample this
-    /// processor's token head), and synthesis merges such flip-flops, bit by bit, into one
-    /// that feeds two processors' logic and the next hop; at N = 32 and N = 64 on an ECP5
-    /// that merged register's route was the critical path (`docs/fpga.md`). No bit of the
-    /// code equals a bit of the opcode, and 0 (NOP, the power-on value) encodes as 0.
-    /// `l_op` is the decoded opcode.
-    b_ope: DFF<Bits<OP_BITS>>,
+    b_op: DFF<Bits<OP_BITS>>,
     b_attr: DFF<Bits<ATTR_W>>,
-    l_op: Signal<Local, Bits<OP_BITS>>,
-    l_ope: Signal<Local, Bits<OP_BITS>>,
-    l_opa: Signal<Local, Bits<OP_BITS>>,
     b_covered: DFF<Bit>,
     /// The depth test registered three ways (see "Decide, then write"): against the held
     /// ZB, against the depth stage B is writing, against `Z_FAR`.
@@ -282,11 +272,8 @@ impl PixelProcessor {
             tok_di: Default::default(),
             tok_le: Default::default(),
             lanes: std::array::from_fn(|_| ColourLane::new()),
-            b_ope: Default::default(),
+            b_op: Default::default(),
             b_attr: Default::default(),
-            l_op: Default::default(),
-            l_ope: Default::default(),
-            l_opa: Default::default(),
             b_covered: Default::default(),
             b_p_held: Default::default(),
             b_p_new: Default::default(),
@@ -393,35 +380,15 @@ impl PixelProcessor {
     }
 }
 
-/// The code stage B holds for opcode `op` (3 bits): `op ^ (op >> 1) ^ (op << 1)`, that is
-/// `{op2 ^ op1, op2 ^ op1 ^ op0, op1 ^ op0}`. Invertible ([`decode_op`]), `0 ↦ 0`, and
-/// no bit of it is a bit of `op` (see `PixelProcessor::b_ope`).
-pub fn encode_op(op: u64) -> u64 {
-    (op ^ (op >> 1) ^ (op << 1)) & 7
-}
-
-/// The opcode of code `s`, as the kernel decodes it: with `a = s ^ (s >> 1)` (3 bits),
-/// `(a << 2) ^ ((a << 2) >> 1) ^ (a >> 1)`, that is `{a0, a0 ^ a2, a1}`.
-pub fn decode_op(s: u64) -> u64 {
-    let a = (s ^ (s >> 1)) & 7;
-    let a2 = (a << 2) & 7;
-    (a2 ^ (a2 >> 1) ^ (a >> 1)) & 7
-}
-
 impl Logic for PixelProcessor {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, tok_head, tok_z, tok_dz, tok_i, tok_di, tok_le, b_ope, b_attr, b_covered,
+            self, clock, tok_head, tok_z, tok_dz, tok_i, tok_di, tok_le, b_op, b_attr, b_covered,
             b_p_held, b_p_new, b_p_far, b_sel_new, b_sel_far, b_gate, b_hi_ok, b_z, b_rgb,
             b_nclass, zb_r, rgb_r, nclass_r, w_c, rgb_c, ncl_c, cap_r, rdsel_r, b_won_upd,
             b_sh_write, won_r, sh_r
         );
-        // Stage B's opcode decoded ([`decode_op`]): with a = s ^ (s >> 1),
-        // op = {a[0], a[0] ^ a[2], a[1]} = (a << 2) ^ ((a << 2) >> 1) ^ (a >> 1) on 3 bits.
-        self.l_opa.next = self.b_ope.q.val() ^ (self.b_ope.q.val() >> 1);
-        self.l_op.next =
-            (self.l_opa.val() << 2) ^ ((self.l_opa.val() << 2) >> 1) ^ (self.l_opa.val() >> 1);
         // ---- Stage A: the token register, loaded every clock.
         self.tok_head.d.next = self.t_head.val();
         self.l_rel_l.next = self.tok_head.q.val().get_value_rel_l();
@@ -514,8 +481,8 @@ impl Logic for PixelProcessor {
         self.mask_now.next = self.k_zero8.val();
         for i in 0..self.parity.len() {
             self.parity[i].clock.next = self.clock.val();
-            self.parity[i].rst.next = self.l_op.val() == self.k_reset.val();
-            self.parity[i].op.next = self.l_op.val();
+            self.parity[i].rst.next = self.b_op.q.val() == self.k_reset.val();
+            self.parity[i].op.next = self.b_op.q.val();
             self.parity[i].attr.next = self.b_attr.q.val();
             self.parity[i].covered.next = self.b_covered.q.val();
             self.parity[i].z_lt.next = self.pass_b.val() & self.b_hi_ok.q.val();
@@ -537,7 +504,7 @@ impl Logic for PixelProcessor {
         self.l_cap.next.set_value_count(self.count_now.val());
         self.l_cap.next.set_value_sh(self.sh_r.q.val());
         self.l_cap.next.set_value_won(self.won_r.q.val());
-        if self.l_op.val() == self.k_clear_line.val() {
+        if self.b_op.q.val() == self.k_clear_line.val() {
             self.won_r.d.next = false;
             self.sh_r.d.next = self.k_zero24.val();
             self.cap_r.d.next = self.l_cap.val();
@@ -545,7 +512,7 @@ impl Logic for PixelProcessor {
             self.rgb_r.d.next = self.b_rgb.q.val();
             self.nclass_r.d.next = self.k_zero8.val();
         }
-        if self.l_op.val() == self.k_reset.val() {
+        if self.b_op.q.val() == self.k_reset.val() {
             self.won_r.d.next = false;
             self.sh_r.d.next = self.k_zero24.val();
             self.zb_next.next = self.k_zfar.val();
@@ -576,12 +543,10 @@ impl Logic for PixelProcessor {
         // `Z < Z_FAR` iff `Z ≠ Z_FAR`; `Z <= Z_FAR` always.
         self.b_p_far.d.next = self.le_mode.val() | (self.zv.val() != self.k_zfar.val());
         self.b_sel_new.d.next = self.write_b.val();
-        self.b_sel_far.d.next =
-            (self.l_op.val() == self.k_clear_line.val()) | (self.l_op.val() == self.k_reset.val());
+        self.b_sel_far.d.next = (self.b_op.q.val() == self.k_clear_line.val())
+            | (self.b_op.q.val() == self.k_reset.val());
         self.b_hi_ok.d.next = self.z_hi_ok.val();
-        // `encode_op`: s = op ^ (op >> 1) ^ (op << 1) on 3 bits.
-        self.l_ope.next = self.tok_head.q.val().get_value_op();
-        self.b_ope.d.next = self.l_ope.val() ^ (self.l_ope.val() >> 1) ^ (self.l_ope.val() << 1);
+        self.b_op.d.next = self.tok_head.q.val().get_value_op();
         self.b_attr.d.next = self.tok_head.q.val().get_value_attr();
         self.b_covered.d.next = self.covered.val();
         self.b_gate.d.next = self.is_op_span.val()
@@ -606,33 +571,6 @@ impl Logic for PixelProcessor {
         self.rdo.next = self.k_zero_rd.val();
         if self.rdsel_r.q.val() {
             self.rdo.next = self.cap_r.q.val();
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::{decode_op, encode_op};
-
-    /// Stage B's opcode code: invertible, NOP (the power-on 0) stays 0, and no bit of the
-    /// code equals a bit of the opcode over all eight opcodes (so no flip-flop of the code
-    /// loads what a token flip-flop of the next processor loads).
-    #[test]
-    fn opcode_code_is_invertible_and_shares_no_bit_with_the_opcode() {
-        assert_eq!(encode_op(0), 0);
-        for op in 0..8 {
-            assert_eq!(decode_op(encode_op(op)), op, "opcode {op}");
-        }
-        let mut codes: Vec<u64> = (0..8).map(encode_op).collect();
-        codes.sort_unstable();
-        assert_eq!(codes, (0..8).collect::<Vec<_>>());
-        for i in 0..3 {
-            for j in 0..3 {
-                assert!(
-                    (0..8).any(|op| (encode_op(op) >> i) & 1 != (op >> j) & 1),
-                    "code bit {i} is opcode bit {j}"
-                );
-            }
         }
     }
 }

@@ -1753,9 +1753,9 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
     reg  lanes$2$step;
     wire  [33:0] lanes$2$o_i;
     wire  [7:0] lanes$2$ch;
-    reg  [2:0] b_ope$d;
-    wire  [2:0] b_ope$q;
-    reg  b_ope$clock;
+    reg  [2:0] b_op$d;
+    wire  [2:0] b_op$q;
+    reg  b_op$clock;
     reg  [1:0] b_attr$d;
     wire  [1:0] b_attr$q;
     reg  b_attr$clock;
@@ -1832,9 +1832,6 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
     // Local signals
     reg  [13:0] l_rel_l;
     reg  [13:0] l_rel_r;
-    reg  [2:0] l_op;
-    reg  [2:0] l_ope;
-    reg  [2:0] l_opa;
     reg  is_op_span;
     reg  [23:0] l_rgb_now;
     reg  [7:0] l_ncl_now;
@@ -1925,10 +1922,10 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         .o_i(lanes$2$o_i),
         .ch(lanes$2$ch)
     );
-    pixelproc_top$array$e1_op b_ope(
-        .d(b_ope$d),
-        .q(b_ope$q),
-        .clock(b_ope$clock)
+    pixelproc_top$array$e1_op b_op(
+        .d(b_op$d),
+        .q(b_op$q),
+        .clock(b_op$clock)
     );
     pixelproc_top$array$procs$b_attr b_attr(
         .d(b_attr$d),
@@ -2059,7 +2056,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         tok_i$clock = clock;
         tok_di$clock = clock;
         tok_le$clock = clock;
-        b_ope$clock = clock;
+        b_op$clock = clock;
         b_attr$clock = clock;
         b_covered$clock = clock;
         b_p_held$clock = clock;
@@ -2090,7 +2087,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         tok_i$d = tok_i$q;
         tok_di$d = tok_di$q;
         tok_le$d = tok_le$q;
-        b_ope$d = b_ope$q;
+        b_op$d = b_op$q;
         b_attr$d = b_attr$q;
         b_covered$d = b_covered$q;
         b_p_held$d = b_p_held$q;
@@ -2115,8 +2112,6 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         b_sh_write$d = b_sh_write$q;
         won_r$d = won_r$q;
         sh_r$d = sh_r$q;
-        l_opa = b_ope$q ^ (b_ope$q >> 32'h1);
-        l_op = (l_opa << 32'h2) ^ ((l_opa << 32'h2) >> 32'h1) ^ (l_opa >> 32'h1);
         tok_head$d = t_head;
         l_rel_l = tok_head$q[(32'he)+:(14)];
         l_rel_r = tok_head$q[(32'h1c)+:(14)];
@@ -2201,8 +2196,8 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         count_now = k_zero8;
         mask_now = k_zero8;
         parity$0$clock = clock;
-        parity$0$rst = l_op == k_reset;
-        parity$0$op = l_op;
+        parity$0$rst = b_op$q == k_reset;
+        parity$0$op = b_op$q;
         parity$0$attr = b_attr$q;
         parity$0$covered = b_covered$q;
         parity$0$z_lt = pass_b & b_hi_ok$q;
@@ -2221,7 +2216,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         l_cap[(32'h0)+:(8)] = count_now;
         l_cap[(32'h4a)+:(24)] = sh_r$q;
         l_cap[(32'h62)+:(1)] = won_r$q;
-        if (l_op == k_clear_line) begin
+        if (b_op$q == k_clear_line) begin
             won_r$d = 1'b0;
             sh_r$d = k_zero24;
             cap_r$d = l_cap;
@@ -2229,7 +2224,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
             rgb_r$d = b_rgb$q;
             nclass_r$d = k_zero8;
         end
-        if (l_op == k_reset) begin
+        if (b_op$q == k_reset) begin
             won_r$d = 1'b0;
             sh_r$d = k_zero24;
             zb_next = k_zfar;
@@ -2252,10 +2247,9 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         b_p_new$d = zv2 < zb2_new;
         b_p_far$d = le_mode | (zv != k_zfar);
         b_sel_new$d = write_b;
-        b_sel_far$d = (l_op == k_clear_line) | (l_op == k_reset);
+        b_sel_far$d = (b_op$q == k_clear_line) | (b_op$q == k_reset);
         b_hi_ok$d = z_hi_ok;
-        l_ope = tok_head$q[(32'h0)+:(3)];
-        b_ope$d = l_ope ^ (l_ope >> 32'h1) ^ (l_ope << 32'h1);
+        b_op$d = tok_head$q[(32'h0)+:(3)];
         b_attr$d = tok_head$q[(32'h3)+:(2)];
         b_covered$d = covered;
         b_gate$d = is_op_span & (tok_head$q[(32'h2a)+:(4)] == k_chan0) & covered & z_hi_ok;
