@@ -127,8 +127,8 @@ pub fn shade_addr(nclass: u8, mask: u8, count: u8) -> u32 {
 }
 
 /// Register stages of the core's shading step, from the readout word to the shaded pixel:
-/// the readout word as it arrives, the table read (every bank), each bank's entry registered at its block RAM with
-/// `max(0, c − s)`, the addressed bank's entry within each group of 8 banks, the
+/// the readout word as it arrives, the table read (every bank), each bank's entry
+/// registered at its block RAM with `max(0, c − s)`, the addressed bank's entry within each group of 8 banks, the
 /// addressed group's entry (the multipliers' operands), the two products, the products
 /// again beside the rounding, and the clamp and subtraction (`rtl::shade_unit`, the golden
 /// `core_model`).

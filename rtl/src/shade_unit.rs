@@ -8,10 +8,10 @@
 //! is [`BANKS`] banks of 2^[`BANK_BITS`] entries ([`crate::bank_ram::BankRam`], one ECP5
 //! DP16KD each), all read with the low address bits. Stage 0 registers the readout word as
 //! it arrives: it comes from the array's readout group registers, which sit with their
-//! processors all over the die, and at N = 16 and N = 64 that route straight into the
+//! processors all over the die, and at N = 16, 32 and 64 that route straight into the
 //! banks' address pins was the core's critical path on an ECP5 (`docs/fpga.md`). Stage 1
-//! registers it again and reads every bank; stage 2 registers every bank's output (inside the bank: on an ECP5 the
-//! block RAM's own output register), and per
+//! registers it again and reads every bank; stage 2 registers every bank's output (inside
+//! the bank: on an ECP5 the block RAM's own output register), and per
 //! channel `d = max(0, c − s)` (`c` a colour channel, `s` the same channel of shade
 //! register `SH`); stage 3 picks, in each group of 8 banks, the entry of the addressed
 //! bank, and decides the override below; stage 4 picks the addressed group's entry,
