@@ -155,6 +155,8 @@ pub struct PixelProcessor {
     tok_le: DFF<Bit>,
     /// Step and clamp of the red, green and blue channels.
     lanes: [ColourLane; 3],
+    /// The opcode in stage B, for the span-parity block (its CLEAR_LINE and RESET also
+    /// arrive decoded: `b_clr`, `b_rst`).
     b_op: DFF<Bits<OP_BITS>>,
     b_attr: DFF<Bits<ATTR_W>>,
     b_covered: DFF<Bit>,
@@ -167,6 +169,13 @@ pub struct PixelProcessor {
     /// was CLEAR_LINE or RESET (`b_sel_far`).
     b_sel_new: DFF<Bit>,
     b_sel_far: DFF<Bit>,
+    /// Stage B holds CLEAR_LINE (`b_clr`) or RESET (`b_rst`), decoded in stage A, so the
+    /// wide registers' enables come straight from flip-flops. (A register holding the
+    /// opcode itself would sample the same value as the next processor's token register,
+    /// and synthesis merges the two: the enables would then be routed from the next
+    /// processor.)
+    b_clr: DFF<Bit>,
+    b_rst: DFF<Bit>,
     /// An OP span of channel 0 that covers the column with `z[43:36] = 0`: it writes if
     /// it passes the depth test.
     b_gate: DFF<Bit>,
@@ -280,6 +289,8 @@ impl PixelProcessor {
             b_p_far: Default::default(),
             b_sel_new: Default::default(),
             b_sel_far: Default::default(),
+            b_clr: Default::default(),
+            b_rst: Default::default(),
             b_gate: Default::default(),
             b_hi_ok: Default::default(),
             b_z: Default::default(),
@@ -385,8 +396,8 @@ impl Logic for PixelProcessor {
     fn update(&mut self) {
         dff_setup!(
             self, clock, tok_head, tok_z, tok_dz, tok_i, tok_di, tok_le, b_op, b_attr, b_covered,
-            b_p_held, b_p_new, b_p_far, b_sel_new, b_sel_far, b_gate, b_hi_ok, b_z, b_rgb,
-            b_nclass, zb_r, rgb_r, nclass_r, w_c, rgb_c, ncl_c, cap_r, rdsel_r, b_won_upd,
+            b_p_held, b_p_new, b_p_far, b_sel_new, b_sel_far, b_clr, b_rst, b_gate, b_hi_ok, b_z,
+            b_rgb, b_nclass, zb_r, rgb_r, nclass_r, w_c, rgb_c, ncl_c, cap_r, rdsel_r, b_won_upd,
             b_sh_write, won_r, sh_r
         );
         // ---- Stage A: the token register, loaded every clock.
@@ -481,7 +492,7 @@ impl Logic for PixelProcessor {
         self.mask_now.next = self.k_zero8.val();
         for i in 0..self.parity.len() {
             self.parity[i].clock.next = self.clock.val();
-            self.parity[i].rst.next = self.b_op.q.val() == self.k_reset.val();
+            self.parity[i].rst.next = self.b_rst.q.val();
             self.parity[i].op.next = self.b_op.q.val();
             self.parity[i].attr.next = self.b_attr.q.val();
             self.parity[i].covered.next = self.b_covered.q.val();
@@ -504,7 +515,7 @@ impl Logic for PixelProcessor {
         self.l_cap.next.set_value_count(self.count_now.val());
         self.l_cap.next.set_value_sh(self.sh_r.q.val());
         self.l_cap.next.set_value_won(self.won_r.q.val());
-        if self.b_op.q.val() == self.k_clear_line.val() {
+        if self.b_clr.q.val() {
             self.won_r.d.next = false;
             self.sh_r.d.next = self.k_zero24.val();
             self.cap_r.d.next = self.l_cap.val();
@@ -512,7 +523,7 @@ impl Logic for PixelProcessor {
             self.rgb_r.d.next = self.b_rgb.q.val();
             self.nclass_r.d.next = self.k_zero8.val();
         }
-        if self.b_op.q.val() == self.k_reset.val() {
+        if self.b_rst.q.val() {
             self.won_r.d.next = false;
             self.sh_r.d.next = self.k_zero24.val();
             self.zb_next.next = self.k_zfar.val();
@@ -543,10 +554,11 @@ impl Logic for PixelProcessor {
         // `Z < Z_FAR` iff `Z ≠ Z_FAR`; `Z <= Z_FAR` always.
         self.b_p_far.d.next = self.le_mode.val() | (self.zv.val() != self.k_zfar.val());
         self.b_sel_new.d.next = self.write_b.val();
-        self.b_sel_far.d.next = (self.b_op.q.val() == self.k_clear_line.val())
-            | (self.b_op.q.val() == self.k_reset.val());
+        self.b_sel_far.d.next = self.b_clr.q.val() | self.b_rst.q.val();
         self.b_hi_ok.d.next = self.z_hi_ok.val();
         self.b_op.d.next = self.tok_head.q.val().get_value_op();
+        self.b_clr.d.next = self.tok_head.q.val().get_value_op() == self.k_clear_line.val();
+        self.b_rst.d.next = self.tok_head.q.val().get_value_op() == self.k_reset.val();
         self.b_attr.d.next = self.tok_head.q.val().get_value_attr();
         self.b_covered.d.next = self.covered.val();
         self.b_gate.d.next = self.is_op_span.val()

@@ -1777,6 +1777,12 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
     reg  b_sel_far$d;
     wire  b_sel_far$q;
     reg  b_sel_far$clock;
+    reg  b_clr$d;
+    wire  b_clr$q;
+    reg  b_clr$clock;
+    reg  b_rst$d;
+    wire  b_rst$q;
+    reg  b_rst$clock;
     reg  b_gate$d;
     wire  b_gate$q;
     reg  b_gate$clock;
@@ -1962,6 +1968,16 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         .q(b_sel_far$q),
         .clock(b_sel_far$clock)
     );
+    pixelproc_top$array$e1_span b_clr(
+        .d(b_clr$d),
+        .q(b_clr$q),
+        .clock(b_clr$clock)
+    );
+    pixelproc_top$array$e1_span b_rst(
+        .d(b_rst$d),
+        .q(b_rst$q),
+        .clock(b_rst$clock)
+    );
     pixelproc_top$array$e1_span b_gate(
         .d(b_gate$d),
         .q(b_gate$q),
@@ -2064,6 +2080,8 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         b_p_far$clock = clock;
         b_sel_new$clock = clock;
         b_sel_far$clock = clock;
+        b_clr$clock = clock;
+        b_rst$clock = clock;
         b_gate$clock = clock;
         b_hi_ok$clock = clock;
         b_z$clock = clock;
@@ -2095,6 +2113,8 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         b_p_far$d = b_p_far$q;
         b_sel_new$d = b_sel_new$q;
         b_sel_far$d = b_sel_far$q;
+        b_clr$d = b_clr$q;
+        b_rst$d = b_rst$q;
         b_gate$d = b_gate$q;
         b_hi_ok$d = b_hi_ok$q;
         b_z$d = b_z$q;
@@ -2196,7 +2216,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         count_now = k_zero8;
         mask_now = k_zero8;
         parity$0$clock = clock;
-        parity$0$rst = b_op$q == k_reset;
+        parity$0$rst = b_rst$q;
         parity$0$op = b_op$q;
         parity$0$attr = b_attr$q;
         parity$0$covered = b_covered$q;
@@ -2216,7 +2236,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         l_cap[(32'h0)+:(8)] = count_now;
         l_cap[(32'h4a)+:(24)] = sh_r$q;
         l_cap[(32'h62)+:(1)] = won_r$q;
-        if (b_op$q == k_clear_line) begin
+        if (b_clr$q) begin
             won_r$d = 1'b0;
             sh_r$d = k_zero24;
             cap_r$d = l_cap;
@@ -2224,7 +2244,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
             rgb_r$d = b_rgb$q;
             nclass_r$d = k_zero8;
         end
-        if (b_op$q == k_reset) begin
+        if (b_rst$q) begin
             won_r$d = 1'b0;
             sh_r$d = k_zero24;
             zb_next = k_zfar;
@@ -2247,9 +2267,11 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         b_p_new$d = zv2 < zb2_new;
         b_p_far$d = le_mode | (zv != k_zfar);
         b_sel_new$d = write_b;
-        b_sel_far$d = (b_op$q == k_clear_line) | (b_op$q == k_reset);
+        b_sel_far$d = b_clr$q | b_rst$q;
         b_hi_ok$d = z_hi_ok;
         b_op$d = tok_head$q[(32'h0)+:(3)];
+        b_clr$d = tok_head$q[(32'h0)+:(3)] == k_clear_line;
+        b_rst$d = tok_head$q[(32'h0)+:(3)] == k_reset;
         b_attr$d = tok_head$q[(32'h3)+:(2)];
         b_covered$d = covered;
         b_gate$d = is_op_span & (tok_head$q[(32'h2a)+:(4)] == k_chan0) & covered & z_hi_ok;
