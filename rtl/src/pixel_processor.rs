@@ -156,8 +156,12 @@ pub struct PixelProcessor {
     /// Step and clamp of the red, green and blue channels.
     lanes: [ColourLane; 3],
     /// The opcode in stage B, for the span-parity block (its CLEAR_LINE and RESET also
-    /// arrive decoded: `b_clr`, `b_rst`).
+    /// arrive decoded: `b_clr`, `b_rst`), held inverted (`op ^ 0b111`). A register of the
+    /// opcode itself samples what the next processor's token register samples, and
+    /// synthesis merges the two into one flip-flop placed between the processors; the
+    /// inversion is free (it folds into the LUTs on either side).
     b_op: DFF<Bits<OP_BITS>>,
+    k_op_inv: Constant<Bits<OP_BITS>>,
     b_attr: DFF<Bits<ATTR_W>>,
     b_covered: DFF<Bit>,
     /// The depth test registered three ways (see "Decide, then write"): against the held
@@ -170,10 +174,8 @@ pub struct PixelProcessor {
     b_sel_new: DFF<Bit>,
     b_sel_far: DFF<Bit>,
     /// Stage B holds CLEAR_LINE (`b_clr`) or RESET (`b_rst`), decoded in stage A, so the
-    /// wide registers' enables come straight from flip-flops. (A register holding the
-    /// opcode itself would sample the same value as the next processor's token register,
-    /// and synthesis merges the two: the enables would then be routed from the next
-    /// processor.)
+    /// wide registers' enables (capture, colour, the far select) come straight from
+    /// flip-flops of this processor.
     b_clr: DFF<Bit>,
     b_rst: DFF<Bit>,
     /// An OP span of channel 0 that covers the column with `z[43:36] = 0`: it writes if
@@ -282,6 +284,7 @@ impl PixelProcessor {
             tok_le: Default::default(),
             lanes: std::array::from_fn(|_| ColourLane::new()),
             b_op: Default::default(),
+            k_op_inv: Constant::new(((1u64 << OP_BITS) - 1).to_bits()),
             b_attr: Default::default(),
             b_covered: Default::default(),
             b_p_held: Default::default(),
@@ -493,7 +496,7 @@ impl Logic for PixelProcessor {
         for i in 0..self.parity.len() {
             self.parity[i].clock.next = self.clock.val();
             self.parity[i].rst.next = self.b_rst.q.val();
-            self.parity[i].op.next = self.b_op.q.val();
+            self.parity[i].op.next = self.b_op.q.val() ^ self.k_op_inv.val();
             self.parity[i].attr.next = self.b_attr.q.val();
             self.parity[i].covered.next = self.b_covered.q.val();
             self.parity[i].z_lt.next = self.pass_b.val() & self.b_hi_ok.q.val();
@@ -556,7 +559,7 @@ impl Logic for PixelProcessor {
         self.b_sel_new.d.next = self.write_b.val();
         self.b_sel_far.d.next = self.b_clr.q.val() | self.b_rst.q.val();
         self.b_hi_ok.d.next = self.z_hi_ok.val();
-        self.b_op.d.next = self.tok_head.q.val().get_value_op();
+        self.b_op.d.next = self.tok_head.q.val().get_value_op() ^ self.k_op_inv.val();
         self.b_clr.d.next = self.tok_head.q.val().get_value_op() == self.k_clear_line.val();
         self.b_rst.d.next = self.tok_head.q.val().get_value_op() == self.k_reset.val();
         self.b_attr.d.next = self.tok_head.q.val().get_value_attr();

@@ -1691,6 +1691,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
     output reg  o_le;
     
     // Constant declarations
+    localparam  k_op_inv = 3'b111;
     localparam  k_shade = 1'b1;
     localparam  k_chan0 = 4'h0;
     localparam  k_chan1 = 4'h1;
@@ -2217,7 +2218,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         mask_now = k_zero8;
         parity$0$clock = clock;
         parity$0$rst = b_rst$q;
-        parity$0$op = b_op$q;
+        parity$0$op = b_op$q ^ k_op_inv;
         parity$0$attr = b_attr$q;
         parity$0$covered = b_covered$q;
         parity$0$z_lt = pass_b & b_hi_ok$q;
@@ -2269,7 +2270,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         b_sel_new$d = write_b;
         b_sel_far$d = b_clr$q | b_rst$q;
         b_hi_ok$d = z_hi_ok;
-        b_op$d = tok_head$q[(32'h0)+:(3)];
+        b_op$d = tok_head$q[(32'h0)+:(3)] ^ k_op_inv;
         b_clr$d = tok_head$q[(32'h0)+:(3)] == k_clear_line;
         b_rst$d = tok_head$q[(32'h0)+:(3)] == k_reset;
         b_attr$d = tok_head$q[(32'h3)+:(2)];
