@@ -23,8 +23,8 @@
 //! - the RAM reads address `rd` (always: the address comes from registers equal to the
 //!   pointer, one copy per RAM slice), and `head := mem[rd]` if `fetch`, else `head`
 //!   holds (a clock enable);
-//! - `rd += fetch`, `dv := fetch ∨ (dv ∧ ¬pop)`, `wr += push`, `mem[wr] := in_data` if
-//!   `push`;
+//! - `rd += fetch`, `dv := fetch ∨ (dv ∧ ¬pop)`, `wr += push`, and `mem[wr] := in_data`
+//!   at every edge, pushed or not (see "Writing at every edge");
 //! - `level = wr − rd + dv`, `in_ready = ¬rst ∧ level ≠ 2^A`.
 //!
 //! `level` is read from a register, `lv`, kept equal to `wr − rd + dv` after every edge:
@@ -45,6 +45,18 @@
 //! FIFO), each with its own registered copy of the read and write addresses, loaded with
 //! the pointers' next values. A copy drives the address pins of its slice only, instead
 //! of one pointer register driving every LUT RAM primitive of the word.
+//!
+//! **Writing at every edge.** The RAM's write enable is constant 1: `mem[wr]` takes
+//! `in_data` at every edge, and only `wr`'s increment says whether the beat was taken. The
+//! slot at `wr` holds no entry the FIFO still owes: the entries are the slots `rd ..
+//! wr − 1` (and the head register), and `wr` is among them only when `wr − rd = 2^A`,
+//! which needs `2^A` entries in the RAM with `dv = 0`; but `dv = 0` with `wr ≠ rd` lasts
+//! one clock (the fetch), so the RAM never fills behind an empty head register (and if it
+//! did, that edge's fetch reads the slot before the write lands). A slot written without
+//! a push is written again by the push that makes it an entry. So no flag or reset sits
+//! in front of the write enables of the RAM's LUT RAM primitives (130 of them in the
+//! core's command FIFO): `full` and `rst` into those enables, through the push decision,
+//! were the core's worst paths at N = 8 and N = 32 (`docs/fpga.md`).
 //!
 //! A beat written at edge `E` is presented (`out_valid`) from edge `E + 1` on if the FIFO
 //! was empty; in steady state one beat moves on each side on every edge. The head entry
@@ -224,7 +236,7 @@ impl<D: Synth, const A: usize, const A1: usize> Logic for StreamFifo<D, A, A1> {
         }
         // Write side.
         self.ram.write_data.next = self.in_data.val();
-        self.ram.write_enable.next = self.l_push.val();
+        self.ram.write_enable.next = true;
         self.l_wa_next.next = self.wa.q.val();
         if self.l_push.val() {
             self.l_wa_next.next = self.wa.q.val() + self.k_one_a.val();
@@ -303,6 +315,12 @@ mod tests {
             assert_eq!(uut.out_valid.val(), dv);
             let in_ready = uut.in_ready.val();
             assert_eq!(in_ready, !rst && model.len() < (1 << A));
+            if !(valid && in_ready) {
+                // A beat not taken carries other data (the RAM is written at every edge:
+                // what it writes without a push must never reach the output).
+                uut.in_data.next = (r.rotate_left(17) & ((1 << W) - 1)).to_bits();
+                assert!(simulate(&mut uut, 50));
+            }
             full_clocks += (model.len() == 1 << A) as u32;
             empty_clocks += (wr == rd && !dv) as u32;
             let out_valid = uut.out_valid.val();

@@ -2742,7 +2742,7 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
             ne$d = 1'b1;
         end
         ram$write_data = in_data;
-        ram$write_enable = l_push;
+        ram$write_enable = 1'b1;
         l_wa_next = wa$q;
         if (l_push) begin
             l_wa_next = wa$q + k_one_a;
@@ -3106,7 +3106,7 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
             ne$d = 1'b1;
         end
         ram$write_data = in_data;
-        ram$write_enable = l_push;
+        ram$write_enable = 1'b1;
         l_wa_next = wa$q;
         if (l_push) begin
             l_wa_next = wa$q + k_one_a;
