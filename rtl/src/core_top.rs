@@ -201,7 +201,7 @@ impl<const IA: usize, const IA1: usize> PixelprocCore<IA, IA1> {
             m_axis_tlast: Default::default(),
             proto_err: Default::default(),
             in_level: Default::default(),
-            in_fifo: StreamFifo::with_slices(IN_FIFO_SLICES),
+            in_fifo: StreamFifo::with_slices(IN_FIFO_SLICES).writing_every_edge(),
             array,
             shade: ShadeUnit::new(shadows),
             out_fifo: Default::default(),

@@ -23,8 +23,8 @@
 //! - the RAM reads address `rd` (always: the address comes from registers equal to the
 //!   pointer, one copy per RAM slice), and `head := mem[rd]` if `fetch`, else `head`
 //!   holds (a clock enable);
-//! - `rd += fetch`, `dv := fetch ∨ (dv ∧ ¬pop)`, `wr += push`, and `mem[wr] := in_data`
-//!   at every edge, pushed or not (see "Writing at every edge");
+//! - `rd += fetch`, `dv := fetch ∨ (dv ∧ ¬pop)`, `wr += push`, `mem[wr] := in_data` if
+//!   `push` (or at every edge, pushed or not: see "Writing at every edge");
 //! - `level = wr − rd + dv`, `in_ready = ¬rst ∧ level ≠ 2^A`.
 //!
 //! `level` is read from a register, `lv`, kept equal to `wr − rd + dv` after every edge:
@@ -46,8 +46,10 @@
 //! the pointers' next values. A copy drives the address pins of its slice only, instead
 //! of one pointer register driving every LUT RAM primitive of the word.
 //!
-//! **Writing at every edge.** The RAM's write enable is constant 1: `mem[wr]` takes
-//! `in_data` at every edge, and only `wr`'s increment says whether the beat was taken. The
+//! **Writing at every edge** ([`StreamFifo::writing_every_edge`], the core's command
+//! FIFO; otherwise the RAM is written on a push). The RAM's write enable is constant 1:
+//! `mem[wr]` takes `in_data` at every edge, and only `wr`'s increment says whether the
+//! beat was taken. The
 //! slot at `wr` holds no entry the FIFO still owes: the entries are the slots `rd ..
 //! wr − 1` (and the head register), and `wr` is among them only when `wr − rd = 2^A`,
 //! which needs `2^A` entries in the RAM with `dv = 0`; but `dv = 0` with `wr ≠ rd` lasts
@@ -117,6 +119,8 @@ pub struct StreamFifo<D: Synth, const A: usize, const A1: usize> {
     k_one_a: Constant<Bits<A>>,
     k_zero_a: Constant<Bits<A>>,
     k_last_a: Constant<Bits<A>>,
+    /// The RAM is written at every edge ([`StreamFifo::writing_every_edge`]).
+    k_every_edge: Constant<Bit>,
 }
 
 impl<D: Synth, const A: usize, const A1: usize> Default for StreamFifo<D, A, A1> {
@@ -167,7 +171,17 @@ impl<D: Synth, const A: usize, const A1: usize> StreamFifo<D, A, A1> {
             k_one_a: Constant::new(1u64.to_bits()),
             k_zero_a: Constant::new(0u64.to_bits()),
             k_last_a: Constant::new(((1u64 << A) - 1).to_bits()),
+            k_every_edge: Constant::new(false),
         }
+    }
+
+    /// The same FIFO with its RAM written at every edge (see "Writing at every edge"):
+    /// for data from ports, every bit of which changes. (A data bit that is constant, as
+    /// in a word with spare bits, makes a RAM column that is written with a constant at
+    /// every edge; Yosys 0.23 then removes the column and leaves its read bit undriven.)
+    pub fn writing_every_edge(mut self) -> Self {
+        self.k_every_edge = Constant::new(true);
+        self
     }
 
     /// Number of entries.
@@ -236,7 +250,7 @@ impl<D: Synth, const A: usize, const A1: usize> Logic for StreamFifo<D, A, A1> {
         }
         // Write side.
         self.ram.write_data.next = self.in_data.val();
-        self.ram.write_enable.next = true;
+        self.ram.write_enable.next = self.l_push.val() | self.k_every_edge.val();
         self.l_wa_next.next = self.wa.q.val();
         if self.l_push.val() {
             self.l_wa_next.next = self.wa.q.val() + self.k_one_a.val();
@@ -274,8 +288,15 @@ mod tests {
     /// Random valid and ready patterns: every beat comes out once, in order, data stable
     /// while stalled, the level matches a queue model, and the non-empty flag equals
     /// `wr != rd` after every edge.
-    fn no_beat_lost<const W: usize, const A: usize, const A1: usize>(slices: usize, seed: u64) {
+    fn no_beat_lost<const W: usize, const A: usize, const A1: usize>(
+        slices: usize,
+        seed: u64,
+        every_edge: bool,
+    ) {
         let mut uut = StreamFifo::<Bits<W>, A, A1>::with_slices(slices);
+        if every_edge {
+            uut = uut.writing_every_edge();
+        }
         uut.connect_all();
         let edge = |uut: &mut StreamFifo<Bits<W>, A, A1>| {
             uut.clock.next = Clock { clk: true };
@@ -357,15 +378,18 @@ mod tests {
 
     #[test]
     fn no_beat_lost_duplicated_or_reordered() {
-        no_beat_lost::<8, 2, 3>(1, 0x1234_5678_9abc_def1);
-        no_beat_lost::<8, 2, 3>(2, 0x0fed_cba9_8765_4321);
+        for every_edge in [false, true] {
+            no_beat_lost::<8, 2, 3>(1, 0x1234_5678_9abc_def1, every_edge);
+            no_beat_lost::<8, 2, 3>(2, 0x0fed_cba9_8765_4321, every_edge);
+        }
     }
 
     /// The same with a RAM of several slices and a deeper FIFO (wrap of the pointers).
     #[test]
     fn sliced_ram_keeps_every_beat() {
         for (slices, seed) in [(1, 11), (3, 12), (6, 13)] {
-            no_beat_lost::<24, 3, 4>(slices, seed);
+            no_beat_lost::<24, 3, 4>(slices, seed, false);
+            no_beat_lost::<24, 3, 4>(slices, seed, true);
         }
     }
 }

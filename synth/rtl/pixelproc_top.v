@@ -2585,6 +2585,7 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
     localparam  k_one_a = 5'b1;
     localparam  k_zero_a = 5'b0;
     localparam  k_last_a = 5'b11111;
+    localparam  k_every_edge = 1'b1;
     
     // Stub signals
     reg  ram$clock;
@@ -2742,7 +2743,7 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
             ne$d = 1'b1;
         end
         ram$write_data = in_data;
-        ram$write_enable = 1'b1;
+        ram$write_enable = l_push | k_every_edge;
         l_wa_next = wa$q;
         if (l_push) begin
             l_wa_next = wa$q + k_one_a;
@@ -2949,6 +2950,7 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
     localparam  k_one_a = 4'h1;
     localparam  k_zero_a = 4'h0;
     localparam  k_last_a = 4'hf;
+    localparam  k_every_edge = 1'b0;
     
     // Stub signals
     reg  ram$clock;
@@ -3106,7 +3108,7 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
             ne$d = 1'b1;
         end
         ram$write_data = in_data;
-        ram$write_enable = 1'b1;
+        ram$write_enable = l_push | k_every_edge;
         l_wa_next = wa$q;
         if (l_push) begin
             l_wa_next = wa$q + k_one_a;
