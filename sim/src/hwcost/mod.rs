@@ -14,14 +14,14 @@
 //! blocks with RTL, from the measured tables ([`Resources`]). [`target`] turns a model
 //! around: the clock or the array width a frame rate needs.
 //!
-//! **Default configuration** ([`HwConfig::DEFAULT`]): `N = 64` processors at 162.68 MHz.
-//! 162.68 MHz is the streaming core at `N = 8` without shadows, placed and routed on an
+//! **Default configuration** ([`HwConfig::DEFAULT`]): `N = 64` processors at 165.21 MHz.
+//! 165.21 MHz is the streaming core at `N = 8` without shadows, placed and routed on an
 //! ECP5 (`docs/fpga_results/ecp5_n8_noshadow.md`, `docs/fpga.md`); the anti-aliasing
 //! methods run without shadows. The test `hwcost_default_clock` reads that report and
 //! fails when this constant no longer matches its Fmax. Taking the `N = 8` clock for
 //! `N = 64` is an extrapolation, an optimistic one: `N = 64` with shadows routes at
 //! 102.60 MHz on pins (`docs/fpga_results/ecp5_n64_pins.md`). With shadows the routed
-//! `N = 8` figure is 149.86 MHz (`docs/fpga_results/ecp5_n8.md`).
+//! `N = 8` figure is 152.84 MHz (`docs/fpga_results/ecp5_n8.md`).
 
 pub mod abuffer;
 pub mod array;
@@ -62,12 +62,12 @@ pub struct HwConfig {
 pub const MAX_CLOCK_MHZ: f64 = 2000.0;
 
 impl HwConfig {
-    /// `N = 64` at 162.68 MHz, the routed Fmax of the `N = 8` core without shadows
+    /// `N = 64` at 165.21 MHz, the routed Fmax of the `N = 8` core without shadows
     /// (`docs/fpga_results/ecp5_n8_noshadow.md`): see the module header (an extrapolation
     /// to `N = 64`).
     pub const DEFAULT: HwConfig = HwConfig {
         array_width: 64,
-        clock_mhz: 162.68,
+        clock_mhz: 165.21,
     };
 
     /// A checked configuration: `1 ≤ N ≤ 4096`, `0 < clock ≤ 2000` MHz and finite.
