@@ -49,8 +49,7 @@
 //! **Writing at every edge** ([`StreamFifo::writing_every_edge`], the core's command
 //! FIFO; otherwise the RAM is written on a push). The RAM's write enable is constant 1:
 //! `mem[wr]` takes `in_data` at every edge, and only `wr`'s increment says whether the
-//! beat was taken. The
-//! slot at `wr` holds no entry the FIFO still owes: the entries are the slots `rd ..
+//! beat was taken. The slot at `wr` holds no entry the FIFO still owes: the entries are the slots `rd ..
 //! wr − 1` (and the head register), and `wr` is among them only when `wr − rd = 2^A`,
 //! which needs `2^A` entries in the RAM with `dv = 0`; but `dv = 0` with `wr ≠ rd` lasts
 //! one clock (the fetch), so the RAM never fills behind an empty head register (and if it
@@ -62,7 +61,9 @@
 //!
 //! A beat written at edge `E` is presented (`out_valid`) from edge `E + 1` on if the FIFO
 //! was empty; in steady state one beat moves on each side on every edge. The head entry
-//! stays in the RAM until popped, so a fetched slot is never one being written.
+//! stays in the RAM until popped (it counts in `level`), so a push never writes a fetched
+//! slot; written at every edge, the RAM may overwrite that slot while the FIFO is full,
+//! which no read sees (the head register holds the entry).
 //!
 //! Earlier the head register was the RAM's own registered read port, which had to re-read
 //! `rd − 1` to hold: the choice of address then depended on `out_ready`, and that choice
