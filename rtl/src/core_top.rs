@@ -70,7 +70,7 @@ pub const READOUT_WAIT: u32 = 4;
 /// Address bits of the output FIFO (16 pixels).
 pub const OUT_FIFO_ABITS: usize = 4;
 /// Slices of the input FIFO's RAM, each with its own copy of the FIFO's pointers
-/// (`lut_ram::SlicedLutRam`): a 263-bit beat in slices of 32 to 36 bits, so one read
+/// (`lut_ram::SlicedLutRam`): a 260-bit beat in slices of 32 or 36 bits, so one read
 /// pointer copy addresses 16 or 18 LUT RAM primitives instead of 130.
 pub const IN_FIFO_SLICES: usize = 8;
 /// Edges from the array sampling a readout address to the pixel being in the output FIFO.
@@ -136,9 +136,6 @@ pub struct PixelprocCore<const IA: usize, const IA1: usize> {
     l_tile: Signal<Local, Bit>,
     l_table: Signal<Local, Bit>,
     l_arr: Signal<Local, Bit>,
-    l_cmd: Signal<Local, Bit>,
-    l_hframe: Signal<Local, Bit>,
-    l_htile: Signal<Local, Bit>,
     l_issue: Signal<Local, Bit>,
     l_go: Signal<Local, Bit>,
     l_cp1: Signal<Local, Bits<6>>,
@@ -230,9 +227,6 @@ impl<const IA: usize, const IA1: usize> PixelprocCore<IA, IA1> {
             l_tile: Default::default(),
             l_table: Default::default(),
             l_arr: Default::default(),
-            l_cmd: Default::default(),
-            l_hframe: Default::default(),
-            l_htile: Default::default(),
             l_issue: Default::default(),
             l_go: Default::default(),
             l_cp1: Default::default(),
@@ -329,46 +323,28 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
         // ---- Command stream into the input FIFO.
         self.l_beat.next = self.k_zero_beat.val();
         self.l_beat.next.set_value_tdata(self.s_axis_tdata.val());
-        // The kind is decoded here, on the way in, into the opcode the beat sends down
-        // the array and four class flags, stored beside `tdata` (`layout::BEAT_W`): the
-        // head beat's class then comes from the FIFO's head register, with no decode in
-        // front of the pop and fetch decision and the enables behind it.
-        self.l_kind.next = self.s_axis_tuser.val();
-        self.l_tile.next = self.l_kind.val() == self.k_tile.val();
-        self.l_frame.next = self.l_tile.val() | (self.l_kind.val() == self.k_end.val());
-        self.l_arr.next = (self.l_kind.val() < self.k_eight.val())
-            & (self.l_kind.val() != self.k_cl4.val())
-            & (self.l_kind.val() != self.k_rst4.val());
-        self.l_beat
-            .next
-            .set_value_op(self.l_kind.val().get_bits::<OP_BITS>(0));
-        if self.l_frame.val() {
-            self.l_beat.next.set_value_op(self.k_clear.val());
-        }
-        self.l_beat
-            .next
-            .set_value_cmd(self.l_arr.val() | self.l_frame.val());
-        self.l_beat.next.set_value_frame(self.l_frame.val());
-        self.l_beat.next.set_value_tile(self.l_tile.val());
-        self.l_beat
-            .next
-            .set_value_table(self.l_kind.val() == self.k_table.val());
+        self.l_beat.next.set_value_kind(self.s_axis_tuser.val());
         self.in_fifo.in_data.next = self.l_beat.val();
         self.in_fifo.in_valid.next = self.s_axis_tvalid.val();
         self.s_axis_tready.next = self.in_fifo.in_ready.val();
         self.in_level.next = self.in_fifo.level.val();
-        // ---- The head beat, decoded as it entered; issue it unless it would start a
-        // second readout job.
+        // ---- Decode the head beat; issue it unless it would start a second readout job.
         self.l_data.next = self.in_fifo.out_data.val().get_value_tdata();
-        self.l_cmd.next = self.in_fifo.out_data.val().get_value_cmd();
-        self.l_hframe.next = self.in_fifo.out_data.val().get_value_frame();
-        self.l_htile.next = self.in_fifo.out_data.val().get_value_tile();
-        self.l_table.next = self.in_fifo.out_data.val().get_value_table();
-        self.in_fifo.out_ready.next = !(self.l_hframe.val() & self.job_v.q.val()) & !self.rst.val();
+        self.l_kind.next = self.in_fifo.out_data.val().get_value_kind();
+        self.l_tile.next = self.l_kind.val() == self.k_tile.val();
+        self.l_frame.next = self.l_tile.val() | (self.l_kind.val() == self.k_end.val());
+        self.l_table.next = self.l_kind.val() == self.k_table.val();
+        self.l_arr.next = (self.l_kind.val() < self.k_eight.val())
+            & (self.l_kind.val() != self.k_cl4.val())
+            & (self.l_kind.val() != self.k_rst4.val());
+        self.in_fifo.out_ready.next = !(self.l_frame.val() & self.job_v.q.val()) & !self.rst.val();
         self.l_issue.next = self.in_fifo.out_valid.val() & self.in_fifo.out_ready.val();
         // ---- The array's command port.
-        self.array.cmd_valid.next = self.l_issue.val() & self.l_cmd.val();
-        self.array.cmd_op.next = self.in_fifo.out_data.val().get_value_op();
+        self.array.cmd_valid.next = self.l_issue.val() & (self.l_arr.val() | self.l_frame.val());
+        self.array.cmd_op.next = self.l_kind.val().get_bits::<OP_BITS>(0);
+        if self.l_frame.val() {
+            self.array.cmd_op.next = self.k_clear.val();
+        }
         self.array.cmd_bg.next = self.l_data.val().get_value_bg();
         self.array.cmd_word.next = self.l_data.val();
         // The tile's first column, for the commands that use it (SPAN and CHECK: their
@@ -385,13 +361,13 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
         self.shade.tw_addr.next = self.l_data.val().get_value_taddr();
         self.shade.tw_data.next = self.l_data.val().get_value_tentry();
         // ---- Tile framing: a TILE or END starts the readout of the pending tile-line.
-        if self.l_issue.val() & self.l_htile.val() {
+        if self.l_issue.val() & self.l_tile.val() {
             self.base_r.d.next = self.l_data.val().get_value_base();
             if self.l_data.val().get_value_last() > self.k_nlast.val() {
                 self.err.d.next = true;
             }
         }
-        if self.l_issue.val() & self.l_hframe.val() {
+        if self.l_issue.val() & self.l_frame.val() {
             if self.pend_v.q.val() {
                 self.job_v.d.next = true;
                 self.job_wait.d.next = self.k_wait.val();
@@ -399,11 +375,11 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
                 self.job_sof.d.next = self.pend_sof.q.val();
                 self.ra.d.next = self.k_zero12.val();
             }
-            self.pend_v.d.next = self.l_htile.val();
+            self.pend_v.d.next = self.l_tile.val();
             self.pend_last.d.next = self.l_data.val().get_value_last();
             self.pend_sof.d.next = self.l_data.val().get_value_sof();
         }
-        if self.l_issue.val() & !(self.l_cmd.val() | self.l_table.val()) {
+        if self.l_issue.val() & !(self.l_arr.val() | self.l_frame.val() | self.l_table.val()) {
             self.err.d.next = true;
         }
         // ---- Readout sweep: one address per clock while the output FIFO has room.

@@ -14,9 +14,9 @@
 use crate::opcodes::OP_BITS;
 use crate::pixel_processor::REL_W;
 use pixelproc_formats::core_stream::{
-    BEAT_DATA_BITS, OUT_COUNT, OUT_DSF, OUT_FSF, OUT_MASK, OUT_NCLASS, OUT_SOF, OUT_USER_BITS,
-    OUT_ZB, SHADE_ADDR_BITS, SHADE_COUNT, SHADE_MASK, SHADE_NCLASS, TABLE_ADDR, TABLE_DROP,
-    TABLE_FACTOR, TILE_BASE, TILE_BG, TILE_LAST, TILE_SOF,
+    BEAT_DATA_BITS, KIND_BITS, OUT_COUNT, OUT_DSF, OUT_FSF, OUT_MASK, OUT_NCLASS, OUT_SOF,
+    OUT_USER_BITS, OUT_ZB, SHADE_ADDR_BITS, SHADE_COUNT, SHADE_MASK, SHADE_NCLASS, TABLE_ADDR,
+    TABLE_DROP, TABLE_FACTOR, TILE_BASE, TILE_BG, TILE_LAST, TILE_SOF,
 };
 use pixelproc_formats::fields::table_end;
 use pixelproc_formats::regs::{
@@ -188,27 +188,13 @@ field_slices! {
     }
 }
 
+/// Width of a command beat as the core's input FIFO stores it: `tdata` (256) then the
+/// beat kind (4).
+pub const BEAT_W: usize = BEAT_DATA_BITS + KIND_BITS;
 /// Beat field: `tdata`.
 pub const BEAT_DATA: Field = Field::first("tdata", BEAT_DATA_BITS);
-/// Beat field: the opcode the beat sends down the array, decoded from the kind (`tuser`)
-/// as the beat enters the command FIFO: the kind's low bits for the array's own kinds,
-/// CLEAR_LINE for TILE and END.
-pub const BEAT_OP: Field = BEAT_DATA.then("op", OP_BITS);
-/// Beat flag: the beat goes to the array's command port (an array kind, TILE or END).
-pub const BEAT_CMD: Field = BEAT_OP.then("cmd", 1);
-/// Beat flag: TILE or END (starts a readout job; held while one is waiting or sweeping).
-pub const BEAT_FRAME: Field = BEAT_CMD.then("frame", 1);
-/// Beat flag: TILE.
-pub const BEAT_TILE: Field = BEAT_FRAME.then("tile", 1);
-/// Beat flag: TABLE.
-pub const BEAT_TABLE: Field = BEAT_TILE.then("table", 1);
-/// Width of a command beat as the core's input FIFO stores it: `tdata` (256), then the
-/// opcode and the four class flags, all decoded from the kind on the way in (a beat with
-/// none of `cmd` and `table` has a kind the core does not know). The head beat's class
-/// then comes straight from the FIFO's head register: no decode of the kind sits in
-/// front of the FIFO's pop and fetch decision (`docs/fpga.md`).
-pub const BEAT_W: usize = BEAT_TABLE.end();
-const _: () = assert!(BEAT_W == BEAT_DATA_BITS + OP_BITS + 4);
+/// Beat field: the kind (`tuser`).
+pub const BEAT_KIND: Field = BEAT_DATA.then("kind", KIND_BITS);
 /// Pixel-stream beat field: RGB888 (`tdata`).
 pub const PIX_RGB: Field = Field::first("rgb", 24);
 /// Pixel-stream beat field: `tuser`.
@@ -224,18 +210,13 @@ const _: () =
     assert!(TABLE_DROP.lsb == TABLE_FACTOR.end() && TABLE_ENTRY.end() == TABLE_DROP.end());
 
 field_slices! {
-    /// A stored command beat: data, opcode and class flags.
+    /// A stored command beat: data and kind.
     BeatFields for BEAT_W;
     bits {
         get_value_tdata, set_value_tdata, get_my_width_tdata, get_my_offset_tdata: BEAT_DATA;
-        get_value_op, set_value_op, get_my_width_op, get_my_offset_op: BEAT_OP;
+        get_value_kind, set_value_kind, get_my_width_kind, get_my_offset_kind: BEAT_KIND;
     }
-    flags {
-        get_value_cmd, set_value_cmd, get_my_width_cmd, get_my_offset_cmd: BEAT_CMD;
-        get_value_frame, set_value_frame, get_my_width_frame, get_my_offset_frame: BEAT_FRAME;
-        get_value_tile, set_value_tile, get_my_width_tile, get_my_offset_tile: BEAT_TILE;
-        get_value_table, set_value_table, get_my_width_table, get_my_offset_table: BEAT_TABLE;
-    }
+    flags {}
 }
 
 field_slices! {

@@ -42,7 +42,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     localparam  k_debug = 1'b0;
     localparam  k_two3 = 3'b10;
     localparam  k_four3 = 3'b100;
-    localparam  k_zero_beat = 263'h0;
+    localparam  k_zero_beat = 260'h0;
     localparam  k_zero_rd = 99'h0;
     localparam  k_zero_user = 51'h0;
     localparam  k_zero_pix = 76'h0;
@@ -51,10 +51,10 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     reg  in_fifo$clock;
     reg  in_fifo$rst;
     reg  in_fifo$in_valid;
-    reg  [262:0] in_fifo$in_data;
+    reg  [259:0] in_fifo$in_data;
     wire  in_fifo$in_ready;
     wire  in_fifo$out_valid;
-    wire  [262:0] in_fifo$out_data;
+    wire  [259:0] in_fifo$out_data;
     reg  in_fifo$out_ready;
     wire  [5:0] in_fifo$level;
     reg  array$clock;
@@ -141,16 +141,13 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     reg  err$clock;
     
     // Local signals
-    reg  [262:0] l_beat;
+    reg  [259:0] l_beat;
     reg  [255:0] l_data;
     reg  [3:0] l_kind;
     reg  l_frame;
     reg  l_tile;
     reg  l_table;
     reg  l_arr;
-    reg  l_cmd;
-    reg  l_hframe;
-    reg  l_htile;
     reg  l_issue;
     reg  l_go;
     reg  [5:0] l_cp1;
@@ -338,44 +335,37 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         out_fifo$rst = rst;
         l_beat = k_zero_beat;
         l_beat[(32'h0)+:(256)] = s_axis_tdata;
-        l_kind = s_axis_tuser;
-        l_tile = l_kind == k_tile;
-        l_frame = l_tile | (l_kind == k_end);
-        l_arr = (l_kind < k_eight) & (l_kind != k_cl4) & (l_kind != k_rst4);
-        l_beat[(32'h100)+:(3)] = l_kind[(32'h0)+:(3)];
-        if (l_frame) begin
-            l_beat[(32'h100)+:(3)] = k_clear;
-        end
-        l_beat[(32'h103)+:(1)] = l_arr | l_frame;
-        l_beat[(32'h104)+:(1)] = l_frame;
-        l_beat[(32'h105)+:(1)] = l_tile;
-        l_beat[(32'h106)+:(1)] = l_kind == k_table;
+        l_beat[(32'h100)+:(4)] = s_axis_tuser;
         in_fifo$in_data = l_beat;
         in_fifo$in_valid = s_axis_tvalid;
         s_axis_tready = in_fifo$in_ready;
         in_level = in_fifo$level;
         l_data = in_fifo$out_data[(32'h0)+:(256)];
-        l_cmd = in_fifo$out_data[(32'h103)+:(1)];
-        l_hframe = in_fifo$out_data[(32'h104)+:(1)];
-        l_htile = in_fifo$out_data[(32'h105)+:(1)];
-        l_table = in_fifo$out_data[(32'h106)+:(1)];
-        in_fifo$out_ready = ~(l_hframe & job_v$q) & ~rst;
+        l_kind = in_fifo$out_data[(32'h100)+:(4)];
+        l_tile = l_kind == k_tile;
+        l_frame = l_tile | (l_kind == k_end);
+        l_table = l_kind == k_table;
+        l_arr = (l_kind < k_eight) & (l_kind != k_cl4) & (l_kind != k_rst4);
+        in_fifo$out_ready = ~(l_frame & job_v$q) & ~rst;
         l_issue = in_fifo$out_valid & in_fifo$out_ready;
-        array$cmd_valid = l_issue & l_cmd;
-        array$cmd_op = in_fifo$out_data[(32'h100)+:(3)];
+        array$cmd_valid = l_issue & (l_arr | l_frame);
+        array$cmd_op = l_kind[(32'h0)+:(3)];
+        if (l_frame) begin
+            array$cmd_op = k_clear;
+        end
         array$cmd_bg = l_data[(32'h0)+:(24)];
         array$cmd_word = l_data;
         array$tile_base = base_r$q;
         shade$tw_en = in_fifo$out_valid & l_table & ~rst;
         shade$tw_addr = l_data[(32'h0)+:(15)];
         shade$tw_data = l_data[(32'hf)+:(18)];
-        if (l_issue & l_htile) begin
+        if (l_issue & l_tile) begin
             base_r$d = l_data[(32'h18)+:(12)];
             if (l_data[(32'h24)+:(12)] > k_nlast) begin
                 err$d = 1'b1;
             end
         end
-        if (l_issue & l_hframe) begin
+        if (l_issue & l_frame) begin
             if (pend_v$q) begin
                 job_v$d = 1'b1;
                 job_wait$d = k_wait;
@@ -383,11 +373,11 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
                 job_sof$d = pend_sof$q;
                 ra$d = k_zero12;
             end
-            pend_v$d = l_htile;
+            pend_v$d = l_tile;
             pend_last$d = l_data[(32'h24)+:(12)];
             pend_sof$d = l_data[(32'h30)+:(1)];
         end
-        if (l_issue & ~(l_cmd | l_table)) begin
+        if (l_issue & ~(l_arr | l_frame | l_table)) begin
             err$d = 1'b1;
         end
         if (job_v$q & (job_wait$q != k_zero3)) begin
@@ -2580,10 +2570,10 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
     input wire  clock;
     input wire  rst;
     input wire  in_valid;
-    input wire  [262:0] in_data;
+    input wire  [259:0] in_data;
     output reg  in_ready;
     output reg  out_valid;
-    output reg  [262:0] out_data;
+    output reg  [259:0] out_data;
     input wire  out_ready;
     output reg  [5:0] level;
     
@@ -2600,12 +2590,12 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
     // Stub signals
     reg  ram$clock;
     reg  ram$write_enable;
-    reg  [262:0] ram$write_data;
+    reg  [259:0] ram$write_data;
     reg  [4:0] ram$next_write_address;
     reg  [4:0] ram$next_read_address;
-    wire  [262:0] ram$read_data;
-    reg  [262:0] head$d;
-    wire  [262:0] head$q;
+    wire  [259:0] ram$read_data;
+    reg  [259:0] head$d;
+    wire  [259:0] head$q;
     reg  head$clock;
     reg  [4:0] wa$d;
     wire  [4:0] wa$q;
@@ -2783,13 +2773,13 @@ endmodule // pixelproc_top$in_fifo
 module pixelproc_top$in_fifo$head(d,q,clock);
     
     // Module arguments
-    input wire  [262:0] d;
-    output reg  [262:0] q;
+    input wire  [259:0] d;
+    output reg  [259:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 263'h0;
+       q = 260'h0;
     end
     
     always @(posedge clock) begin
@@ -2823,10 +2813,10 @@ module pixelproc_top$in_fifo$ram(clock,write_enable,write_data,next_write_addres
     // Module arguments
     input wire  clock;
     input wire  write_enable;
-    input wire  [262:0] write_data;
+    input wire  [259:0] write_data;
     input wire  [4:0] next_write_address;
     input wire  [4:0] next_read_address;
-    output reg  [262:0] read_data;
+    output reg  [259:0] read_data;
     
     // Update code (custom)
     // slice 0: bits 31:0, with its own copies of the two addresses
@@ -2844,31 +2834,31 @@ module pixelproc_top$in_fifo$ram(clock,write_enable,write_data,next_write_addres
     (* keep *) reg [4:0] wa_2;
     reg [31:0] mem_2 [0:31];
     wire [31:0] rd_2 = mem_2[ra_2];
-    // slice 3: bits 131:96, with its own copies of the two addresses
+    // slice 3: bits 127:96, with its own copies of the two addresses
     (* keep *) reg [4:0] ra_3;
     (* keep *) reg [4:0] wa_3;
-    reg [35:0] mem_3 [0:31];
-    wire [35:0] rd_3 = mem_3[ra_3];
-    // slice 4: bits 163:132, with its own copies of the two addresses
+    reg [31:0] mem_3 [0:31];
+    wire [31:0] rd_3 = mem_3[ra_3];
+    // slice 4: bits 159:128, with its own copies of the two addresses
     (* keep *) reg [4:0] ra_4;
     (* keep *) reg [4:0] wa_4;
     reg [31:0] mem_4 [0:31];
     wire [31:0] rd_4 = mem_4[ra_4];
-    // slice 5: bits 195:164, with its own copies of the two addresses
+    // slice 5: bits 191:160, with its own copies of the two addresses
     (* keep *) reg [4:0] ra_5;
     (* keep *) reg [4:0] wa_5;
     reg [31:0] mem_5 [0:31];
     wire [31:0] rd_5 = mem_5[ra_5];
-    // slice 6: bits 227:196, with its own copies of the two addresses
+    // slice 6: bits 223:192, with its own copies of the two addresses
     (* keep *) reg [4:0] ra_6;
     (* keep *) reg [4:0] wa_6;
     reg [31:0] mem_6 [0:31];
     wire [31:0] rd_6 = mem_6[ra_6];
-    // slice 7: bits 262:228, with its own copies of the two addresses
+    // slice 7: bits 259:224, with its own copies of the two addresses
     (* keep *) reg [4:0] ra_7;
     (* keep *) reg [4:0] wa_7;
-    reg [34:0] mem_7 [0:31];
-    wire [34:0] rd_7 = mem_7[ra_7];
+    reg [35:0] mem_7 [0:31];
+    wire [35:0] rd_7 = mem_7[ra_7];
     
     initial begin
        ra_0 = 5'd0;
@@ -2929,11 +2919,11 @@ module pixelproc_top$in_fifo$ram(clock,write_enable,write_data,next_write_addres
           mem_0[wa_0] <= write_data[31:0];
           mem_1[wa_1] <= write_data[63:32];
           mem_2[wa_2] <= write_data[95:64];
-          mem_3[wa_3] <= write_data[131:96];
-          mem_4[wa_4] <= write_data[163:132];
-          mem_5[wa_5] <= write_data[195:164];
-          mem_6[wa_6] <= write_data[227:196];
-          mem_7[wa_7] <= write_data[262:228];
+          mem_3[wa_3] <= write_data[127:96];
+          mem_4[wa_4] <= write_data[159:128];
+          mem_5[wa_5] <= write_data[191:160];
+          mem_6[wa_6] <= write_data[223:192];
+          mem_7[wa_7] <= write_data[259:224];
        end
     end
 endmodule // pixelproc_top$in_fifo$ram
