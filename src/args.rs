@@ -133,7 +133,7 @@ pub(crate) struct TradeoffArgs {
         default_value = "pixelproc-out/tradeoff"
     )]
     pub(crate) output: PathBuf,
-    /// Timed runs per setting and scene (the median is reported).
+    /// Timed runs per setting and scene (the median is reported), 1 to 10000.
     #[arg(long, default_value_t = 3)]
     pub(crate) runs: usize,
     /// A small subset of scenes and settings (tests, CI).
@@ -242,7 +242,7 @@ pub(crate) struct BenchArgs {
     /// Scene file (JSON), or @default / @boxes.
     #[arg(default_value = "@boxes")]
     pub(crate) scene: OsString,
-    /// Timed runs (after one warm-up).
+    /// Timed runs (after one warm-up), 1 to 10000.
     #[arg(long, default_value_t = 7)]
     pub(crate) runs: usize,
     /// Instead of one scene: every anti-aliasing method at its default setting and

@@ -188,19 +188,24 @@ fn cmd_render(a: &RenderArgs) -> Result<()> {
     Ok(())
 }
 
+/// `--runs`, checked before anything runs (a usage error).
+fn check_runs(runs: usize) -> Result<usize> {
+    pixelproc_bench::timing::check_runs(runs).map_err(|e| UsageError(e).into())
+}
+
 fn cmd_bench(a: &BenchArgs) -> Result<()> {
-    if a.runs == 0 {
-        bail!("--runs must be at least 1");
-    }
+    check_runs(a.runs)?;
     if a.all_methods {
         return bench_all_methods(a.runs);
     }
     let ls = load(&a.scene, &a.input)?;
     let fx = Effects::resolve(&ls, &overrides(&a.fx, &[])?)?;
     let first = render(&ls, &fx)?;
-    let mut runs = Vec::new();
+    // Only each run's stage times are kept (not its image): memory stays that of one
+    // render however many runs are asked for.
+    let mut runs = Vec::with_capacity(a.runs);
     for _ in 0..a.runs {
-        runs.push(render(&ls, &fx)?);
+        runs.push(render(&ls, &fx)?.timings);
     }
     say!(
         "bench {} ({}x{}, {} triangles, aa {}): median of {} runs after 1 warm-up, {} threads",
@@ -217,12 +222,12 @@ fn cmd_bench(a: &BenchArgs) -> Result<()> {
         v[v.len() / 2]
     };
     for (k, (st, _)) in first.timings.iter().enumerate() {
-        let m = median(runs.iter().map(|r| r.timings[k].1.as_secs_f64()).collect());
+        let m = median(runs.iter().map(|r| r[k].1.as_secs_f64()).collect());
         say!("  {:<34} {:>9.2} ms", st.to_string(), m * 1e3);
     }
     let tot = median(
         runs.iter()
-            .map(|r| r.timings.iter().map(|t| t.1.as_secs_f64()).sum())
+            .map(|r| r.iter().map(|t| t.1.as_secs_f64()).sum())
             .collect(),
     );
     say!("  {:<34} {:>9.2} ms", "total", tot * 1e3);
@@ -658,6 +663,7 @@ fn tradeoff_hw(a: &TradeoffArgs) -> Result<pixelproc_bench::HwConfig> {
 
 fn cmd_tradeoff(a: &TradeoffArgs) -> Result<()> {
     use pixelproc_bench::{run_tradeoff_with, TradeoffOptions};
+    check_runs(a.runs)?;
     let hw = tradeoff_hw(a)?;
     let mut command = String::from("pixelproc tradeoff");
     if let Some(d) = &a.scenes {

@@ -430,3 +430,64 @@ fn tradeoff_rejects_bad_hardware_configurations() {
         run("--clock-mhz", v);
     }
 }
+
+/// `--runs` of `bench` and `tradeoff`: zero or more than 10000 is a usage error (exit 2, one
+/// `error:` line naming the flag and the value) before anything renders or is written; a
+/// count of a hundred billion once ran until the machine ran out of memory (`bench` kept
+/// every run's image) or aborted in an allocation (`tradeoff`).
+#[test]
+fn runs_outside_the_bound_are_usage_errors() {
+    let d = tempfile::tempdir().unwrap();
+    let cases: [&[&str]; 4] = [
+        &["bench", "@default", "--runs"],
+        &["bench", "--all-methods", "--runs"],
+        &["tradeoff", "--quick", "-o", "t", "--runs"],
+        &["bench", "@boxes", "--runs"],
+    ];
+    for c in cases {
+        for v in ["0", "10001", "99999999999"] {
+            let mut args = c.to_vec();
+            args.push(v);
+            let o = pixelproc(d.path(), &args);
+            let err = stderr(&o);
+            assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+            assert!(!err.contains("panicked"), "{args:?}: {err}");
+            assert_eq!(err.lines().count(), 1, "{args:?}: expected one line: {err}");
+            assert_eq!(
+                err.trim(),
+                format!("error: --runs {v} is outside 1..=10000")
+            );
+            assert!(o.stdout.is_empty(), "{args:?} printed before failing");
+            assert!(!d.path().join("t").exists(), "{args:?} wrote output");
+        }
+    }
+}
+
+/// `bench` keeps only each run's stage times, so its memory does not grow with `--runs`:
+/// 200 runs of `@default` peak within 64 MiB of 1 run. Each run's output (image and
+/// buffers) is about 3 MiB, so keeping every run's output, as `bench` once did, adds
+/// about 600 MiB. The peak is the child's own maximum resident set, read by a Python
+/// parent (`getrusage` of its one child).
+#[test]
+fn bench_memory_does_not_grow_with_runs() {
+    let d = tempfile::tempdir().unwrap();
+    let peak_kib = |runs: &str| -> u64 {
+        let script = "import resource, subprocess, sys\n\
+                      r = subprocess.run(sys.argv[1:], stdout=subprocess.DEVNULL)\n\
+                      assert r.returncode == 0, r\n\
+                      print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)";
+        let o = Command::new("python3")
+            .args(["-c", script, env!("CARGO_BIN_EXE_pixelproc")])
+            .args(["bench", "@default", "--runs", runs])
+            .current_dir(d.path())
+            .output()
+            .expect("python3");
+        assert!(o.status.success(), "{}", stderr(&o));
+        String::from_utf8_lossy(&o.stdout).trim().parse().unwrap()
+    };
+    let (one, many) = (peak_kib("1"), peak_kib("200"));
+    assert!(
+        many < one + 64 * 1024,
+        "peak {one} KiB with 1 run, {many} KiB with 200"
+    );
+}

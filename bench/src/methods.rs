@@ -292,6 +292,7 @@ pub fn run_all_methods(
     runs: usize,
     mut progress: impl FnMut(&str),
 ) -> anyhow::Result<Vec<Measured>> {
+    crate::timing::check_runs(runs).map_err(anyhow::Error::msg)?;
     fresh_allocations();
     let cases = cases();
     let mut out = Vec::new();

@@ -358,9 +358,7 @@ pub(crate) fn run_sweep_heat(
     heat_scene: Option<&str>,
     keep_heat: bool,
 ) -> Result<Sweep, TradeoffError> {
-    if opts.runs == 0 {
-        return Err(TradeoffError::Option("--runs must be at least 1".into()));
-    }
+    crate::timing::check_runs(opts.runs).map_err(TradeoffError::Option)?;
     if scenes.is_empty() {
         return Err(TradeoffError::Option("no scenes".into()));
     }

@@ -27,6 +27,19 @@ pub fn one_thread_pool() -> Result<rayon::ThreadPool, TradeoffError> {
         .map_err(|e| TradeoffError::Option(format!("thread pool: {e}")))
 }
 
+/// The most timed runs a measurement takes (`--runs`): a median of more says nothing new,
+/// and each run's figures are kept until the median is taken.
+pub const MAX_RUNS: usize = 10_000;
+
+/// `runs` as a count of timed runs: `1 ..= MAX_RUNS`, else the one-line reason.
+pub fn check_runs(runs: usize) -> Result<usize, String> {
+    if (1..=MAX_RUNS).contains(&runs) {
+        Ok(runs)
+    } else {
+        Err(format!("--runs {runs} is outside 1..={MAX_RUNS}"))
+    }
+}
+
 /// Renders `sc` with `aa` `runs` times inside `one` and returns the median times.
 pub fn time_setting(
     one: &rayon::ThreadPool,
