@@ -200,6 +200,11 @@ fn cmd_bench(a: &BenchArgs) -> Result<()> {
     }
     let ls = load(&a.scene, &a.input)?;
     let fx = Effects::resolve(&ls, &overrides(&a.fx, &[])?)?;
+    // Long runs say so before they start (stderr, so stdout stays the report).
+    eprintln!(
+        "bench: {} ({}x{}), 1 warm-up and {} timed runs…",
+        ls.name, ls.scene.width, ls.scene.height, a.runs
+    );
     let first = render(&ls, &fx)?;
     // Only each run's stage times are kept (not its image): memory stays that of one
     // render however many runs are asked for.
