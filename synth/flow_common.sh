@@ -48,12 +48,20 @@ synth_ecp5_core() {
 
 # pnr_ecp5 OUT SEED REPORT LOG [PLACER]: nextpnr-ecp5 on OUT/top.json (LFE5U-85F-6
 # CABGA381, out of context unless ECP5_OOC is set empty, OUT/pixelproc.lpf), the report and
-# log written in OUT; PLACER is nextpnr's placer (heap, its default, or static); checks that
-# the LPF's 150 MHz clock constraint was applied.
+# log written in OUT; PLACER is nextpnr's placer: heap (its default), heap:W (heap with
+# timing weight W instead of nextpnr's 10) or static; checks that the LPF's 150 MHz clock
+# constraint was applied.
 ECP5_OOC=--out-of-context
+# placer_args PLACER: nextpnr's placer options for heap, heap:W or static.
+placer_args() {
+  case "$1" in
+    heap|static) echo "--placer $1" ;;
+    heap:*) echo "--placer heap --placer-heap-timingweight ${1#heap:}" ;;
+  esac
+}
 pnr_ecp5() {
   # Relative paths inside OUT: the PyPI build of nextpnr only sees the current directory.
   (cd "$1" && $PNR --85k --speed 6 --package CABGA381 --json top.json --lpf pixelproc.lpf --lpf-allow-unconstrained $ECP5_OOC \
-    --seed "$2" --placer "${5:-heap}" --timing-allow-fail --report "$3" > "$4" 2>&1)
+    --seed "$2" $(placer_args "${5:-heap}") --timing-allow-fail --report "$3" > "$4" 2>&1)
   grep -q "constrain.*clock.*150" "$1/$4" || { echo "the LPF clock constraint was not applied (see $1/$4)" >&2; exit 1; }
 }

@@ -2,9 +2,10 @@
 # ECP5 flow for the pixelproc core: export, Yosys synth_ecp5, nextpnr-ecp5 on the
 # LFE5U-85F (CABGA381, speed grade 6), out of context, clock constrained by
 # synth/ecp5/pixelproc.lpf (150 MHz). Writes docs/fpga_results/ecp5_n{W}[_noshadow].md.
-#   synth/flow_ecp5.sh [WIDTH=8] [SEED=1] [shadow|noshadow] [ooc|pins] [heap|static]
-# The fifth argument is nextpnr's placer: heap (its default) or static (its electrostatic
-# placer; a report placed with it says so in its placer row and its command).
+#   synth/flow_ecp5.sh [WIDTH=8] [SEED=1] [shadow|noshadow] [ooc|pins] [heap|heap:W|static]
+# The fifth argument is nextpnr's placer: heap (its default), heap:W (heap with timing
+# weight W, a whole number 1..1000, instead of nextpnr's 10) or static (its electrostatic
+# placer); the report says which in its placer row and its command.
 # Out of context (`ooc`, the default) because the core's ports (348 pins, 256 of them the
 # command word) do not fit the CABGA381 (205 user I/O) and are on-chip signals in any real
 # design: the ports stay ports, no I/O buffers are placed, and the clock is ideal (not
@@ -18,7 +19,11 @@ cd "$(dirname "$0")/.."
 W=${1:-8}; SEED=${2:-1}; CFG=${3:-shadow}; MODE=${4:-ooc}; PLACER=${5:-heap}
 case "$W" in ''|*[!0-9]*|0*) echo "WIDTH must be a positive integer without leading zeros, got '$W'" >&2; exit 2 ;; esac
 case "$SEED" in ''|*[!0-9]*) echo "SEED must be a non-negative integer, got '$SEED'" >&2; exit 2 ;; esac
-case "$PLACER" in heap|static) ;; *) echo "fifth argument: heap or static (nextpnr's placer), got '$PLACER'" >&2; exit 2 ;; esac
+case "$PLACER" in
+  heap|static) PLACER_WORDS="nextpnr $PLACER" ;;
+  heap:[1-9]|heap:[1-9][0-9]|heap:[1-9][0-9][0-9]|heap:1000) PLACER_WORDS="nextpnr heap, timing weight ${PLACER#heap:}" ;;
+  *) echo "fifth argument: heap, heap:W (timing weight 1..1000) or static (nextpnr's placer), got '$PLACER'" >&2; exit 2 ;;
+esac
 case "$CFG" in shadow) sfx="" ;; noshadow) sfx="_noshadow" ;; *) echo "third argument: shadow or noshadow" >&2; exit 2 ;; esac
 case "$MODE" in
   ooc) msfx=""; LPF=synth/ecp5/pixelproc.lpf
@@ -45,16 +50,16 @@ t1=$(now)
 pnr_ecp5 "$OUT" "$SEED" report.json pnr.log "$PLACER"
 t2=$(now)
 CMD="synth/flow_ecp5.sh $W $SEED $CFG${msfx:+ pins}"
-if [ "$PLACER" = static ]; then
+if [ "$PLACER" != heap ]; then
   if [ "$MODE" = ooc ]; then CMD="$CMD ooc"; fi
-  CMD="$CMD static"
+  CMD="$CMD $PLACER"
 fi
 python3 synth/pnr_report.py "$OUT/report.json" "$RES" "ECP5 LFE5U-85F: pixelproc_top, N = $W, ${CFG/noshadow/no shadows}${msfx:+, on pins}" \
   "device=$DEVICE" \
   "configuration=N = $W, ${CFG}, input FIFO 32 beats, output FIFO 16 pixels" \
   "constraint=$LPF: FREQUENCY PORT clock 150 MHz" \
   "placement seed=$SEED" \
-  "placer=nextpnr $PLACER" \
+  "placer=$PLACER_WORDS" \
   "synthesis time=$(secs "$t0" "$t1") (Yosys synth_ecp5, 2-core machine shared with other jobs)" \
   "place and route time=$(secs "$t1" "$t2")" \
   "tools=$($YOSYS -V | head -1); $($PNR --version 2>&1 | head -1)" \
