@@ -5,7 +5,8 @@
 #   synth/flow_ecp5.sh [WIDTH=8] [SEED=1] [shadow|noshadow] [ooc|pins] [heap|heap:W|static]
 # The fifth argument is nextpnr's placer: heap (its default), heap:W (heap with timing
 # weight W, a whole number 1..1000, instead of nextpnr's 10) or static (its electrostatic
-# placer); the report says which in its placer row and its command.
+# placer); the report says which in its placer row and its command, and a placer other
+# than heap adds its name to the report's file name (ecp5_n64_pins_heap40.md).
 # Out of context (`ooc`, the default) because the core's ports (348 pins, 256 of them the
 # command word) do not fit the CABGA381 (205 user I/O) and are on-chip signals in any real
 # design: the ports stay ports, no I/O buffers are placed, and the clock is ideal (not
@@ -33,7 +34,8 @@ case "$MODE" in
   *) echo "fourth argument: ooc or pins, got '$MODE'" >&2; exit 2 ;;
 esac
 OUT=target/flow/ecp5_n$W$sfx$msfx
-RES=docs/fpga_results/ecp5_n$W$sfx$msfx.md
+psfx=""; if [ "$PLACER" != heap ]; then psfx="_${PLACER/:/}"; fi
+RES=docs/fpga_results/ecp5_n$W$sfx$msfx$psfx.md
 mkdir -p "$OUT" docs/fpga_results
 pick_yosys; pick_pnr ecp5
 export_core "$OUT" "$W" "$CFG"

@@ -20,7 +20,8 @@
 //! methods run without shadows. The test `hwcost_default_clock` reads that report and
 //! fails when this constant no longer matches its Fmax. Taking the `N = 8` clock for
 //! `N = 64` is an extrapolation, an optimistic one: `N = 64` with shadows routes at
-//! 118.43 MHz on pins (`docs/fpga_results/ecp5_n64_pins.md`). With shadows the routed
+//! 118.43 MHz on pins (`docs/fpga_results/ecp5_n64_pins.md`; 128.35 MHz placed with HeAP's
+//! timing weight 40, `docs/fpga_results/ecp5_n64_pins_heap40.md`). With shadows the routed
 //! `N = 8` figure is 152.84 MHz (`docs/fpga_results/ecp5_n8.md`).
 
 pub mod abuffer;
