@@ -52,6 +52,17 @@ synth_ecp5_core() {
 # timing weight W instead of nextpnr's 10) or static; checks that the LPF's 150 MHz clock
 # constraint was applied.
 ECP5_OOC=--out-of-context
+# check_placer PLACER: exits 2 unless PLACER is heap, heap:W (W in 1..1000) or static; sets
+# PLACER_WORDS (the report's placer row) and PLACER_SFX (the report file name's suffix:
+# empty for heap, _heap40 for heap:40, _static).
+check_placer() {
+  case "$1" in
+    heap|static) PLACER_WORDS="nextpnr $1" ;;
+    heap:[1-9]|heap:[1-9][0-9]|heap:[1-9][0-9][0-9]|heap:1000) PLACER_WORDS="nextpnr heap, timing weight ${1#heap:}" ;;
+    *) echo "placer: heap, heap:W (timing weight 1..1000) or static (nextpnr's placer), got '$1'" >&2; exit 2 ;;
+  esac
+  PLACER_SFX=""; if [ "$1" != heap ]; then PLACER_SFX="_${1/:/}"; fi
+}
 # placer_args PLACER: nextpnr's placer options for heap, heap:W or static.
 placer_args() {
   case "$1" in

@@ -20,11 +20,7 @@ cd "$(dirname "$0")/.."
 W=${1:-8}; SEED=${2:-1}; CFG=${3:-shadow}; MODE=${4:-ooc}; PLACER=${5:-heap}
 case "$W" in ''|*[!0-9]*|0*) echo "WIDTH must be a positive integer without leading zeros, got '$W'" >&2; exit 2 ;; esac
 case "$SEED" in ''|*[!0-9]*) echo "SEED must be a non-negative integer, got '$SEED'" >&2; exit 2 ;; esac
-case "$PLACER" in
-  heap|static) PLACER_WORDS="nextpnr $PLACER" ;;
-  heap:[1-9]|heap:[1-9][0-9]|heap:[1-9][0-9][0-9]|heap:1000) PLACER_WORDS="nextpnr heap, timing weight ${PLACER#heap:}" ;;
-  *) echo "fifth argument: heap, heap:W (timing weight 1..1000) or static (nextpnr's placer), got '$PLACER'" >&2; exit 2 ;;
-esac
+check_placer "$PLACER"
 case "$CFG" in shadow) sfx="" ;; noshadow) sfx="_noshadow" ;; *) echo "third argument: shadow or noshadow" >&2; exit 2 ;; esac
 case "$MODE" in
   ooc) msfx=""; LPF=synth/ecp5/pixelproc.lpf
@@ -34,8 +30,7 @@ case "$MODE" in
   *) echo "fourth argument: ooc or pins, got '$MODE'" >&2; exit 2 ;;
 esac
 OUT=target/flow/ecp5_n$W$sfx$msfx
-psfx=""; if [ "$PLACER" != heap ]; then psfx="_${PLACER/:/}"; fi
-RES=docs/fpga_results/ecp5_n$W$sfx$msfx$psfx.md
+RES=docs/fpga_results/ecp5_n$W$sfx$msfx$PLACER_SFX.md
 mkdir -p "$OUT" docs/fpga_results
 pick_yosys; pick_pnr ecp5
 export_core "$OUT" "$W" "$CFG"
