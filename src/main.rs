@@ -189,7 +189,7 @@ fn cmd_render(a: &RenderArgs) -> Result<()> {
 }
 
 /// `--runs`, checked before anything runs (a usage error).
-fn check_runs(runs: usize) -> Result<usize> {
+fn check_runs(runs: usize) -> Result<()> {
     pixelproc_bench::timing::check_runs(runs).map_err(|e| UsageError(e).into())
 }
 

@@ -31,10 +31,10 @@ pub fn one_thread_pool() -> Result<rayon::ThreadPool, TradeoffError> {
 /// and each run's figures are kept until the median is taken.
 pub const MAX_RUNS: usize = 10_000;
 
-/// `runs` as a count of timed runs: `1 ..= MAX_RUNS`, else the one-line reason.
-pub fn check_runs(runs: usize) -> Result<usize, String> {
+/// Checks `runs` as a count of timed runs, `1 ..= MAX_RUNS`; else the one-line reason.
+pub fn check_runs(runs: usize) -> Result<(), String> {
     if (1..=MAX_RUNS).contains(&runs) {
-        Ok(runs)
+        Ok(())
     } else {
         Err(format!("--runs {runs} is outside 1..={MAX_RUNS}"))
     }
