@@ -48,24 +48,20 @@ synth_ecp5_core() {
 
 # pnr_ecp5 OUT SEED REPORT LOG [PLACER]: nextpnr-ecp5 on OUT/top.json (LFE5U-85F-6
 # CABGA381, out of context unless ECP5_OOC is set empty, OUT/pixelproc.lpf), the report and
-# log written in OUT; PLACER is nextpnr's placer (default DEFAULT_PLACER): heap (HeAP with
-# nextpnr's own timing weight, 10), heap:W (HeAP with timing weight W) or static; checks
-# that the LPF's 150 MHz clock constraint was applied.
+# log written in OUT; PLACER is nextpnr's placer: heap (its default), heap:W (heap with
+# timing weight W instead of nextpnr's 10) or static; checks that the LPF's 150 MHz clock
+# constraint was applied.
 ECP5_OOC=--out-of-context
-# The flows' placer: HeAP with timing weight 40 (nextpnr's default is 10). On every
-# configuration measured it routed faster, and N = 64 in half the time (docs/fpga.md,
-# "HeAP's timing weight").
-DEFAULT_PLACER=heap:40
 # check_placer PLACER: exits 2 unless PLACER is heap, heap:W (W in 1..1000) or static; sets
 # PLACER_WORDS (the report's placer row) and PLACER_SFX (the report file name's suffix:
-# empty for DEFAULT_PLACER, else _heap, _heap10, _static, ...).
+# empty for heap, _heap40 for heap:40, _static).
 check_placer() {
   case "$1" in
     heap|static) PLACER_WORDS="nextpnr $1" ;;
     heap:[1-9]|heap:[1-9][0-9]|heap:[1-9][0-9][0-9]|heap:1000) PLACER_WORDS="nextpnr heap, timing weight ${1#heap:}" ;;
     *) echo "placer: heap, heap:W (timing weight 1..1000) or static (nextpnr's placer), got '$1'" >&2; exit 2 ;;
   esac
-  PLACER_SFX=""; if [ "$1" != "$DEFAULT_PLACER" ]; then PLACER_SFX="_${1/:/}"; fi
+  PLACER_SFX=""; if [ "$1" != heap ]; then PLACER_SFX="_${1/:/}"; fi
 }
 # placer_args PLACER: nextpnr's placer options for heap, heap:W or static.
 placer_args() {
@@ -77,6 +73,6 @@ placer_args() {
 pnr_ecp5() {
   # Relative paths inside OUT: the PyPI build of nextpnr only sees the current directory.
   (cd "$1" && $PNR --85k --speed 6 --package CABGA381 --json top.json --lpf pixelproc.lpf --lpf-allow-unconstrained $ECP5_OOC \
-    --seed "$2" $(placer_args "${5:-$DEFAULT_PLACER}") --timing-allow-fail --report "$3" > "$4" 2>&1)
+    --seed "$2" $(placer_args "${5:-heap}") --timing-allow-fail --report "$3" > "$4" 2>&1)
   grep -q "constrain.*clock.*150" "$1/$4" || { echo "the LPF clock constraint was not applied (see $1/$4)" >&2; exit 1; }
 }

@@ -2,12 +2,11 @@
 # ECP5 flow for the pixelproc core: export, Yosys synth_ecp5, nextpnr-ecp5 on the
 # LFE5U-85F (CABGA381, speed grade 6), out of context, clock constrained by
 # synth/ecp5/pixelproc.lpf (150 MHz). Writes docs/fpga_results/ecp5_n{W}[_noshadow].md.
-#   synth/flow_ecp5.sh [WIDTH=8] [SEED=1] [shadow|noshadow] [ooc|pins] [heap:40|heap:W|heap|static]
-# The fifth argument is nextpnr's placer: heap:W (HeAP with timing weight W, a whole number
-# 1..1000; the default is heap:40), heap (HeAP with nextpnr's own weight, 10) or static (its
-# electrostatic placer); the report says which in its placer row and its command, and a
-# placer other than the default adds its name to the report's file name
-# (ecp5_n64_pins_heap.md).
+#   synth/flow_ecp5.sh [WIDTH=8] [SEED=1] [shadow|noshadow] [ooc|pins] [heap|heap:W|static]
+# The fifth argument is nextpnr's placer: heap (its default), heap:W (heap with timing
+# weight W, a whole number 1..1000, instead of nextpnr's 10) or static (its electrostatic
+# placer); the report says which in its placer row and its command, and a placer other
+# than heap adds its name to the report's file name (ecp5_n64_pins_heap40.md).
 # Out of context (`ooc`, the default) because the core's ports (348 pins, 256 of them the
 # command word) do not fit the CABGA381 (205 user I/O) and are on-chip signals in any real
 # design: the ports stay ports, no I/O buffers are placed, and the clock is ideal (not
@@ -18,7 +17,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 . synth/flow_common.sh
-W=${1:-8}; SEED=${2:-1}; CFG=${3:-shadow}; MODE=${4:-ooc}; PLACER=${5:-$DEFAULT_PLACER}
+W=${1:-8}; SEED=${2:-1}; CFG=${3:-shadow}; MODE=${4:-ooc}; PLACER=${5:-heap}
 case "$W" in ''|*[!0-9]*|0*) echo "WIDTH must be a positive integer without leading zeros, got '$W'" >&2; exit 2 ;; esac
 case "$SEED" in ''|*[!0-9]*) echo "SEED must be a non-negative integer, got '$SEED'" >&2; exit 2 ;; esac
 check_placer "$PLACER"
@@ -48,7 +47,7 @@ t1=$(now)
 pnr_ecp5 "$OUT" "$SEED" report.json pnr.log "$PLACER"
 t2=$(now)
 CMD="synth/flow_ecp5.sh $W $SEED $CFG${msfx:+ pins}"
-if [ "$PLACER" != "$DEFAULT_PLACER" ]; then
+if [ "$PLACER" != heap ]; then
   if [ "$MODE" = ooc ]; then CMD="$CMD ooc"; fi
   CMD="$CMD $PLACER"
 fi

@@ -3,18 +3,18 @@
 # nextpnr-ecp5 once per seed (same device, constraint and options as synth/flow_ecp5.sh).
 # Writes docs/fpga_results/ecp5_n{W}[_noshadow]_seeds.md: Fmax and critical path per
 # seed, and the minimum, median and maximum.
-#   synth/seeds_ecp5.sh [--placer heap:W|heap|static] WIDTH shadow|noshadow SEED...
+#   synth/seeds_ecp5.sh [--placer heap|heap:W|static] WIDTH shadow|noshadow SEED...
 #     e.g. synth/seeds_ecp5.sh 8 noshadow 1 2 3 4
-# --placer as synth/flow_ecp5.sh's fifth argument (default heap:40); another placer adds
-# its name to the report's file name (ecp5_n8_seeds_heap.md).
+# --placer as synth/flow_ecp5.sh's fifth argument (default heap); another placer than heap
+# adds its name to the report's file name (ecp5_n8_seeds_heap40.md).
 # Why: at N = 8 the worst path is the placer's choice among several of similar length,
 # and one seed's Fmax moves by ±15 % with the seed alone (docs/fpga.md); compare changes
 # on a sweep, not on one seed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 . synth/flow_common.sh
-usage="usage: synth/seeds_ecp5.sh [--placer heap:W|heap|static] WIDTH shadow|noshadow SEED... (e.g. 8 noshadow 1 2 3 4)"
-PLACER=$DEFAULT_PLACER; PLACER_OPT=""
+usage="usage: synth/seeds_ecp5.sh [--placer heap|heap:W|static] WIDTH shadow|noshadow SEED... (e.g. 8 noshadow 1 2 3 4)"
+PLACER=heap; PLACER_OPT=""
 if [ "${1:-}" = --placer ]; then
   [ $# -ge 2 ] || { echo "$usage" >&2; exit 2; }
   PLACER=$2; PLACER_OPT="--placer $2 "; shift 2
