@@ -126,13 +126,6 @@ pub fn shade_addr(nclass: u8, mask: u8, count: u8) -> u32 {
     w as u32
 }
 
-/// Registers a pixel's readout flags pass while the array reads it out, from the edge
-/// that sends its address to the readout word arriving at the shading step: the array's
-/// address register, each processor's select register and output register, and the
-/// readout group register (`rtl::pixel_array::READ_LATENCY` + 1: the core sends an
-/// address one edge before the array samples it).
-pub const READ_TRACK: usize = 4;
-
 /// Register stages of the core's shading step, from the readout word to the shaded pixel:
 /// the readout word as it arrives, the table read (every bank), each bank's entry
 /// registered at its block RAM with `max(0, c − s)`, the addressed bank's entry within each group of 8 banks, the
@@ -202,8 +195,8 @@ pub struct CoreRegs {
     pub pending: (bool, u32, bool),
     /// The readout job (`valid`, wait counter, `LAST`, `SOF`, next address).
     pub job: (bool, u32, u32, bool, u32),
-    /// The readout pipeline's [`READ_TRACK`] stages, each `valid | last << 1 | sof << 2`.
-    pub track: [u8; READ_TRACK],
+    /// The readout pipeline's three stages, each `valid | last << 1 | sof << 2`.
+    pub track: [u8; 3],
     /// Pixels read and not yet in the output FIFO.
     pub inflight: u32,
     /// Sticky protocol error.

@@ -39,9 +39,8 @@
 //! The sweep sends one address per clock while the output FIFO has room for every pixel
 //! in flight (`level + inflight < 16`, kept in one register, `credit`). A pixel whose
 //! address the array samples at edge `E` is in the output FIFO after edge
-//! `E + `[`READ_TO_FIFO`] (array readout: address, select, processor output and group
-//! registers, which the core's tracking registers `t1`..`t4` follow; then the shading
-//! unit's `SHADE_STAGES` stages).
+//! `E + `[`READ_TO_FIFO`] (array readout: 2 registers; then the core's tracking register
+//! and the shading unit's `SHADE_STAGES` stages).
 //!
 //! **Why [`READOUT_WAIT`] = 4 is enough.** A TILE issued at edge `E` reaches processor
 //! `a`'s readout registers at edge `E + 6 + a` (`LATENCY_PROC0 = 6`). The sweep's first
@@ -75,8 +74,7 @@ pub const OUT_FIFO_ABITS: usize = 4;
 /// pointer copy addresses 16 or 18 LUT RAM primitives instead of 130.
 pub const IN_FIFO_SLICES: usize = 8;
 /// Edges from the array sampling a readout address to the pixel being in the output FIFO.
-pub const READ_TO_FIFO: u32 = (pixelproc_formats::core_stream::READ_TRACK
-    + pixelproc_formats::core_stream::SHADE_STAGES) as u32;
+pub const READ_TO_FIFO: u32 = 3 + pixelproc_formats::core_stream::SHADE_STAGES as u32;
 
 /// The core with an input FIFO of `2^IA` beats (`IA1 = IA + 1`). Build with
 /// [`PixelprocCore::new`].
@@ -128,7 +126,6 @@ pub struct PixelprocCore<const IA: usize, const IA1: usize> {
     t1: DFF<Bits<3>>,
     t2: DFF<Bits<3>>,
     t3: DFF<Bits<3>>,
-    t4: DFF<Bits<3>>,
     inflight: DFF<Bits<5>>,
     credit: DFF<Bits<6>>,
     err: DFF<Bit>,
@@ -220,7 +217,6 @@ impl<const IA: usize, const IA1: usize> PixelprocCore<IA, IA1> {
             t1: Default::default(),
             t2: Default::default(),
             t3: Default::default(),
-            t4: Default::default(),
             inflight: Default::default(),
             credit: Default::default(),
             err: Default::default(),
@@ -302,7 +298,7 @@ impl<const IA: usize, const IA1: usize> PixelprocCore<IA, IA1> {
                 self.job_sof.q.val(),
                 u(self.ra.q.val().to_u64()),
             ),
-            track: [t(&self.t1), t(&self.t2), t(&self.t3), t(&self.t4)],
+            track: [t(&self.t1), t(&self.t2), t(&self.t3)],
             inflight: u(self.inflight.q.val().to_u64()),
             err: self.err.q.val(),
         }
@@ -314,7 +310,7 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
     fn update(&mut self) {
         dff_setup!(
             self, clock, base_r, pend_v, pend_last, pend_sof, job_v, job_wait, job_last, job_sof,
-            ra, t1, t2, t3, t4, inflight, credit, err
+            ra, t1, t2, t3, inflight, credit, err
         );
         self.in_fifo.clock.next = self.clock.val();
         self.array.clock.next = self.clock.val();
@@ -412,7 +408,6 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
         self.t1.d.next = self.l_t1.val();
         self.t2.d.next = self.t1.q.val();
         self.t3.d.next = self.t2.q.val();
-        self.t4.d.next = self.t3.q.val();
         // ---- The array's readout port, as one word, into the shading unit.
         self.l_rdw.next = self.k_zero_rd.val();
         self.l_rdw.next.set_value_zb(self.array.rd_zb.val());
@@ -424,9 +419,9 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
         self.l_rdw.next.set_value_nclass(self.array.rd_nclass.val());
         self.l_rdw.next.set_value_sh(self.array.rd_sh.val());
         self.l_rdw.next.set_value_won(self.array.rd_won.val());
-        self.shade.in_valid.next = self.t4.q.val().get_bit(0);
+        self.shade.in_valid.next = self.t3.q.val().get_bit(0);
         self.shade.in_word.next = self.l_rdw.val();
-        self.shade.in_meta.next = self.t4.q.val().get_bits::<META_W>(1);
+        self.shade.in_meta.next = self.t3.q.val().get_bits::<META_W>(1);
         // ---- Shaded pixels into the output FIFO.
         self.l_ow.next = self.shade.out_word.val();
         self.l_meta.next = self.shade.out_meta.val();
@@ -509,7 +504,6 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
             self.t1.d.next = self.k_zero3.val();
             self.t2.d.next = self.k_zero3.val();
             self.t3.d.next = self.k_zero3.val();
-            self.t4.d.next = self.k_zero3.val();
             self.inflight.d.next = self.k_zero5.val();
             self.credit.d.next = self.k_zero6.val();
             self.err.d.next = false;

@@ -13,7 +13,7 @@
 //! | `cmd_word` | in | 256 | packed span word (`SpanWord::pack` layout) for SPAN; `XL`/`XR` fields for CHECK |
 //! | `tile_base` | in | 12 | first screen column of the tile, sampled with each command |
 //! | `rd_addr` | in | 12 | processor index to read out |
-//! | `rd_zb`, `rd_rgb`, `rd_dsf`, `rd_fsf`, `rd_count`, `rd_mask`, `rd_nclass`, `rd_sh`, `rd_won` | out | 24, 24, 1, 1, 8, 8, 8, 24, 1 | readout registers of the processor `rd_addr` named [`READ_LATENCY`] edges earlier (below) |
+//! | `rd_zb`, `rd_rgb`, `rd_dsf`, `rd_fsf`, `rd_count`, `rd_mask`, `rd_nclass`, `rd_sh`, `rd_won` | out | 24, 24, 1, 1, 8, 8, 8, 24, 1 | readout registers of processor `rd_addr` |
 //!
 //! The array accepts one command on every clock; there is no back-pressure (`ready` is
 //! always 1), so a source simply drives `cmd_valid` high for each command.
@@ -37,14 +37,11 @@
 //! sampled, every processor's readout registers hold the finished line and stay valid
 //! until the next CLEAR_LINE reaches them. They are read with `rd_addr`: the value for
 //! `rd_addr` sampled at edge `E` selects processor `a` at edge `E + 1` (a select flip-flop
-//! in each processor), edge `E + 2` loads `a`'s readout registers as they were after edge
-//! `E + 1` into `a`'s output register (every other processor's loads 0), and `rd_*` show
-//! them from edge `E + 3` on ([`READ_LATENCY`]: address register, select register,
-//! processor output register, group register; an address `>= N` reads 0). The OR of the
-//! one selected processor's registers replaces a wide multiplexer, so no address decode
-//! sits in the data path, and the gather starts from a flip-flop in each processor rather
-//! than from its select's fan-out to every readout bit. Readout of line `j` thus overlaps
-//! the span words of line `j + 1`.
+//! in each processor), and `rd_*` show `a`'s readout registers as they were after edge
+//! `E + 1` from edge `E + 2` on (address register, select register, output register;
+//! an address `>= N` reads 0). The OR of the one selected processor's registers
+//! replaces a wide multiplexer, so no address decode sits in the data path. Readout of
+//! line `j` thus overlaps the span words of line `j + 1`.
 //!
 //! # Why a systolic chain
 //!
@@ -95,11 +92,6 @@ const _: () = assert!(MUL_W == 16 && DZ_W == 38 && DI_W == 21 && IL_W == 20 && R
 
 /// Rising edges from sampling a command to its effect on processor 0's registers.
 pub const LATENCY_PROC0: usize = 6;
-
-/// Rising edges from sampling `rd_addr` to the `rd_*` ports showing that processor's
-/// readout registers (as they were [`READ_LATENCY`]` − 1` edges earlier: one edge after
-/// the address was sampled).
-pub const READ_LATENCY: usize = 3;
 
 /// The pixel-processor array. Build with [`PixelProcessorArray::new`].
 #[derive(LogicBlock)]
@@ -431,9 +423,8 @@ impl Logic for PixelProcessorArray {
             self.procs[i].t_di.next = self.procs[i - 1].o_di.val();
         }
         // ---- Readout: registered address (E1), per-processor select registered in the
-        // processor and its readout registers (or 0) registered there, then the OR of the
-        // (one) selected processor's packed readout registers in groups of READOUT_GROUP
-        // processors, one register per group, and
+        // processor, then the OR of the (one) selected processor's packed readout
+        // registers in groups of READOUT_GROUP processors, one register per group, and
         // the OR of the group registers on the outputs: no path gathers from more than
         // eight processors, whatever N.
         for g in 0..self.rd_g.len() {

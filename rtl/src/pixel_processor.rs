@@ -128,9 +128,8 @@ pub struct PixelProcessor {
     pub t_le: Signal<In, Bit>,
     /// Readout select (this processor is addressed), registered here.
     pub rd_sel: Signal<In, Bit>,
-    /// Readout registers, packed `{WON, SH, NCLASS, MASK, ZB, RGB, DSF, FSF, COUNT}` (99 bits), as
-    /// they were before the last edge if `rd_sel` was set at the edge before it, else 0
-    /// (registered; the array ORs all processors' values).
+    /// Readout registers, packed `{WON, SH, NCLASS, MASK, ZB, RGB, DSF, FSF, COUNT}` (99 bits), if
+    /// selected at the last edge, else 0 (the array ORs all processors' values).
     pub rdo: Signal<Out, Bits<READOUT_W>>,
     /// Token out (for processor `p + 1`): the header with `rel_l − 1`, `rel_r − 1`.
     pub o_head: Signal<Out, Bits<HEAD_W>>,
@@ -211,15 +210,7 @@ pub struct PixelProcessor {
     cap_r: DFF<Bits<READOUT_W>>,
     l_cap: Signal<Local, Bits<READOUT_W>>,
     k_cap_reset: Constant<Bits<READOUT_W>>,
-    /// Not selected for readout (`!rd_sel`, registered): the output register's
-    /// synchronous reset. Held inverted so that the reset is active high, which an ECP5
-    /// flip-flop takes on its LSR pin without a LUT (Yosys 0.23 keeps an active-low one,
-    /// with the flip-flop's power-up value, in LUTs: +60 LUT4 per processor).
-    rdsel_n: DFF<Bit>,
-    /// The readout registers if selected, else 0: the `rdo` output, registered here so
-    /// that the array's gather of every processor's word starts from a flip-flop, not
-    /// from the select's fan-out to every readout bit.
-    rdo_r: DFF<Bits<READOUT_W>>,
+    rdsel_r: DFF<Bit>,
     k_zero_rd: Constant<Bits<READOUT_W>>,
     k_clear_line: Constant<Bits<OP_BITS>>,
     k_span: Constant<Bits<OP_BITS>>,
@@ -334,8 +325,7 @@ impl PixelProcessor {
                 .pack_readout()
                 .to_bits(),
             ),
-            rdsel_n: Default::default(),
-            rdo_r: Default::default(),
+            rdsel_r: Default::default(),
             k_zero_rd: Constant::new(0u64.to_bits()),
             k_clear_line: Constant::new(OP_CLEAR_LINE.to_bits()),
             k_span: Constant::new(OP_SPAN.to_bits()),
@@ -410,8 +400,8 @@ impl Logic for PixelProcessor {
         dff_setup!(
             self, clock, tok_head, tok_z, tok_dz, tok_i, tok_di, tok_le, b_op, b_attr, b_covered,
             b_p_held, b_p_new, b_p_far, b_sel_new, b_sel_far, b_clr, b_rst, b_gate, b_hi_ok, b_z,
-            b_rgb, b_nclass, zb_r, rgb_r, nclass_r, w_c, rgb_c, ncl_c, cap_r, rdsel_n, rdo_r,
-            b_won_upd, b_sh_write, won_r, sh_r
+            b_rgb, b_nclass, zb_r, rgb_r, nclass_r, w_c, rgb_c, ncl_c, cap_r, rdsel_r, b_won_upd,
+            b_sh_write, won_r, sh_r
         );
         // ---- Stage A: the token register, loaded every clock.
         self.tok_head.d.next = self.t_head.val();
@@ -592,11 +582,10 @@ impl Logic for PixelProcessor {
             self.b_rgb.d.next = self.tok_z.q.val().get_bits::<RGB_BITS>(0);
         }
         // ---- Outputs.
-        self.rdsel_n.d.next = !self.rd_sel.val();
-        self.rdo_r.d.next = self.cap_r.q.val();
-        if self.rdsel_n.q.val() {
-            self.rdo_r.d.next = self.k_zero_rd.val();
+        self.rdsel_r.d.next = self.rd_sel.val();
+        self.rdo.next = self.k_zero_rd.val();
+        if self.rdsel_r.q.val() {
+            self.rdo.next = self.cap_r.q.val();
         }
-        self.rdo.next = self.rdo_r.q.val();
     }
 }

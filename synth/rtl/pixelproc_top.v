@@ -130,9 +130,6 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     reg  [2:0] t3$d;
     wire  [2:0] t3$q;
     reg  t3$clock;
-    reg  [2:0] t4$d;
-    wire  [2:0] t4$q;
-    reg  t4$clock;
     reg  [4:0] inflight$d;
     wire  [4:0] inflight$q;
     reg  inflight$clock;
@@ -280,11 +277,6 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         .q(t3$q),
         .clock(t3$clock)
     );
-    pixelproc_top$array$e1_op t4(
-        .d(t4$d),
-        .q(t4$q),
-        .clock(t4$clock)
-    );
     pixelproc_top$in_fifo$ra inflight(
         .d(inflight$d),
         .q(inflight$q),
@@ -315,7 +307,6 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         t1$clock = clock;
         t2$clock = clock;
         t3$clock = clock;
-        t4$clock = clock;
         inflight$clock = clock;
         credit$clock = clock;
         err$clock = clock;
@@ -331,7 +322,6 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         t1$d = t1$q;
         t2$d = t2$q;
         t3$d = t3$q;
-        t4$d = t4$q;
         inflight$d = inflight$q;
         credit$d = credit$q;
         err$d = err$q;
@@ -410,7 +400,6 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         t1$d = l_t1;
         t2$d = t1$q;
         t3$d = t2$q;
-        t4$d = t3$q;
         l_rdw = k_zero_rd;
         l_rdw[(32'h22)+:(24)] = array$rd_zb;
         l_rdw[(32'ha)+:(24)] = array$rd_rgb;
@@ -421,9 +410,9 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         l_rdw[(32'h42)+:(8)] = array$rd_nclass;
         l_rdw[(32'h4a)+:(24)] = array$rd_sh;
         l_rdw[(32'h62)+:(1)] = array$rd_won;
-        shade$in_valid = t4$q[32'h0];
+        shade$in_valid = t3$q[32'h0];
         shade$in_word = l_rdw;
-        shade$in_meta = t4$q[(32'h1)+:(2)];
+        shade$in_meta = t3$q[(32'h1)+:(2)];
         l_ow = shade$out_word;
         l_meta = shade$out_meta;
         l_user = k_zero_user;
@@ -478,7 +467,6 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
             t1$d = k_zero3;
             t2$d = k_zero3;
             t3$d = k_zero3;
-            t4$d = k_zero3;
             inflight$d = k_zero5;
             credit$d = k_zero6;
             err$d = 1'b0;
@@ -1844,12 +1832,9 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
     reg  [98:0] cap_r$d;
     wire  [98:0] cap_r$q;
     reg  cap_r$clock;
-    reg  rdsel_n$d;
-    wire  rdsel_n$q;
-    reg  rdsel_n$clock;
-    reg  [98:0] rdo_r$d;
-    wire  [98:0] rdo_r$q;
-    reg  rdo_r$clock;
+    reg  rdsel_r$d;
+    wire  rdsel_r$q;
+    reg  rdsel_r$clock;
     
     // Local signals
     reg  [13:0] l_rel_l;
@@ -2074,15 +2059,10 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         .q(cap_r$q),
         .clock(cap_r$clock)
     );
-    pixelproc_top$array$e1_span rdsel_n(
-        .d(rdsel_n$d),
-        .q(rdsel_n$q),
-        .clock(rdsel_n$clock)
-    );
-    pixelproc_top$array$procs$cap_r rdo_r(
-        .d(rdo_r$d),
-        .q(rdo_r$q),
-        .clock(rdo_r$clock)
+    pixelproc_top$array$e1_span rdsel_r(
+        .d(rdsel_r$d),
+        .q(rdsel_r$q),
+        .clock(rdsel_r$clock)
     );
     
     // Update code
@@ -2115,8 +2095,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         rgb_c$clock = clock;
         ncl_c$clock = clock;
         cap_r$clock = clock;
-        rdsel_n$clock = clock;
-        rdo_r$clock = clock;
+        rdsel_r$clock = clock;
         b_won_upd$clock = clock;
         b_sh_write$clock = clock;
         won_r$clock = clock;
@@ -2149,8 +2128,7 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         rgb_c$d = rgb_c$q;
         ncl_c$d = ncl_c$q;
         cap_r$d = cap_r$q;
-        rdsel_n$d = rdsel_n$q;
-        rdo_r$d = rdo_r$q;
+        rdsel_r$d = rdsel_r$q;
         b_won_upd$d = b_won_upd$q;
         b_sh_write$d = b_sh_write$q;
         won_r$d = won_r$q;
@@ -2306,12 +2284,11 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         if (tok_head$q[(32'h0)+:(3)] != k_span) begin
             b_rgb$d = tok_z$q[(32'h0)+:(24)];
         end
-        rdsel_n$d = ~rd_sel;
-        rdo_r$d = cap_r$q;
-        if (rdsel_n$q) begin
-            rdo_r$d = k_zero_rd;
+        rdsel_r$d = rd_sel;
+        rdo = k_zero_rd;
+        if (rdsel_r$q) begin
+            rdo = cap_r$q;
         end
-        rdo = rdo_r$q;
     end
     
 endmodule // pixelproc_top$array$procs

@@ -8,14 +8,14 @@
 //! `T − L − p` commands (before that it holds power-up values and is not compared).
 //! Every processor's `ZB`, `RGB`, `DSF`, `FSF`, `COUNT`, `MASK`, `NCLASS` and readout
 //! registers are checked after every edge, and the readout port (`rd_addr` sweeping the
-//! processors) after edge `T` against the readout registers after edge `T − R + 1` of the
-//! processor addressed at edge `T − R` (`R = READ_LATENCY`).
+//! processors) after edge `T` against the readout registers after edge `T − 1` of the
+//! processor addressed at edge `T − 2`.
 
 use crate::stimulus::LineStream;
 use crate::TbError;
 use pixelproc_formats::opcodes::*;
 use pixelproc_formats::{SpanWord, MAX_X};
-use pixelproc_rtl::pixel_array::{PixelProcessorArray, LATENCY_PROC0, READ_LATENCY};
+use pixelproc_rtl::pixel_array::{PixelProcessorArray, LATENCY_PROC0};
 use pixelproc_sim::pixel_array::{Command, PixelArray, ProcState};
 use rust_hdl::prelude::*;
 use std::collections::VecDeque;
@@ -290,7 +290,7 @@ pub fn compare_commands_checked(
         keep,
         ignore_flags,
         comparisons: 0,
-        shown: VecDeque::from(vec![None; READ_LATENCY - 1]),
+        prev_cap: None,
     };
     let start = std::time::Instant::now();
     let mut mismatch = None;
@@ -331,11 +331,9 @@ struct Checker<'a> {
     keep: usize,
     ignore_flags: bool,
     comparisons: u64,
-    /// What the readout port will show after the next `READ_LATENCY − 1` edges, the
-    /// next first: the readout registers of the processor addressed one edge before they
-    /// were probed, if the reset token had reached it (before, it holds its power-up
-    /// values).
-    shown: VecDeque<Option<ProcState>>,
+    /// The readout registers of `rd_addr` after the previous edge, if that processor had
+    /// been reached by the reset token (before, it holds its power-up values).
+    prev_cap: Option<ProcState>,
 }
 
 impl Checker<'_> {
@@ -353,16 +351,15 @@ impl Checker<'_> {
         if let Some(m) = self.check_port(uut, t) {
             return Some(m);
         }
-        // The port shows after edge t + READ_LATENCY − 1 the readout registers (as now)
-        // of the processor whose address was sampled at edge t − 1.
-        let mut cap = None;
+        // After edge t the port shows, at edge t + 1, the readout registers (as now) of
+        // the processor whose address was sampled at edge t − 1.
+        self.prev_cap = None;
         if t >= 1 {
             let a = self.vecs[t - 1].rd_addr as usize;
             if t >= LATENCY_PROC0 + a {
-                cap = Some(probe_cap(uut, a));
+                self.prev_cap = Some(probe_cap(uut, a));
             }
         }
-        self.shown.push_back(cap);
         None
     }
 
@@ -402,11 +399,11 @@ impl Checker<'_> {
         None
     }
 
-    /// Readout port: the readout registers after edge t − READ_LATENCY + 1 of the
-    /// processor whose address was sampled at edge t − READ_LATENCY.
+    /// Readout port: the readout registers after edge t − 1 of the processor whose
+    /// address was sampled at edge t − 2.
     fn check_port(&mut self, uut: &PixelProcessorArray, t: usize) -> Option<Mismatch> {
-        let exp = self.shown.pop_front().flatten()?;
-        if t < READ_LATENCY {
+        let exp = self.prev_cap?;
+        if t < 1 {
             return None;
         }
         let got = port_state(uut);
@@ -414,7 +411,7 @@ impl Checker<'_> {
         if got == exp {
             return None;
         }
-        let p = self.vecs[t - READ_LATENCY].rd_addr as usize;
+        let p = self.vecs[t - 2].rd_addr as usize;
         Some(make_mismatch(
             t,
             p,

@@ -68,7 +68,7 @@ pub struct CoreModel {
     base: u32,
     pending: (bool, u32, bool),
     job: Job,
-    track: [Track; READ_TRACK],
+    track: [Track; 3],
     /// The shading step's stages: `s[0]` holds the pixel as it arrived, `s[1]` the pixel
     /// and its table entry (read as it enters), the last stage's pixel goes to the output
     /// FIFO.
@@ -102,7 +102,7 @@ impl CoreModel {
             base: 0,
             pending: (false, 0, false),
             job: Job::default(),
-            track: [Track::default(); READ_TRACK],
+            track: [Track::default(); 3],
             s: [Track::default(); SHADE_STAGES],
             inflight: 0,
             err: false,
@@ -126,7 +126,11 @@ impl CoreModel {
                 self.job.sof,
                 self.job.addr,
             ),
-            track: self.track.map(|t| t.flags),
+            track: [
+                self.track[0].flags,
+                self.track[1].flags,
+                self.track[2].flags,
+            ],
             inflight: self.inflight,
             err: self.err,
         }
@@ -189,7 +193,7 @@ impl CoreModel {
                 (f as u32, g as u32)
             }
         };
-        // Readout pipeline: t1 <- go, t2 <- t1, t3 <- t2, t4 <- t3, s[0] <- t4, s[1] <- s[0] (+ table
+        // Readout pipeline: t1 <- go, t2 <- t1, t3 <- t2, s[0] <- t3, s[1] <- s[0] (+ table
         // read), s[k] <- s[k − 1].
         let s2_out = self.s[SHADE_STAGES - 1];
         let mut s1_new = self.s[0];
@@ -221,9 +225,8 @@ impl CoreModel {
         }
         self.s.copy_within(0..SHADE_STAGES - 1, 1);
         self.s[1] = s1_new;
-        self.s[0] = self.track[READ_TRACK - 1];
-        self.track.copy_within(0..READ_TRACK - 1, 1);
-        self.track[0] = t1_new;
+        self.s[0] = self.track[2];
+        self.track = [t1_new, self.track[0], self.track[1]];
         // Job wait and sweep.
         if self.job.valid && self.job.wait != 0 {
             self.job.wait -= 1;
@@ -289,7 +292,7 @@ impl CoreModel {
             self.job.valid = false;
             self.job.wait = 0;
             self.job.addr = 0;
-            self.track = [Track::default(); READ_TRACK];
+            self.track = [Track::default(); 3];
             for t in self.s.iter_mut() {
                 t.flags = 0;
             }

@@ -13,14 +13,15 @@
 //!   any): 4 clocks of wait (`READOUT_WAIT`), then one processor per clock, so the job
 //!   ends at edge `E + 4 + L` for a tile-line of `L` pixels and the next TILE or END can
 //!   issue at `E + 5 + L`;
-//! - a pixel read at edge `G` is taken by the sink at edge `G + 14` (4 tracking stages,
-//!   `READ_TRACK`; 8 shading stages, `SHADE_STAGES`; the output FIFO's write and head
-//!   registers); the END's job reads its last pixel at `E + 4 + L`.
+//! - a pixel read at edge `G` is taken by the sink at edge `G + 10` (3 tracking stages, 5
+//!   shading stages, `SHADE_STAGES`, the output FIFO's write and head registers); the
+//!   END's job reads
+//!   its last pixel at `E + 4 + L`.
 //!
 //! So with tile-line `t` holding `b_t` beats (its TILE and the commands binned to it) and
 //! `L_t` pixels, the TILE of tile-line `t` issues at
 //! `E_t = max(E_{t−1} + b_{t−1}, E_{t−1} + 5 + L_{t−2})` (first: `E_0 = 3 + table beats`),
-//! END likewise, and the frame ends `L_last + 18` clocks after END issues ([`core_cycles`]).
+//! END likewise, and the frame ends `L_last + 11` clocks after END issues ([`core_cycles`]).
 //! A tile-line costs `max(b_t, L_{t−1} + 5)` clocks: the commands or the readout, whichever
 //! is longer. The test `hwcost_array` checks this against the cycle model on whole
 //! frames.
@@ -29,7 +30,7 @@ use super::{Frame, HwConfig, HwCost, HwCostError, Resources};
 use crate::core_model::READOUT_WAIT;
 use crate::render::SpanSource;
 use crate::stream::SceneStream;
-use pixelproc_formats::core_stream::{READ_TRACK, SHADE_STAGES};
+use pixelproc_formats::core_stream::SHADE_STAGES;
 
 /// One tile-line of the core's stream.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -42,9 +43,9 @@ pub struct TileLine {
 
 /// Clocks from the first beat offered to its issue to the array.
 const FIRST_ISSUE: u64 = 3;
-/// Clocks from a pixel's read to the sink taking it: the readout's tracking registers,
-/// the shading step's stages, the output FIFO's write and its output.
-const READ_TO_OUT: u64 = (READ_TRACK + SHADE_STAGES) as u64 + 2;
+/// Clocks from a pixel's read to the sink taking it: three readout registers, the
+/// shading step's stages, the output FIFO's write and its output.
+const READ_TO_OUT: u64 = 3 + SHADE_STAGES as u64 + 2;
 
 /// Cycles of a frame through the core: `table_beats` TABLE beats, the tile-lines in
 /// stream order, then END (see the module header). Exact integer count.
@@ -256,7 +257,7 @@ mod tests {
 
     /// Hand-counted: one tile-line of 3 pixels with 2 commands. TILE issues at edge 3,
     /// commands at 4 and 5, END at 6 (the job only starts there); pixels read at
-    /// 6 + 5 = 11, 12, 13; the last is taken at 13 + 14 = 27 (4 readout registers, 8 shading
+    /// 6 + 5 = 11, 12, 13; the last is taken at 13 + 13 = 26 (3 readout registers, 8 shading
     /// stages, 2 through the output FIFO).
     #[test]
     fn one_tile_line_by_hand() {
@@ -267,18 +268,18 @@ mod tests {
                 pixels: 3,
             }],
         );
-        assert_eq!(c, 27);
+        assert_eq!(c, 26);
     }
 
     /// Two readout-bound tile-lines of 4 pixels, one beat each: TILE0 at 3, TILE1 at 4
     /// (no job yet), END held until 4 + 5 + 4 = 13; last pixel read at 13 + 4 + 4 = 21,
-    /// out at 21 + 14 = 35.
+    /// out at 21 + 13 = 34.
     #[test]
     fn readout_bound_by_hand() {
         let t = TileLine {
             beats: 1,
             pixels: 4,
         };
-        assert_eq!(core_cycles(0, [t, t]), 35);
+        assert_eq!(core_cycles(0, [t, t]), 34);
     }
 }

@@ -10,12 +10,12 @@
 //!   after that clock's rising edge, the readout word in the layout of
 //!   `pixelproc_formats::regs::READOUT_FIELDS` (`{rd_won, rd_sh, rd_nclass, rd_mask, rd_zb, rd_rgb,
 //!   rd_dsf, rd_fsf, rd_count}`); `check` (bit 127) is 0 where the port shows a processor the reset token
-//!   has not reached yet (power-up values) and on the first `READ_LATENCY` lines.
+//!   has not reached yet (power-up values) and on lines 0 and 1.
 //!
 //! Expected values come from the golden `PixelArray` only: after edge `t` the readout
-//! port shows processor `a = rd_addr(t − R)`'s readout registers after edge `t − R + 1`
-//! (`R = READ_LATENCY`), i.e. the golden state before the latest `ClearLine` among the
-//! first `t − R + 1 − LATENCY_PROC0 − a` commands. `tb_pixelproc.v` drives the vectors, compares
+//! port shows processor `a = rd_addr(t − 2)`'s readout registers after edge `t − 1`,
+//! i.e. the golden state before the latest `ClearLine` among the first
+//! `t − 1 − LATENCY_PROC0 − a` commands. `tb_pixelproc.v` drives the vectors, compares
 //! every output after every clock, prints the first mismatch (cycle, inputs, both
 //! outputs), dumps a VCD of the top-level ports, and prints `PASS cycles=N`.
 
@@ -25,7 +25,7 @@ use pixelproc_formats::fields::Field;
 use pixelproc_formats::opcodes::OP_BITS;
 use pixelproc_formats::regs::{READOUT_BITS, READOUT_FIELDS, RGB_BITS};
 use pixelproc_formats::{SPAN_WORD_BITS, X_BITS};
-use pixelproc_rtl::pixel_array::{LATENCY_PROC0, READ_LATENCY};
+use pixelproc_rtl::pixel_array::LATENCY_PROC0;
 use pixelproc_sim::pixel_array::{Command, PixelArray, ProcState};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -297,11 +297,11 @@ pub fn write_vectors(
             hi, v.word[3], v.word[2], v.word[1], v.word[0]
         )
         .ok();
-        let e = if t < READ_LATENCY {
+        let e = if t < 2 {
             0
         } else {
-            let a = vecs[t - READ_LATENCY].rd_addr as usize;
-            let kk = (t + 1 - READ_LATENCY) as i64 - LATENCY_PROC0 as i64 - a as i64;
+            let a = vecs[t - 2].rd_addr as usize;
+            let kk = t as i64 - 1 - LATENCY_PROC0 as i64 - a as i64;
             if kk < 0 {
                 0
             } else {
