@@ -23,12 +23,21 @@
 use std::num::NonZeroU8;
 
 /// A positive divisor below `2^63`, prepared for [`FloorDivisor::floor`].
+///
+/// The quotient is taken from the high half of the product only: for `d ≥ 2` (`ℓ ≥ 1`)
+/// `⌊m·n / 2^(63+ℓ)⌋ = ⌊⌊m·n / 2^64⌋ / 2^(ℓ−1)⌋`. For `d = 1` (`ℓ = 0`, `m = 2^63 + 1`
+/// does not leave the high half alone) the numerator is doubled first and `m = 2^63`:
+/// `⌊2n·2^63 / 2^64⌋ = n`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct FloorDivisor {
-    /// The multiplier `m = ⌊2^(63+ℓ) / d⌋ + 1`.
+    /// The multiplier `m = ⌊2^(63+ℓ) / d⌋ + 1` (`2^63` for `d = 1`).
     m: u64,
-    /// The shift `63 + ℓ` (never 0: an `Option<FloorDivisor>` takes no more room).
-    shift: NonZeroU8,
+    /// The shift of the numerator before the multiply, `0` (`d ≥ 2`) or `1` (`d = 1`),
+    /// plus 64 (a shift count is taken modulo 64; never 0, so an `Option<FloorDivisor>`
+    /// takes no more room).
+    pre: NonZeroU8,
+    /// The shift of the product's high half, `ℓ − 1` (`0` for `d = 1`).
+    post: u8,
 }
 
 impl FloorDivisor {
@@ -37,14 +46,21 @@ impl FloorDivisor {
         if d <= 0 || d >= 1 << 63 {
             return None;
         }
+        if d == 1 {
+            return Some(FloorDivisor {
+                m: 1 << 63,
+                pre: NonZeroU8::new(64 + 1)?,
+                post: 0,
+            });
+        }
         let d = d as u128;
-        // ℓ = ⌈log2 d⌉ (0 for d = 1).
+        // ℓ = ⌈log2 d⌉ ≥ 1.
         let l = 128 - (d - 1).leading_zeros();
-        let shift = 63 + l;
-        let m = (1u128 << shift) / d + 1;
+        let m = (1u128 << (63 + l)) / d + 1;
         Some(FloorDivisor {
             m: u64::try_from(m).ok()?,
-            shift: NonZeroU8::new(shift as u8)?,
+            pre: NonZeroU8::new(64)?,
+            post: (l - 1) as u8,
         })
     }
 
@@ -52,8 +68,8 @@ impl FloorDivisor {
     #[inline(always)]
     pub(crate) fn floor(&self, n: i64) -> i64 {
         let s = n >> 63;
-        let u = (n ^ s) as u64;
-        let q = ((u as u128 * self.m as u128) >> self.shift.get()) as u64;
+        let u = ((n ^ s) as u64).wrapping_shl(self.pre.get() as u32);
+        let q = (((u as u128 * self.m as u128) >> 64) as u64) >> self.post;
         s ^ q as i64
     }
 }
