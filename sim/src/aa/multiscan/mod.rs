@@ -82,7 +82,7 @@ mod walk;
 use colour::ColourRow;
 use filter::{accumulate_box, accumulate_filtered, dominant, tables, PixMem, Tables};
 use spans::{prepare, Cand, CandHit, MsTri};
-use walk::{walk, Active, Piece, WalkScratch};
+use walk::{walk, Active, Piece, WalkScratch, NO_SLOT};
 
 /// Q.16 pixel unit.
 const ONE16: i64 = 1 << 16;
@@ -158,21 +158,28 @@ impl<'a> MsFrame<'a> {
         from_above: bool,
         act: &mut Vec<Active<'a>>,
         crow: &mut Vec<Option<Option<ColourRow>>>,
+        ws: &mut WalkScratch,
     ) {
         act.clear();
         crow.clear();
         act.reserve(cand.len());
-        for (c, h) in cand.iter().zip(hit) {
-            if let Some((xl, xr)) = c.interval(h.t, ynum, from_above) {
-                act.push(Active {
-                    t: h.t,
-                    idx: h.idx,
-                    decal: h.decal,
-                    z: h.z.row(ynum),
-                    xl,
-                    xr,
-                });
-            }
+        let slot_of = ws.slots(cand.len());
+        for (ci, ((c, h), so)) in cand.iter().zip(hit).zip(slot_of).enumerate() {
+            *so = match c.interval(h.t, ynum, from_above) {
+                Some((xl, xr)) => {
+                    act.push(Active {
+                        t: h.t,
+                        idx: h.idx,
+                        cand: ci as u32,
+                        decal: h.decal,
+                        z: h.z.row(ynum),
+                        xl,
+                        xr,
+                    });
+                    act.len() as u32 - 1
+                }
+                None => NO_SLOT,
+            };
         }
         crow.resize(act.len(), None);
     }
@@ -203,6 +210,8 @@ impl<'a> MsFrame<'a> {
             crow,
         } = rs;
         acc.reset(nr * w, self.visible);
+        // The crossings' order carried from line to line refers to this band's candidates.
+        ws.new_band();
         let (mut evals, mut npieces) = (0u64, 0u64);
         // Triangles touching the rows' y range (a superset of those any sub-scanline of
         // the band hits; each sub-scanline tests them exactly).
@@ -236,7 +245,7 @@ impl<'a> MsFrame<'a> {
                     let ja = g.div_euclid(n64);
                     let l = g - ja * n64;
                     if l != 0 {
-                        self.hits(cand, ynum, false, act, crow);
+                        self.hits(cand, ynum, false, act, crow, ws);
                         let e = walk(act, xa, xb, inter, pieces, ws);
                         evals += e;
                         npieces += pieces.len() as u64;
@@ -250,7 +259,7 @@ impl<'a> MsFrame<'a> {
                     let above = ja > j0;
                     let above_owned = ja - 1 == height as i64 - 1;
                     if below {
-                        self.hits(cand, ynum, false, act, crow);
+                        self.hits(cand, ynum, false, act, crow, ws);
                         let e = walk(act, xa, xb, inter, pieces, ws);
                         evals += e;
                         npieces += pieces.len() as u64;
@@ -270,7 +279,7 @@ impl<'a> MsFrame<'a> {
                         }
                     }
                     if above {
-                        self.hits(cand, ynum, true, act, crow);
+                        self.hits(cand, ynum, true, act, crow, ws);
                         let e = walk(act, xa, xb, inter, pieces, ws);
                         if above_owned {
                             evals += e;
@@ -288,7 +297,7 @@ impl<'a> MsFrame<'a> {
                     let ynum = 2 * g + n64;
                     let ja = g.div_euclid(n64);
                     let m = g - ja * n64;
-                    self.hits(cand, ynum, false, act, crow);
+                    self.hits(cand, ynum, false, act, crow, ws);
                     let e = walk(act, xa, xb, inter, pieces, ws);
                     // Row `j` with the table of distance `k`.
                     let mut add = |j: i64, k: i64| {

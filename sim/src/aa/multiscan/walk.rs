@@ -6,10 +6,15 @@ use super::spans::{MsTri, RowPlane};
 use super::ZF;
 use crate::raster::depth;
 
-/// Where x starts in a crossing's sort key: below it the kind, the decal bit and the slot.
+/// Where x starts in a crossing's sort key: below it the kind, the decal bit and the
+/// polygon's candidate index in its band.
 const KEY_X: u32 = 34;
-/// The slot bits of a crossing's sort key.
-const SLOT_MASK: u64 = (1 << (KEY_X - 2)) - 1;
+/// The candidate bits of a crossing's sort key.
+const CAND_MASK: u64 = (1 << (KEY_X - 2)) - 1;
+/// A crossing's sort key without its x.
+const LOW_MASK: u64 = (1 << KEY_X) - 1;
+/// [`WalkScratch::slots`] of a candidate the line does not hit.
+pub(super) const NO_SLOT: u32 = u32::MAX;
 
 /// One visible piece `[x0, x1)` of triangle `tri` (−1 background) on a sub-scanline,
 /// with its row planes for colour.
@@ -27,6 +32,8 @@ pub(super) struct Piece {
 pub(super) struct Active<'a> {
     pub(super) t: &'a MsTri,
     pub(super) idx: i32,
+    /// Its index among the band's candidates.
+    pub(super) cand: u32,
     pub(super) decal: bool,
     pub(super) z: RowPlane,
     pub(super) xl: i64,
@@ -49,32 +56,75 @@ pub(super) fn walk(
     ws: &mut WalkScratch,
 ) -> u64 {
     // The sort key's fields (see below) must fit: x relative to `xa` in 30 bits (the
-    // screen is at most 2^12 pixels of 2^16), the slot in 32.
+    // screen is at most 2^12 pixels of 2^16), the candidate index in 32.
     assert!(
-        xb - xa < 1 << (64 - KEY_X) && (act.len() as u64) <= SLOT_MASK,
-        "walk of {} polygons over {} units exceeds the crossing key",
-        act.len(),
+        xb - xa < 1 << (64 - KEY_X) && (ws.slot_of.len() as u64) <= CAND_MASK,
+        "walk of {} candidates over {} units exceeds the crossing key",
+        ws.slot_of.len(),
         xb - xa
     );
     debug_assert!(act.windows(2).all(|w| w[0].idx < w[1].idx));
     out.clear();
     let WalkScratch {
         ev,
+        fresh,
+        merged,
+        kept,
+        slot_of,
         next,
         zcache,
         zrange,
     } = ws;
-    ev.clear();
     next.clear();
     zcache.clear();
     zcache.resize(act.len(), [(i64::MIN, 0); 2]);
     zrange.clear();
     zrange.resize(act.len(), (i64::MIN, i64::MAX));
-    for (s, a) in act.iter().enumerate() {
-        if a.xr <= xa || a.xl >= xb {
+    let inside = |a: &Active| a.xr > xa && a.xl < xb;
+    // Key, most significant first: x, right (0) before left (1); rights: decal first;
+    // lefts: face first; then the triangle, which is the candidate's order (the active
+    // list and the candidates are both in input order), so the candidate index stands for
+    // both (keys distinct).
+    let key = |x: i64, kind: u64, d: u64, ci: u32| {
+        ((x - xa) as u64) << KEY_X | kind << (KEY_X - 1) | d << (KEY_X - 2) | ci as u64
+    };
+    // The last line's crossings, in their order, at this line's x: polygons move little
+    // from one sub-scanline to the next, so they are nearly sorted.
+    kept.clear();
+    kept.resize(act.len(), false);
+    merged.clear();
+    for &k in ev.iter() {
+        let s = slot_of[(k & CAND_MASK) as usize];
+        if s == NO_SLOT || !inside(&act[s as usize]) {
             continue;
         }
-        if inter {
+        let a = &act[s as usize];
+        kept[s as usize] = true;
+        let x = if k >> (KEY_X - 1) & 1 == 1 {
+            a.xl.max(xa)
+        } else {
+            a.xr.min(xb)
+        };
+        merged.push(((x - xa) as u64) << KEY_X | (k & LOW_MASK));
+    }
+    let budget = 4 * merged.len() + 64;
+    if !insertion_sort_bounded(merged, budget) {
+        merged.sort_unstable();
+    }
+    // Polygons new on this line, sorted, merged in.
+    fresh.clear();
+    for (s, a) in act.iter().enumerate() {
+        if kept[s] || !inside(a) {
+            continue;
+        }
+        let d = a.decal as u64;
+        fresh.push(key(a.xl.max(xa), 1, d, a.cand));
+        fresh.push(key(a.xr.min(xb), 0, 1 - d, a.cand));
+    }
+    fresh.sort_unstable();
+    merge_sorted(merged, fresh, ev);
+    for (s, a) in act.iter().enumerate() {
+        if inter && inside(a) {
             // The depth range over the polygon's part of the line: the rounded plane is
             // monotone in x, so its ends bound it. The ends also seed the cache (the
             // walk asks for the left end first). Only with the intersection check, whose
@@ -85,17 +135,7 @@ pub(super) fn walk(
             zrange[s] = (z0.min(z1), z0.max(z1));
             zcache[s] = [(x1, z1), (x0, z0)];
         }
-        let d = a.decal as u64;
-        // Key, most significant first: x, right (0) before left (1); rights: decal
-        // first; lefts: face first; then the triangle, which is the slot's order (the
-        // active list is in input order), so the slot stands for both (keys distinct).
-        let key = |x: i64, kind: u64, d: u64| {
-            ((x - xa) as u64) << KEY_X | kind << (KEY_X - 1) | d << (KEY_X - 2) | s as u64
-        };
-        ev.push(key(a.xl.max(xa), 1, d));
-        ev.push(key(a.xr.min(xb), 0, 1 - d));
     }
-    ev.sort_unstable();
     let mut wk = Walker {
         act,
         evals: 0,
@@ -114,7 +154,7 @@ pub(super) fn walk(
         let (ex, kind, s) = (
             (key >> KEY_X) as i64 + xa,
             (key >> (KEY_X - 1)) as u8 & 1,
-            (key & SLOT_MASK) as usize,
+            slot_of[(key & CAND_MASK) as usize] as usize,
         );
         // Between crossings: a polygon of NEXT may pass in front of the current one.
         if inter {
@@ -187,17 +227,79 @@ pub(super) fn emit(out: &mut Vec<Piece>, act: &[Active], x0: i64, x1: i64, cur: 
     }
 }
 
-/// Buffers of [`walk`], reused from sub-scanline to sub-scanline.
+/// Sorts `v` by insertion while at most `budget` elements move; `false` (and `v` a
+/// permutation of itself, partly sorted) once more would.
+fn insertion_sort_bounded(v: &mut [u64], budget: usize) -> bool {
+    let mut moved = 0;
+    for i in 1..v.len() {
+        let x = v[i];
+        let mut j = i;
+        while j > 0 && v[j - 1] > x {
+            v[j] = v[j - 1];
+            j -= 1;
+        }
+        v[j] = x;
+        moved += i - j;
+        if moved > budget {
+            return false;
+        }
+    }
+    true
+}
+
+/// The sorted `a` and `b` merged into `out`.
+fn merge_sorted(a: &[u64], b: &[u64], out: &mut Vec<u64>) {
+    out.clear();
+    out.reserve(a.len() + b.len());
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        if a[i] <= b[j] {
+            out.push(a[i]);
+            i += 1;
+        } else {
+            out.push(b[j]);
+            j += 1;
+        }
+    }
+    out.extend_from_slice(&a[i..]);
+    out.extend_from_slice(&b[j..]);
+}
+
+/// Buffers of [`walk`], reused from sub-scanline to sub-scanline, and the crossings'
+/// order carried from one sub-scanline of a band to the next.
 #[derive(Default)]
 pub(super) struct WalkScratch {
-    /// Crossings, as sort keys (see [`walk`]).
+    /// Crossings, as sort keys (see [`walk`]), sorted: the last line's until the next
+    /// walk re-sorts them.
     pub(super) ev: Vec<u64>,
+    /// Keys of the polygons a line adds to the last line's, and the last line's keys at
+    /// the new x (scratch of the re-sort).
+    fresh: Vec<u64>,
+    merged: Vec<u64>,
+    /// Per active polygon: were its crossings among the last line's.
+    kept: Vec<bool>,
+    /// Per candidate of the band: its slot in the current line's active list, or
+    /// [`NO_SLOT`].
+    slot_of: Vec<u32>,
     /// The stack NEXT.
     pub(super) next: Vec<usize>,
     /// Per active polygon, its last two depths `(x, z)` (older first).
     pub(super) zcache: Vec<[(i64, i64); 2]>,
     /// Per active polygon, the least and greatest depth on its part of the line.
     pub(super) zrange: Vec<(i64, i64)>,
+}
+
+impl WalkScratch {
+    /// Starts a band: no crossings carried over.
+    pub(super) fn new_band(&mut self) {
+        self.ev.clear();
+    }
+
+    /// The slots of the band's `n` candidates on the line, for the hit tests to fill.
+    pub(super) fn slots(&mut self, n: usize) -> &mut [u32] {
+        self.slot_of.resize(n, NO_SLOT);
+        &mut self.slot_of[..n]
+    }
 }
 
 /// Depth comparisons of one sub-scanline walk, counting plane evaluations.
@@ -310,5 +412,58 @@ impl Walker<'_, '_, '_> {
             };
         }
         best
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The re-sort of carried crossings: the bounded insertion sort sorts whenever it
+    /// reports success, gives up on a reversed list, and the merge of two sorted lists is
+    /// their sorted union (duplicates kept).
+    #[test]
+    fn carried_order_sorts_and_merges() {
+        let mut rng = crate::rng::Lcg64(0x0c2_055e5);
+        for case in 0..2000 {
+            let n = (rng.step() % 300) as usize;
+            // Nearly sorted: a sorted list with a few neighbours swapped and a few moved
+            // far; every fifth case fully shuffled-looking.
+            let mut v: Vec<u64> = (0..n as u64).map(|i| i * 3 + rng.step() % 3).collect();
+            let swaps = if case % 5 == 0 { 10 * n } else { n / 20 + 1 };
+            for _ in 0..swaps.min(n * n) {
+                if n < 2 {
+                    break;
+                }
+                let i = (rng.step() % (n as u64 - 1)) as usize;
+                let j = if case % 5 == 0 {
+                    (rng.step() % n as u64) as usize
+                } else {
+                    i + 1
+                };
+                v.swap(i, j);
+            }
+            let mut want = v.clone();
+            want.sort_unstable();
+            let mut got = v.clone();
+            if insertion_sort_bounded(&mut got, 4 * n + 64) {
+                assert_eq!(got, want, "case {case}");
+            } else {
+                got.sort_unstable();
+                assert_eq!(got, want, "case {case}");
+            }
+            let m = (rng.step() % 40) as usize;
+            let mut b: Vec<u64> = (0..m).map(|_| rng.step() % (3 * n as u64 + 5)).collect();
+            b.sort_unstable();
+            let mut out = vec![7; 3];
+            merge_sorted(&want, &b, &mut out);
+            let mut all = [want.clone(), b].concat();
+            all.sort_unstable();
+            assert_eq!(out, all, "case {case}");
+        }
+        let mut rev: Vec<u64> = (0..500).rev().collect();
+        assert!(!insertion_sort_bounded(&mut rev, 4 * 500 + 64));
+        let mut sorted: Vec<u64> = (0..500).collect();
+        assert!(insertion_sort_bounded(&mut sorted, 0));
     }
 }
