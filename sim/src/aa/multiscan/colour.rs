@@ -115,7 +115,11 @@ impl ColourRow {
                 return None;
             }
             let n = (2 * (p.k.checked_add(p.s.checked_mul(x0 as i128)?)?)).checked_add(p.d)?;
-            let q = floor_div_wide(n, d2);
+            // By the prepared divisor where `n` fits 64 bits (the common case).
+            let q = match i64::try_from(n) {
+                Ok(n) => out.div[ch].floor(n) as i128,
+                Err(_) => floor_div_wide(n, d2),
+            };
             if q.abs() >= LIM {
                 return None;
             }
@@ -209,6 +213,10 @@ impl<'a, 't> PieceColour<'a, 't> {
     /// [`PieceColour::at`] gives each part.
     #[inline]
     pub(super) fn whole(&mut self, x0: i64, count: i64, mut f: impl FnMut(i64, [i64; 3])) {
+        if count <= 0 {
+            // No whole pixel (a piece across one pixel boundary): no steppers to set up.
+            return;
+        }
         match self.src {
             ColourSource::Fixed(c) => (0..count).for_each(|k| f(k, c)),
             ColourSource::Row(row, steps) => match row.run(x0 + ONE16 / 2, steps) {
@@ -218,9 +226,6 @@ impl<'a, 't> PieceColour<'a, 't> {
                 }
             },
             ColourSource::Wide(a) => {
-                if count <= 0 {
-                    return;
-                }
                 // Steppers at the first middle, set up once for the run.
                 match self.wide_steps(a, x0 + ONE16 / 2, count as u64) {
                     ColourSteps::Narrow(mut st) => run(&mut st, count, f),
