@@ -68,7 +68,7 @@ pub(super) fn walk(
     let WalkScratch {
         ev,
         fresh,
-        merged,
+        carried,
         kept,
         slot_of,
         next,
@@ -92,39 +92,36 @@ pub(super) fn walk(
     // from one sub-scanline to the next, so they are nearly sorted.
     kept.clear();
     kept.resize(act.len(), false);
-    merged.clear();
+    carried.clear();
     for &k in ev.iter() {
         let s = slot_of[(k & CAND_MASK) as usize];
-        if s == NO_SLOT || !inside(&act[s as usize]) {
-            continue;
-        }
-        let a = &act[s as usize];
+        let Some(a) = act.get(s as usize).filter(|a| inside(a)) else {
+            continue; // not hit on this line (`NO_SLOT`), or outside the walk
+        };
         kept[s as usize] = true;
         let x = if k >> (KEY_X - 1) & 1 == 1 {
             a.xl.max(xa)
         } else {
             a.xr.min(xb)
         };
-        merged.push(((x - xa) as u64) << KEY_X | (k & LOW_MASK));
+        carried.push(((x - xa) as u64) << KEY_X | (k & LOW_MASK));
     }
-    let budget = 4 * merged.len() + 64;
-    if !insertion_sort_bounded(merged, budget) {
-        merged.sort_unstable();
+    let budget = 4 * carried.len() + 64;
+    if !insertion_sort_bounded(carried, budget) {
+        carried.sort_unstable();
     }
-    // Polygons new on this line, sorted, merged in.
+    // Polygons new on this line, sorted and merged in; and the depth ranges.
     fresh.clear();
     for (s, a) in act.iter().enumerate() {
-        if kept[s] || !inside(a) {
+        if !inside(a) {
             continue;
         }
-        let d = a.decal as u64;
-        fresh.push(key(a.xl.max(xa), 1, d, a.cand));
-        fresh.push(key(a.xr.min(xb), 0, 1 - d, a.cand));
-    }
-    fresh.sort_unstable();
-    merge_sorted(merged, fresh, ev);
-    for (s, a) in act.iter().enumerate() {
-        if inter && inside(a) {
+        if !kept[s] {
+            let d = a.decal as u64;
+            fresh.push(key(a.xl.max(xa), 1, d, a.cand));
+            fresh.push(key(a.xr.min(xb), 0, 1 - d, a.cand));
+        }
+        if inter {
             // The depth range over the polygon's part of the line: the rounded plane is
             // monotone in x, so its ends bound it. The ends also seed the cache (the
             // walk asks for the left end first). Only with the intersection check, whose
@@ -136,6 +133,8 @@ pub(super) fn walk(
             zcache[s] = [(x1, z1), (x0, z0)];
         }
     }
+    fresh.sort_unstable();
+    merge_sorted(carried, fresh, ev);
     let mut wk = Walker {
         act,
         evals: 0,
@@ -272,10 +271,10 @@ pub(super) struct WalkScratch {
     /// Crossings, as sort keys (see [`walk`]), sorted: the last line's until the next
     /// walk re-sorts them.
     pub(super) ev: Vec<u64>,
-    /// Keys of the polygons a line adds to the last line's, and the last line's keys at
-    /// the new x (scratch of the re-sort).
+    /// Scratch of the re-sort: the keys of the polygons a line adds to the last line's,
+    /// and the last line's keys carried to the new x.
     fresh: Vec<u64>,
-    merged: Vec<u64>,
+    carried: Vec<u64>,
     /// Per active polygon: were its crossings among the last line's.
     kept: Vec<bool>,
     /// Per candidate of the band: its slot in the current line's active list, or
