@@ -46,12 +46,24 @@ synth_ecp5_core() {
     || { echo "Yosys synthesis failed: $1/synth.log" >&2; grep -E "ERROR" "$1/synth.log" | head -5 >&2; exit 1; }
 }
 
-# pnr_ecp5 OUT SEED REPORT LOG [PLACER]: nextpnr-ecp5 on OUT/top.json (LFE5U-85F-6
-# CABGA381, out of context unless ECP5_OOC is set empty, OUT/pixelproc.lpf), the report and
-# log written in OUT; PLACER is nextpnr's placer: heap (its default), heap:W (heap with
-# timing weight W instead of nextpnr's 10) or static; checks that the LPF's 150 MHz clock
-# constraint was applied.
+# pnr_ecp5 OUT SEED REPORT LOG [PLACER]: nextpnr-ecp5 on OUT/top.json (LFE5U-85F at speed
+# grade $ECP5_SPEED, CABGA381, out of context unless ECP5_OOC is set empty,
+# OUT/pixelproc.lpf), the report and log written in OUT; PLACER is nextpnr's placer: heap
+# (its default), heap:W (heap with timing weight W instead of nextpnr's 10) or static;
+# checks that the LPF's 150 MHz clock constraint was applied.
 ECP5_OOC=--out-of-context
+# The ECP5 speed grade nextpnr times against: 6 (the slowest, every report without a
+# suffix), 7 or 8 (the fastest); set by check_speed.
+ECP5_SPEED=6
+# check_speed GRADE: exits 2 unless GRADE is 6, 7 or 8; sets ECP5_SPEED and SPEED_SFX (the
+# report file name's suffix: empty for 6, _speed8 for 8).
+check_speed() {
+  case "$1" in
+    6|7|8) ECP5_SPEED=$1 ;;
+    *) echo "speed grade: 6, 7 or 8 (LFE5U-85F-6 is the slowest), got '$1'" >&2; exit 2 ;;
+  esac
+  SPEED_SFX=""; if [ "$1" != 6 ]; then SPEED_SFX="_speed$1"; fi
+}
 # check_placer PLACER: exits 2 unless PLACER is heap, heap:W (W in 1..1000) or static; sets
 # PLACER_WORDS (the report's placer row) and PLACER_SFX (the report file name's suffix:
 # empty for heap, _heap40 for heap:40, _static).
@@ -72,7 +84,7 @@ placer_args() {
 }
 pnr_ecp5() {
   # Relative paths inside OUT: the PyPI build of nextpnr only sees the current directory.
-  (cd "$1" && $PNR --85k --speed 6 --package CABGA381 --json top.json --lpf pixelproc.lpf --lpf-allow-unconstrained $ECP5_OOC \
+  (cd "$1" && $PNR --85k --speed "$ECP5_SPEED" --package CABGA381 --json top.json --lpf pixelproc.lpf --lpf-allow-unconstrained $ECP5_OOC \
     --seed "$2" $(placer_args "${5:-heap}") --timing-allow-fail --report "$3" > "$4" 2>&1)
   grep -q "constrain.*clock.*150" "$1/$4" || { echo "the LPF clock constraint was not applied (see $1/$4)" >&2; exit 1; }
 }
