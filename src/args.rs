@@ -239,16 +239,16 @@ pub(crate) struct RenderArgs {
 
 #[derive(Args)]
 pub(crate) struct BenchArgs {
-    /// Scene file (JSON), or @default / @boxes.
-    #[arg(default_value = "@boxes")]
-    pub(crate) scene: OsString,
+    /// Scene file (JSON), or @default / @boxes [default: @boxes; with --all-methods: the
+    /// generated 1080p scenes].
+    pub(crate) scene: Option<OsString>,
     /// Timed runs (after one warm-up), 1 to 10000.
     #[arg(long, default_value_t = 7)]
     pub(crate) runs: usize,
-    /// Instead of one scene: every anti-aliasing method at its default setting and
-    /// shadows, on scenes generated at 1920x1080, as a table (ratio to the plain frame,
-    /// time per unit of work, peak memory).
-    #[arg(long, conflicts_with = "scene")]
+    /// Every anti-aliasing method at its default setting, and shadows, as a table (ratio
+    /// to the plain frame, time per unit of work, peak memory): on SCENE if given (at its
+    /// own resolution), else on scenes generated at 1920x1080.
+    #[arg(long)]
     pub(crate) all_methods: bool,
     #[command(flatten)]
     pub(crate) fx: EffectArgs,
@@ -277,6 +277,27 @@ impl EffectArgs {
         .filter(|f| f.0)
         .map(|(_, flag, owner)| (flag, owner))
         .collect()
+    }
+
+    /// Every effect flag given (`--aa`, its parameters, `--no-shadows`, `--array-width`,
+    /// `--shadow-form`, `--shading`), by name.
+    pub(crate) fn given(&self) -> Vec<&'static str> {
+        let mut out = Vec::new();
+        if self.aa.is_some() {
+            out.push("--aa");
+        }
+        out.extend(self.aa_flags().into_iter().map(|f| f.0));
+        for (on, flag) in [
+            (self.no_shadows, "--no-shadows"),
+            (self.array_width.is_some(), "--array-width"),
+            (self.shadow_form.is_some(), "--shadow-form"),
+            (self.shading.is_some(), "--shading"),
+        ] {
+            if on {
+                out.push(flag);
+            }
+        }
+        out
     }
 
     /// `--aa` and its parameter flags as a typed request; a flag of another method, or

@@ -196,9 +196,15 @@ fn check_runs(runs: usize) -> Result<()> {
 fn cmd_bench(a: &BenchArgs) -> Result<()> {
     check_runs(a.runs)?;
     if a.all_methods {
-        return bench_all_methods(a.runs);
+        if let Some(flag) = a.fx.given().first() {
+            return Err(UsageError(format!(
+                "{flag} cannot be used with --all-methods (it runs every method at its default setting, with and without the scene's lights)"
+            ))
+            .into());
+        }
+        return bench_all_methods(a.scene.as_deref(), &a.input, a.runs);
     }
-    let ls = load(&a.scene, &a.input)?;
+    let ls = load(a.scene.as_deref().unwrap_or("@boxes".as_ref()), &a.input)?;
     let fx = Effects::resolve(&ls, &overrides(&a.fx, &[])?)?;
     // Long runs say so before they start (stderr, so stdout stays the report).
     eprintln!(
@@ -239,10 +245,14 @@ fn cmd_bench(a: &BenchArgs) -> Result<()> {
     Ok(())
 }
 
-/// `bench --all-methods`: the table of `pixelproc_bench::methods`.
-fn bench_all_methods(runs: usize) -> Result<()> {
+/// `bench --all-methods [SCENE]`: the table of `pixelproc_bench::methods`, on `scene` if
+/// given, else on the generated scenes.
+fn bench_all_methods(scene: Option<&OsStr>, input: &InputArgs, runs: usize) -> Result<()> {
     use pixelproc_bench::methods::{bench_scenes, run_all_methods, table};
-    let scenes = bench_scenes()?;
+    let scenes = match scene {
+        Some(s) => vec![load(s, input)?],
+        None => bench_scenes()?,
+    };
     say!(
         "bench --all-methods: median of {runs} interleaved runs after 1 warm-up, {} threads",
         rayon::current_num_threads()

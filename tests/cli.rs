@@ -422,3 +422,80 @@ fn verilog_top_holds_only_what_the_scene_needs() {
         "the default scene's light casts shadows"
     );
 }
+
+/// `bench --all-methods SCENE` times every case on the user's scene (one table, every
+/// row named after it) and counts the same work as `render` of that case; effect flags,
+/// which the cases set themselves, are usage errors naming the flag, not silently ignored.
+#[test]
+fn bench_all_methods_on_a_given_scene() {
+    let d = tempfile::tempdir().unwrap();
+    let o = pixelproc(
+        d.path(),
+        &["bench", "--all-methods", "@default", "--runs", "1"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    let rows: Vec<Vec<&str>> = out
+        .lines()
+        .filter(|l| l.starts_with("| ") && !l.starts_with("| scene"))
+        .map(|l| l.trim_matches('|').split('|').map(str::trim).collect())
+        .collect();
+    let cases: Vec<&str> = rows.iter().map(|r| r[2]).collect();
+    assert_eq!(
+        cases,
+        [
+            "plain",
+            "shadows",
+            "abuffer",
+            "multiscan",
+            "corner",
+            "ssaa",
+            "postfx"
+        ],
+        "{out}"
+    );
+    assert!(rows.iter().all(|r| r[0] == "@default"), "{out}");
+    assert_eq!(rows[0][4], "1.00", "{out}");
+    // The A-buffer row's fragments are those `render` reports for the same case.
+    let r = pixelproc(
+        d.path(),
+        &[
+            "render",
+            "@default",
+            "--aa",
+            "abuffer",
+            "--no-shadows",
+            "-o",
+            "a.png",
+        ],
+    );
+    assert!(r.status.success(), "{}", stderr(&r));
+    let log = String::from_utf8_lossy(&r.stdout);
+    let frags = log
+        .lines()
+        .find_map(|l| l.strip_prefix("a-buffer: "))
+        .and_then(|l| l.split(' ').next())
+        .unwrap_or_else(|| panic!("no a-buffer line: {log}"));
+    assert_eq!(rows[2][5], format!("{frags} fragment"), "{out}");
+    for flag in [
+        &["--aa", "ssaa"][..],
+        &["--no-shadows"],
+        &["--array-width", "8"],
+        &["--shading", "table"],
+    ] {
+        let mut args = vec!["bench", "--all-methods", "@default", "--runs", "1"];
+        args.extend_from_slice(flag);
+        let o = pixelproc(d.path(), &args);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(
+            err.starts_with(&format!(
+                "error: {} cannot be used with --all-methods",
+                flag[0]
+            )),
+            "{err}"
+        );
+        assert!(o.stdout.is_empty(), "{args:?} printed before failing");
+    }
+}
