@@ -199,7 +199,8 @@ fn face_splits_none(
 ) -> bool {
     let n = (t[1] - t[0]).cross(t[2] - t[0]);
     let len = n.length();
-    if !(len > 0.0) {
+    // `len > 0` fails for zero and NaN alike.
+    if len.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return false;
     }
     let n = n / len;
