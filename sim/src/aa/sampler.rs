@@ -292,26 +292,95 @@ impl<'a> LatticeRaster<'a> {
             }
             evals += (hi - lo + 1) as u64;
             let sp = &self.steps[ti as usize];
+            // Each plane's values at the ends of `lo..=hi`: linear in `a`, so every value
+            // between lies between them, and where all fit 62 bits the same sums run in
+            // `i64` (the colours only once a sample is written).
             let (z0, dz) = (t.z.lattice_value(l, b), sp[0]);
-            let mut zacc = z0 + lo as i128 * dz;
-            let mut cols: Option<[(i128, i128); 3]> = None;
-            for a in lo..=hi {
-                let zv = (zacc >> 20) as i64;
-                zacc += dz;
-                let s = a as usize;
-                if depth::passes(zv, zr[s], t.decal) {
-                    zr[s] = zv;
-                    tr[s] = t.idx;
-                    let cc = *cols.get_or_insert_with(|| {
-                        [0, 1, 2].map(|ch| (t.c[ch].lattice_value(l, b), sp[1 + ch]))
-                    });
-                    for ch in 0..3 {
-                        let v = (cc[ch].0 + a as i128 * cc[ch].1) >> 32;
-                        cr[s][ch] = v.clamp(0, (255 << 12) + 4095) as u32;
-                    }
-                }
+            let z = (z0 + lo as i128 * dz, dz);
+            let colours = || {
+                [0, 1, 2].map(|ch| {
+                    let (c0, dc) = (t.c[ch].lattice_value(l, b), sp[1 + ch]);
+                    (c0 + lo as i128 * dc, dc)
+                })
+            };
+            let span = (hi - lo) as i128;
+            let fits = |(v, d): (i128, i128)| {
+                const LIM: i128 = 1 << 62;
+                v.abs() < LIM && d.abs() < LIM && (v + span * d).abs() < LIM
+            };
+            let out = (
+                &mut zr[lo as usize..=hi as usize],
+                &mut cr[lo as usize..=hi as usize],
+            );
+            let tr = &mut tr[lo as usize..=hi as usize];
+            if fits(z) {
+                fill_samples::<i64>(z, colours, &fits, out, tr, t);
+            } else {
+                fill_samples::<i128>(z, colours, &fits, out, tr, t);
             }
         }
         evals
+    }
+}
+
+/// A triangle's samples on one lattice row: depth `(Z + k·dZ) >> 20` tested against `zr`
+/// in scene order, and where it passes the triangle's index and its colours
+/// `clamp((C + k·dC) >> 32)` written, `k` the sample's offset in the slices (the planes'
+/// values `Z`, `C` at `k = 0`). Depth sums run in `T`; the colours, set up by `colours` at
+/// the first write, in `i64` where `fits` says all their values fit, else in `i128`.
+#[inline(always)]
+fn fill_samples<T>(
+    (z, dz): (i128, i128),
+    colours: impl Fn() -> [(i128, i128); 3],
+    fits: &impl Fn((i128, i128)) -> bool,
+    (zr, cr): (&mut [i64], &mut [[u32; 3]]),
+    tr: &mut [i32],
+    t: &SampTri,
+) where
+    T: Copy + std::ops::Add<Output = T> + std::ops::Shr<u32, Output = T> + Into<i128>,
+    T: TryFrom<i128>,
+{
+    let narrow = |v: i128| T::try_from(v).ok().expect("checked by fits");
+    let (mut zacc, dz) = (narrow(z), narrow(dz));
+    enum Cols {
+        Unset,
+        Narrow([(i64, i64); 3]),
+        Wide([(i128, i128); 3]),
+    }
+    let mut cols = Cols::Unset;
+    for (k, ((zb, c), ti)) in zr
+        .iter_mut()
+        .zip(cr.iter_mut())
+        .zip(tr.iter_mut())
+        .enumerate()
+    {
+        let zv = zacc.shr(20).into() as i64;
+        zacc = zacc + dz;
+        if depth::passes(zv, *zb, t.decal) {
+            *zb = zv;
+            *ti = t.idx;
+            if let Cols::Unset = cols {
+                let cc = colours();
+                cols = if cc.iter().all(|&p| fits(p)) {
+                    Cols::Narrow(cc.map(|(v, d)| (v as i64, d as i64)))
+                } else {
+                    Cols::Wide(cc)
+                };
+            }
+            let clamp = |v: i128| v.clamp(0, (255 << 12) + 4095) as u32;
+            match &cols {
+                Cols::Narrow(cc) => {
+                    for ch in 0..3 {
+                        c[ch] = clamp(((cc[ch].0 + k as i64 * cc[ch].1) >> 32) as i128);
+                    }
+                }
+                Cols::Wide(cc) => {
+                    for ch in 0..3 {
+                        c[ch] = clamp((cc[ch].0 + k as i128 * cc[ch].1) >> 32);
+                    }
+                }
+                Cols::Unset => unreachable!("set above"),
+            }
+        }
     }
 }
