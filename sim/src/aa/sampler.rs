@@ -303,39 +303,50 @@ impl<'a> LatticeRaster<'a> {
                     (c0 + lo as i128 * dc, dc)
                 })
             };
-            let span = (hi - lo) as i128;
-            let fits = |(v, d): (i128, i128)| {
-                const LIM: i128 = 1 << 62;
-                v.abs() < LIM && d.abs() < LIM && (v + span * d).abs() < LIM
-            };
-            let out = (
-                &mut zr[lo as usize..=hi as usize],
-                &mut cr[lo as usize..=hi as usize],
-            );
-            let tr = &mut tr[lo as usize..=hi as usize];
-            if fits(z) {
-                fill_samples::<i64>(z, colours, &fits, out, tr, t);
-            } else {
-                fill_samples::<i128>(z, colours, &fits, out, tr, t);
-            }
+            let (lo, hi) = (lo as usize, hi as usize);
+            let out = (&mut zr[lo..=hi], &mut cr[lo..=hi], &mut tr[lo..=hi]);
+            fill_range(z, colours, out, (t.idx, t.decal));
         }
         evals
     }
 }
 
+/// A triangle's samples on one lattice row, [`fill_samples`] over the slices `out`
+/// (depths, colours, triangle indices), `z` and `colours` the planes' values at the first
+/// sample and their steps: in `i64` where the values at both ends (so every value
+/// between) and the steps fit 62 bits, else in `i128`.
+#[inline(always)]
+fn fill_range(
+    z: (i128, i128),
+    colours: impl Fn() -> [(i128, i128); 3],
+    out: (&mut [i64], &mut [[u32; 3]], &mut [i32]),
+    tri: (i32, bool),
+) {
+    let span = out.0.len().saturating_sub(1) as i128;
+    let fits = |(v, d): (i128, i128)| {
+        const LIM: i128 = 1 << 62;
+        v.abs() < LIM && d.abs() < LIM && (v + span * d).abs() < LIM
+    };
+    if fits(z) {
+        fill_samples::<i64>(z, colours, &fits, out, tri);
+    } else {
+        fill_samples::<i128>(z, colours, &fits, out, tri);
+    }
+}
+
 /// A triangle's samples on one lattice row: depth `(Z + k·dZ) >> 20` tested against `zr`
-/// in scene order, and where it passes the triangle's index and its colours
-/// `clamp((C + k·dC) >> 32)` written, `k` the sample's offset in the slices (the planes'
-/// values `Z`, `C` at `k = 0`). Depth sums run in `T`; the colours, set up by `colours` at
-/// the first write, in `i64` where `fits` says all their values fit, else in `i128`.
+/// in scene order (`decal`: `≤`), and where it passes the triangle's index `idx` and its
+/// colours `clamp((C + k·dC) >> 32)` written, `k` the sample's offset in the slices (the
+/// planes' values `Z`, `C` at `k = 0`). Depth sums run in `T`; the colours, set up by
+/// `colours` at the first write, in `i64` where `fits` says all their values fit, else in
+/// `i128`.
 #[inline(always)]
 fn fill_samples<T>(
     (z, dz): (i128, i128),
     colours: impl Fn() -> [(i128, i128); 3],
     fits: &impl Fn((i128, i128)) -> bool,
-    (zr, cr): (&mut [i64], &mut [[u32; 3]]),
-    tr: &mut [i32],
-    t: &SampTri,
+    (zr, cr, tr): (&mut [i64], &mut [[u32; 3]], &mut [i32]),
+    (idx, decal): (i32, bool),
 ) where
     T: Copy + std::ops::Add<Output = T> + std::ops::Shr<u32, Output = T> + Into<i128>,
     T: TryFrom<i128>,
@@ -356,9 +367,9 @@ fn fill_samples<T>(
     {
         let zv = zacc.shr(20).into() as i64;
         zacc = zacc + dz;
-        if depth::passes(zv, *zb, t.decal) {
+        if depth::passes(zv, *zb, decal) {
             *zb = zv;
-            *ti = t.idx;
+            *ti = idx;
             if let Cols::Unset = cols {
                 let cc = colours();
                 cols = if cc.iter().all(|&p| fits(p)) {
@@ -382,5 +393,87 @@ fn fill_samples<T>(
                 Cols::Unset => unreachable!("set above"),
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::XorShift64Star as Rng;
+
+    /// The samples as the closed form states them, in `i128` throughout: sample `k` of the
+    /// range has depth `(Z + k·dZ) >> 20` and colours `clamp((C + k·dC) >> 32)`.
+    fn fill_literal(
+        (z, dz): (i128, i128),
+        cc: [(i128, i128); 3],
+        zr: &mut [i64],
+        cr: &mut [[u32; 3]],
+        tr: &mut [i32],
+        (idx, decal): (i32, bool),
+    ) {
+        for k in 0..zr.len() {
+            let zv = ((z + k as i128 * dz) >> 20) as i64;
+            if depth::passes(zv, zr[k], decal) {
+                zr[k] = zv;
+                tr[k] = idx;
+                for ch in 0..3 {
+                    let v = (cc[ch].0 + k as i128 * cc[ch].1) >> 32;
+                    cr[k][ch] = v.clamp(0, (255 << 12) + 4095) as u32;
+                }
+            }
+        }
+    }
+
+    /// `fill_range` (64-bit sums where they fit) writes what the closed form in 128 bits
+    /// writes, over planes whose values at the range's ends lie below, near and beyond
+    /// 2^62 (both sides of the narrowing test), decals and not, onto rows already drawn.
+    #[test]
+    fn narrowed_sums_are_the_closed_form() {
+        let mut rng = Rng(0x5a3_91e5);
+        let (mut narrow, mut wide) = (0, 0);
+        for case in 0..20_000 {
+            let len = 1 + (rng.next_u64() % 40) as usize;
+            let value = |rng: &mut Rng| -> (i128, i128) {
+                // Magnitudes from small to past 2^62, a step that may carry the far end
+                // across the limit.
+                let bits = [20u32, 50, 61, 62, 63, 70][(rng.next_u64() % 6) as usize];
+                let v = (rng.next_u64() as i128) % (1i128 << bits.min(64));
+                let v = v << bits.saturating_sub(64);
+                let v = if rng.next_u64().is_multiple_of(2) { v } else { -v };
+                let reach = (1i128 << 62) / len as i128;
+                let d = (rng.next_u64() as i128 % (2 * reach + 1)) - reach;
+                (v, if case % 7 == 0 { d * 3 } else { d })
+            };
+            let z = value(&mut rng);
+            let cc = [value(&mut rng), value(&mut rng), value(&mut rng)];
+            let limit = |(v, d): (i128, i128)| {
+                let e = v + (len as i128 - 1) * d;
+                v.abs() < 1 << 62 && d.abs() < 1 << 62 && e.abs() < 1 << 62
+            };
+            if limit(z) && cc.iter().all(|&c| limit(c)) {
+                narrow += 1;
+            } else {
+                wide += 1;
+            }
+            let tri = (case, rng.next_u64().is_multiple_of(4));
+            // A row already holding depths around the plane's, so that some samples pass.
+            let zr0: Vec<i64> = (0..len)
+                .map(|k| {
+                    let at = ((z.0 + k as i128 * z.1) >> 20) as i64;
+                    at.wrapping_add((rng.next_u64() % 3) as i64 - 1)
+                })
+                .collect();
+            let (mut za, mut zb) = (zr0.clone(), zr0);
+            let (mut ca, mut cb) = (vec![[7u32; 3]; len], vec![[7u32; 3]; len]);
+            let (mut ta, mut tb) = (vec![-1; len], vec![-1; len]);
+            fill_range(z, || cc, (&mut za, &mut ca, &mut ta), tri);
+            fill_literal(z, cc, &mut zb, &mut cb, &mut tb, tri);
+            assert_eq!(
+                (za, ca, ta),
+                (zb, cb, tb),
+                "case {case}: z {z:?}, colours {cc:?}"
+            );
+        }
+        assert!(narrow > 2000 && wide > 2000, "{narrow} narrow, {wide} wide");
     }
 }
