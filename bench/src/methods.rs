@@ -94,7 +94,7 @@ pub fn cases() -> Vec<Case> {
 }
 
 /// A generated scene: its JSON and its OBJ files by name.
-type GenScene = (String, BTreeMap<String, String>);
+pub type GenScene = (String, BTreeMap<String, String>);
 
 /// A ground quad and `n` boxes on it at 1080p, one light: the scene JSON and its OBJ files.
 fn box_scene(boxes: &[([f64; 3], [f64; 3], f64)]) -> GenScene {
@@ -422,12 +422,18 @@ pub fn target_scenes() -> Result<Vec<LoadedScene>, scene::SceneError> {
 /// Scenes added after the targets were met on the [`target_scenes`], where they are not:
 /// `forest`, `spheres`, `closeup` and `shards` (see their functions).
 pub fn hard_scenes() -> Result<Vec<LoadedScene>, scene::SceneError> {
-    embedded([
+    embedded(hard_scene_files())
+}
+
+/// The [`hard_scenes`] as files: name, scene JSON, and the OBJ files it names (for
+/// rendering them with `pixelproc render`, or with a build that predates them).
+pub fn hard_scene_files() -> [(&'static str, GenScene); 4] {
+    [
         ("forest", forest_scene()),
         ("spheres", spheres_scene()),
         ("closeup", closeup_scene()),
         ("shards", shards_scene()),
-    ])
+    ]
 }
 
 /// Scenes given as JSON and their OBJ files, loaded.
