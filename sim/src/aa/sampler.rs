@@ -439,7 +439,11 @@ mod tests {
                 let bits = [20u32, 50, 61, 62, 63, 70][(rng.next_u64() % 6) as usize];
                 let v = (rng.next_u64() as i128) % (1i128 << bits.min(64));
                 let v = v << bits.saturating_sub(64);
-                let v = if rng.next_u64().is_multiple_of(2) { v } else { -v };
+                let v = if rng.next_u64().is_multiple_of(2) {
+                    v
+                } else {
+                    -v
+                };
                 let reach = (1i128 << 62) / len as i128;
                 let d = (rng.next_u64() as i128 % (2 * reach + 1)) - reach;
                 (v, if case % 7 == 0 { d * 3 } else { d })
