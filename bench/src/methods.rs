@@ -183,14 +183,7 @@ fn mesh_entry(obj: &str, c: [f64; 3], t: [f64; 3], sc: [f64; 3], rot: f64, casts
 /// screen (hundreds of long volumes, high depth complexity).
 fn forest_scene() -> GenScene {
     let mut rng = Lcg64(0x00f0_2e57);
-    let mut meshes = vec![mesh_entry(
-        "ground.obj",
-        [0.4, 0.5, 0.3],
-        [0.0; 3],
-        [1.0; 3],
-        0.0,
-        false,
-    )];
+    let mut meshes = vec![ground_entry([0.4, 0.5, 0.3])];
     for k in 0..400 {
         let (x, z, h) = (
             rng.range(-25.0, 25.0),
@@ -220,14 +213,7 @@ fn forest_scene() -> GenScene {
 fn spheres_scene() -> GenScene {
     let mut files = ground_and_box();
     files.insert("sphere.obj".to_string(), sphere_obj(5));
-    let mut meshes = vec![mesh_entry(
-        "ground.obj",
-        [0.6, 0.6, 0.6],
-        [0.0; 3],
-        [1.0; 3],
-        0.0,
-        false,
-    )];
+    let mut meshes = vec![ground_entry([0.6, 0.6, 0.6])];
     for k in 0..6 {
         let t = [-5.0 + 2.0 * k as f64, 1.2, -2.0 - 1.5 * (k % 2) as f64];
         let c = [0.2 + 0.12 * k as f64, 0.4, 0.8 - 0.1 * k as f64];
@@ -245,14 +231,7 @@ fn spheres_scene() -> GenScene {
 /// other, each wider than the view: a few large triangles, most pixels behind five or
 /// more of them.
 fn closeup_scene() -> GenScene {
-    let mut meshes = vec![mesh_entry(
-        "ground.obj",
-        [0.5, 0.5, 0.45],
-        [0.0; 3],
-        [1.0; 3],
-        0.0,
-        false,
-    )];
+    let mut meshes = vec![ground_entry([0.5, 0.5, 0.45])];
     for k in 0..8 {
         let t = [0.5 * (k % 3) as f64 - 0.5, 0.0, -1.5 - 1.5 * k as f64];
         let c = [0.8, 0.3 + 0.06 * k as f64, 0.2];
@@ -288,14 +267,7 @@ fn shards_scene() -> GenScene {
     let mut files = ground_and_box();
     files.insert("shards.obj".to_string(), obj);
     let meshes = [
-        mesh_entry(
-            "ground.obj",
-            [0.6, 0.6, 0.55],
-            [0.0; 3],
-            [1.0; 3],
-            0.0,
-            false,
-        ),
+        ground_entry([0.6, 0.6, 0.55]),
         mesh_entry("shards.obj", [0.8, 0.4, 0.3], [0.0; 3], [1.0; 3], 0.0, true),
     ];
     let json = scene_json_at(
@@ -304,6 +276,11 @@ fn shards_scene() -> GenScene {
         &meshes,
     );
     (json, files)
+}
+
+/// The ground quad's mesh entry in colour `c`, casting no shadow.
+fn ground_entry(c: [f64; 3]) -> String {
+    mesh_entry("ground.obj", c, [0.0; 3], [1.0; 3], 0.0, false)
 }
 
 /// The 80 × 80 ground quad and the unit box as OBJ files.
