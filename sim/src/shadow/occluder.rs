@@ -292,9 +292,13 @@ impl VertexTree {
         // 1e-14 · scale (a handful of roundings of terms below 4 · scale, |n| ≈ 1); the
         // slack is a thousand times more and a thousand times less than eps.
         let slack = 1e-12 * scale;
-        let mut stack = vec![0u32];
-        while let Some(k) = stack.pop() {
-            let b = &self.nodes[k as usize];
+        // Depth first, on the stack: at most one pending sibling per level, and the tree
+        // (median splits down to LEAF vertices) is under 40 levels deep for any `u32` count.
+        let mut stack = [0u32; 64];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let b = &self.nodes[stack[top] as usize];
             let bound = sign * (b.centre - p).dot(n) + b.half.dot(n.abs());
             if bound + slack <= eps {
                 continue;
@@ -305,8 +309,9 @@ impl VertexTree {
                     return false;
                 }
             } else {
-                stack.push(b.kids.1);
-                stack.push(b.kids.0);
+                stack[top] = b.kids.1;
+                stack[top + 1] = b.kids.0;
+                top += 2;
             }
         }
         true
