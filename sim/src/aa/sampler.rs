@@ -353,12 +353,23 @@ fn fill_samples<T>(
 {
     let narrow = |v: i128| T::try_from(v).ok().expect("checked by fits");
     let (mut zacc, dz) = (narrow(z), narrow(dz));
+    /// The colour planes once a sample is written: in `i64` where every value fits.
     enum Cols {
-        Unset,
         Narrow([(i64, i64); 3]),
         Wide([(i128, i128); 3]),
     }
-    let mut cols = Cols::Unset;
+    /// `clamp((C + k·dC) >> 32)` per channel, in `U`.
+    fn at<U>(cc: &[(U, U); 3], k: U) -> [u32; 3]
+    where
+        U: Copy
+            + std::ops::Add<Output = U>
+            + std::ops::Mul<Output = U>
+            + std::ops::Shr<u32, Output = U>
+            + Into<i128>,
+    {
+        cc.map(|(c, d)| ((c + k * d) >> 32).into().clamp(0, (255 << 12) + 4095) as u32)
+    }
+    let mut cols = None;
     for (k, ((zb, c), ti)) in zr
         .iter_mut()
         .zip(cr.iter_mut())
@@ -370,28 +381,18 @@ fn fill_samples<T>(
         if depth::passes(zv, *zb, decal) {
             *zb = zv;
             *ti = idx;
-            if let Cols::Unset = cols {
+            let cols = cols.get_or_insert_with(|| {
                 let cc = colours();
-                cols = if cc.iter().all(|&p| fits(p)) {
+                if cc.iter().all(|&p| fits(p)) {
                     Cols::Narrow(cc.map(|(v, d)| (v as i64, d as i64)))
                 } else {
                     Cols::Wide(cc)
-                };
-            }
-            let clamp = |v: i128| v.clamp(0, (255 << 12) + 4095) as u32;
-            match &cols {
-                Cols::Narrow(cc) => {
-                    for ch in 0..3 {
-                        c[ch] = clamp(((cc[ch].0 + k as i64 * cc[ch].1) >> 32) as i128);
-                    }
                 }
-                Cols::Wide(cc) => {
-                    for ch in 0..3 {
-                        c[ch] = clamp((cc[ch].0 + k as i128 * cc[ch].1) >> 32);
-                    }
-                }
-                Cols::Unset => unreachable!("set above"),
-            }
+            });
+            *c = match cols {
+                Cols::Narrow(cc) => at(cc, k as i64),
+                Cols::Wide(cc) => at(cc, k as i128),
+            };
         }
     }
 }

@@ -173,12 +173,9 @@ pub(super) fn is_convex(ftris: &[[DVec3; 3]]) -> bool {
         .fold(0.0f64, |s, v| s.max(v.abs().max_element()))
         .max(1.0);
     // Each position once: a vertex repeated changes neither `all`.
-    verts.sort_unstable_by(|a, b| {
-        a.to_array()
-            .map(f64::to_bits)
-            .cmp(&b.to_array().map(f64::to_bits))
-    });
-    verts.dedup_by(|a, b| a.to_array().map(f64::to_bits) == b.to_array().map(f64::to_bits));
+    let bits = |v: &DVec3| v.to_array().map(f64::to_bits);
+    verts.sort_unstable_by_key(bits);
+    verts.dedup_by_key(|v| bits(v));
     let eps = 1e-9 * scale;
     if !verts.iter().all(|v| v.is_finite()) {
         return ftris.iter().all(|t| face_splits_none(t, &verts, eps, None));
