@@ -74,6 +74,49 @@ pub struct PixelArray {
     procs: Vec<ProcState>,
     /// Shade registers 2..=`MAX_SHADE_CHANNELS` per processor (allocated on first use).
     more: Vec<u32>,
+    /// Scratch of [`PixelArray::run_commands`].
+    flags: FlagPlanes,
+}
+
+/// ZB, DSF and FSF of every processor in three separate arrays (a flag is one byte, 0 or
+/// 1): while [`PixelArray::run_commands`] applies shadow commands, which read ZB and
+/// change only the flags (and, from FSF, the counter and the light mask), their loops run
+/// over contiguous memory instead of over [`ProcState`] records.
+#[derive(Clone, Debug, Default)]
+struct FlagPlanes {
+    zb: Vec<u32>,
+    dsf: Vec<u8>,
+    fsf: Vec<u8>,
+}
+
+impl FlagPlanes {
+    /// Copies the processors' ZB and flags in.
+    fn load(&mut self, procs: &[ProcState]) {
+        self.zb.clear();
+        self.zb.extend(procs.iter().map(|s| s.zb));
+        self.dsf.clear();
+        self.dsf.extend(procs.iter().map(|s| s.dsf as u8));
+        self.fsf.clear();
+        self.fsf.extend(procs.iter().map(|s| s.fsf as u8));
+    }
+
+    /// Copies the flags back out (ZB is never changed here).
+    fn store(&self, procs: &mut [ProcState]) {
+        for (s, (&d, &f)) in procs.iter_mut().zip(self.dsf.iter().zip(&self.fsf)) {
+            s.dsf = d != 0;
+            s.fsf = f != 0;
+        }
+    }
+}
+
+/// `DSF := ¬DSF` where `Z(p) = (z + k·dz) >> Z_FRAC` (as 32 bits) lies in front of `ZB`,
+/// for the `k`-th processor of `zb` and `dsf`: the range test of an SP/EV/IF span.
+#[inline]
+fn toggle_in_front(zb: &[u32], dsf: &mut [u8], mut z: i64, dz: i64) {
+    for (d, &b) in dsf.iter_mut().zip(zb) {
+        *d ^= (((z >> Z_FRAC) as u32) < b) as u8;
+        z += dz;
+    }
 }
 
 /// Shade registers per processor beyond the first (kept outside [`ProcState`]).
@@ -93,6 +136,7 @@ impl PixelArray {
                 width
             ],
             more: Vec::new(),
+            flags: FlagPlanes::default(),
         }
     }
 
@@ -308,6 +352,83 @@ impl PixelArray {
             for s in &mut self.procs {
                 s.fsf |= s.dsf;
             }
+        }
+    }
+
+    /// Applies `cmds` in order: the same final state as [`PixelArray::step`] on each.
+    /// Runs of shadow commands (SP, EV and IF spans, `ClearFlags`, `AccumulateShadow`,
+    /// `LatchShadow`, `Check`) are applied to a copy of ZB and the flags in separate
+    /// arrays, written back when the run ends.
+    pub fn run_commands<'a>(&mut self, cmds: impl IntoIterator<Item = &'a Command>) {
+        let mut loaded = false;
+        for c in cmds {
+            let shadow = match c {
+                Command::Span(w) => w.attr != Attr::Op,
+                Command::ClearFlags
+                | Command::AccumulateShadow
+                | Command::LatchShadow { .. }
+                | Command::Check { .. } => true,
+                Command::ClearLine { .. } | Command::Nop => false,
+            };
+            if !shadow {
+                if loaded {
+                    self.flags.store(&mut self.procs);
+                    loaded = false;
+                }
+                self.step(c);
+                continue;
+            }
+            if !loaded {
+                self.flags.load(&self.procs);
+                loaded = true;
+            }
+            let f = &mut self.flags;
+            match *c {
+                Command::Span(ref w) => {
+                    if w.attr == Attr::If {
+                        f.dsf.iter_mut().for_each(|d| *d ^= 1);
+                    }
+                    if let Some((lo, hi)) = self.tile_range(w) {
+                        let f = &mut self.flags;
+                        let z = w.zl as i64 + (self.base as i64 + lo as i64 - w.xl as i64) * w.dz;
+                        toggle_in_front(&f.zb[lo..=hi], &mut f.dsf[lo..=hi], z, w.dz);
+                    }
+                    if w.attr == Attr::Ev {
+                        let f = &mut self.flags;
+                        f.fsf.iter_mut().zip(&f.dsf).for_each(|(s, d)| *s |= d);
+                    }
+                }
+                Command::ClearFlags => {
+                    f.dsf.fill(0);
+                    f.fsf.fill(0);
+                }
+                Command::AccumulateShadow => {
+                    for (s, &b) in self.procs.iter_mut().zip(&f.fsf) {
+                        s.count = s.count.saturating_add(b);
+                    }
+                }
+                Command::LatchShadow { bit } => {
+                    for (s, &b) in self.procs.iter_mut().zip(&f.fsf) {
+                        s.mask |= b << (bit & 7);
+                    }
+                }
+                Command::Check { xl, xr } => {
+                    let w = SpanWord {
+                        xl,
+                        xr,
+                        ..Default::default()
+                    };
+                    if let Some((lo, hi)) = self.tile_range(&w) {
+                        let f = &mut self.flags;
+                        let (fsf, dsf) = (&mut f.fsf[lo..=hi], &f.dsf[lo..=hi]);
+                        fsf.iter_mut().zip(dsf).for_each(|(s, d)| *s |= d);
+                    }
+                }
+                Command::ClearLine { .. } | Command::Nop => unreachable!("not a shadow command"),
+            }
+        }
+        if loaded {
+            self.flags.store(&mut self.procs);
         }
     }
 
@@ -613,6 +734,96 @@ mod tests {
             inside > 300 && outside > 300,
             "{inside} inside, {outside} outside"
         );
+    }
+
+    /// [`PixelArray::run_commands`] against [`PixelArray::step`] on each command: random
+    /// streams mixing OP spans, shadow spans of every attribute (depths from 0 to the
+    /// top of `ZL`'s 36 bits, slopes up to `dZ`'s 38-bit limits, so `Z` leaves the 32
+    /// bits the test compares and goes negative), every control and `ClearLine`, on
+    /// arrays of 1 to 70 processors at tile bases that cut the spans; half the shadow
+    /// spans lie in the plane of the last OP span, where the test's `<` decides.
+    #[test]
+    fn batched_commands_step_alike() {
+        let mut rng = crate::rng::Lcg64(0x5ad0_f1a9);
+        let (mut toggled, mut latched) = (0usize, 0usize);
+        for round in 0..1_500 {
+            let mut r = |m: u64| (rng.step() >> 16) % m;
+            let width = [1, 7, 16, 17, 64, 70][round % 6];
+            let base = r(3) as u32 * width as u32 / 2;
+            let span = |r: &mut dyn FnMut(u64) -> u64, attr: Attr| {
+                let xl = r(width as u64 * 2 + 8) as u16;
+                let (zl, dz) = match r(3) {
+                    0 => ((r(1 << 24) + 1) << Z_FRAC, r(1 << 18) as i64 - (1 << 17)),
+                    1 => (r(1 << 36), r(1 << 38) as i64 - (1 << 37)),
+                    _ => (r(1 << 36), r(1 << 14) as i64 - (1 << 13)),
+                };
+                Command::Span(SpanWord {
+                    attr,
+                    xl,
+                    xr: (xl + r(width as u64 + 4) as u16).saturating_sub(r(2) as u16 * 3),
+                    zl,
+                    dz,
+                    il: [0; 3].map(|_| r(1 << 20) as u32),
+                    ..Default::default()
+                })
+            };
+            // Half the shadow spans lie in the plane of the last OP span: depths equal to
+            // ZB, which must not toggle.
+            let mut last_op: Option<SpanWord> = None;
+            let mut cmds: Vec<Command> = Vec::new();
+            for _ in 0..40 {
+                let mut shadow = |r: &mut dyn FnMut(u64) -> u64, attr: Attr| match (last_op, r(2)) {
+                    (Some(o), 0) => Command::Span(SpanWord { attr, ..o }),
+                    _ => span(r, attr),
+                };
+                let c = match r(12) {
+                    0..=1 => span(&mut r, Attr::Op),
+                    2..=4 => shadow(&mut r, Attr::Sp),
+                    5..=6 => shadow(&mut r, Attr::Ev),
+                    7 => shadow(&mut r, Attr::If),
+                    8 => [Command::ClearFlags, Command::AccumulateShadow][r(2) as usize],
+                    9 => Command::LatchShadow { bit: r(10) as u8 },
+                    10 => {
+                        let xl = r(width as u64 * 2) as u16;
+                        Command::Check {
+                            xl,
+                            xr: xl + r(width as u64) as u16,
+                        }
+                    }
+                    _ => [
+                        Command::Nop,
+                        Command::ClearLine {
+                            bg: r(1 << 24) as u32,
+                        },
+                    ][(r(8) == 0) as usize],
+                };
+                if let Command::Span(w) = c {
+                    if w.attr == Attr::Op {
+                        last_op = Some(w);
+                    }
+                }
+                cmds.push(c);
+            }
+            let mut one = PixelArray::new(width, base);
+            let mut two = PixelArray::new(width, base);
+            for (k, c) in cmds.iter().enumerate() {
+                one.step(c);
+                if matches!(c, Command::Span(w) if w.attr != Attr::Op) {
+                    toggled += one.state().iter().filter(|s| s.dsf).count();
+                }
+                // Batches of every length, split anywhere.
+                if k % 9 == 8 || k + 1 == cmds.len() {
+                    two.run_commands(&cmds[k - k % 9..=k]);
+                    assert_eq!(one.state(), two.state(), "round {round} at {k}: {cmds:?}");
+                }
+            }
+            latched += one
+                .state()
+                .iter()
+                .filter(|s| s.mask != 0 || s.count != 0)
+                .count();
+        }
+        assert!(toggled > 50_000 && latched > 2_000, "{toggled} {latched}");
     }
 
     #[test]

@@ -57,6 +57,15 @@ pub trait CommandSink {
         self.span(a);
         self.span(b);
     }
+    /// Several commands in successive clocks: the same as `command` on each, in order.
+    fn commands<'a>(&mut self, cs: impl IntoIterator<Item = &'a Command>)
+    where
+        Self: Sized,
+    {
+        for c in cs {
+            self.command(c);
+        }
+    }
 }
 
 impl CommandSink for PixelArray {
@@ -71,6 +80,10 @@ impl CommandSink for PixelArray {
     #[inline]
     fn span_pair(&mut self, a: &SpanWord, b: &SpanWord) {
         self.step_span_pair(a, b);
+    }
+    #[inline]
+    fn commands<'a>(&mut self, cs: impl IntoIterator<Item = &'a Command>) {
+        self.run_commands(cs);
     }
 }
 
@@ -183,9 +196,7 @@ fn feed_routed_with<'a, const PAIRS: bool>(
             false => sink.span(w),
         }
     }
-    for &k in list {
-        sink.command(&cmds[k as usize]);
-    }
+    sink.commands(list.iter().map(|&k| &cmds[k as usize]));
 }
 
 /// [`feed_tile`]'s choice of commands for every tile of a row at once: one pass over the
