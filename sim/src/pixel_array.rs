@@ -772,7 +772,7 @@ mod tests {
             let mut last_op: Option<SpanWord> = None;
             let mut cmds: Vec<Command> = Vec::new();
             for _ in 0..40 {
-                let mut shadow = |r: &mut dyn FnMut(u64) -> u64, attr: Attr| match (last_op, r(2)) {
+                let shadow = |r: &mut dyn FnMut(u64) -> u64, attr: Attr| match (last_op, r(2)) {
                     (Some(o), 0) => Command::Span(SpanWord { attr, ..o }),
                     _ => span(r, attr),
                 };
