@@ -107,6 +107,45 @@ impl FlagPlanes {
             s.fsf = f != 0;
         }
     }
+
+    /// A span word's flag rule on processors `lo..=hi` (`z` its depth at `lo`): IF inverts
+    /// DSF everywhere first; then DSF toggles where the span lies in front. (EV's OR is
+    /// the caller's: it depends on which processors the word reaches.)
+    #[inline]
+    fn span(&mut self, w: &SpanWord, range: Option<(usize, usize)>, z: i64) {
+        if w.attr == Attr::If {
+            self.dsf.iter_mut().for_each(|d| *d ^= 1);
+        }
+        if let Some((lo, hi)) = range {
+            toggle_in_front(&self.zb[lo..=hi], &mut self.dsf[lo..=hi], z, w.dz);
+        }
+    }
+
+    /// `FSF := FSF ∨ DSF` on processors `lo..hi`.
+    #[inline]
+    fn absorb(&mut self, lo: usize, hi: usize) {
+        let (fsf, dsf) = (&mut self.fsf[lo..hi], &self.dsf[lo..hi]);
+        fsf.iter_mut().zip(dsf).for_each(|(s, d)| *s |= d);
+    }
+
+    /// The controls that read FSF into `procs`: `AccumulateShadow` (counter) and
+    /// `LatchShadow` (light mask); the others are not handled here.
+    #[inline]
+    fn latch(&self, c: &Command, procs: &mut [ProcState]) {
+        match *c {
+            Command::AccumulateShadow => {
+                for (s, &b) in procs.iter_mut().zip(&self.fsf) {
+                    s.count = s.count.saturating_add(b);
+                }
+            }
+            Command::LatchShadow { bit } => {
+                for (s, &b) in procs.iter_mut().zip(&self.fsf) {
+                    s.mask |= b << (bit & 7);
+                }
+            }
+            _ => unreachable!("not a latching control"),
+        }
+    }
 }
 
 /// `DSF := ¬DSF` where `Z(p) = (z + k·dz) >> Z_FRAC` (as 32 bits) lies in front of `ZB`,
@@ -116,6 +155,131 @@ fn toggle_in_front(zb: &[u32], dsf: &mut [u8], mut z: i64, dz: i64) {
     for (d, &b) in dsf.iter_mut().zip(zb) {
         *d ^= (((z >> Z_FRAC) as u32) < b) as u8;
         z += dz;
+    }
+}
+
+/// Whether `c` only reads ZB and changes the shadow flags, the counter or the light mask
+/// (SP, EV and IF spans and the shadow controls): the commands [`RowFlags::run`] takes.
+pub fn is_flag_command(c: &Command) -> bool {
+    match c {
+        Command::Span(w) => w.attr != Attr::Op,
+        Command::ClearFlags
+        | Command::AccumulateShadow
+        | Command::LatchShadow { .. }
+        | Command::Check { .. }
+        | Command::Nop => true,
+        Command::ClearLine { .. } => false,
+    }
+}
+
+/// A screen row's shadow commands applied to the whole row at once, with the result of
+/// feeding its tiles of `n` processors the commands a [`crate::stream::TileRouter`] picks
+/// for each (the way [`crate::render::render_frame`] feeds them): a span toggles DSF on
+/// its columns; an EV span ORs DSF into FSF on the tiles the router sends it to (its own,
+/// and those a span of its volume touched since the last EV or `Check`, or every tile
+/// after an IF span); a `Check` on its own columns; the controls on every processor.
+/// ZB and the flags are copied into separate arrays for the row, as in
+/// [`PixelArray::run_commands`], so each span is one pass over contiguous memory instead
+/// of one per tile.
+#[derive(Debug, Default)]
+pub struct RowFlags {
+    planes: FlagPlanes,
+    /// Per tile: touched by a span since the last EV or `Check`.
+    touched: Vec<bool>,
+    /// The tiles whose `touched` is set.
+    marked: Vec<usize>,
+    /// An IF span since the last EV or `Check`.
+    all: bool,
+}
+
+impl RowFlags {
+    /// Applies `cmds` (each [`is_flag_command`]) to `row`, the processors of screen columns
+    /// `0 .. row.len()` after the row's polygon spans, tiles of `n` processors.
+    pub fn run(&mut self, row: &mut [ProcState], cmds: &[Command], n: usize) {
+        assert!(n > 0, "tile width must be positive");
+        let w = row.len();
+        if w == 0 {
+            return;
+        }
+        let tiles = w.div_ceil(n);
+        self.touched.clear();
+        self.touched.resize(tiles, false);
+        self.marked.clear();
+        self.all = false;
+        self.planes.load(row);
+        // The router's tiles of a column range (`TileRouter::route`), and the row's columns.
+        let tile_range = |xl: u16, xr: u16| {
+            let (a, b) = (xl as usize / n, xr as usize / n);
+            (xl <= xr && a < tiles).then(|| (a, b.min(tiles - 1)))
+        };
+        let cols = |xl: u16, xr: u16| {
+            let hi = (xr as usize).min(w - 1);
+            (xl as usize <= hi).then_some((xl as usize, hi))
+        };
+        for c in cmds {
+            let f = &mut self.planes;
+            match *c {
+                Command::Span(ref sw) => {
+                    let range = cols(sw.xl, sw.xr);
+                    let lo = range.map_or(0, |r| r.0) as i64;
+                    f.span(sw, range, sw.zl as i64 + (lo - sw.xl as i64) * sw.dz);
+                    match sw.attr {
+                        Attr::Sp => {
+                            if let Some((a, b)) = tile_range(sw.xl, sw.xr) {
+                                for t in a..=b {
+                                    if !self.touched[t] {
+                                        self.touched[t] = true;
+                                        self.marked.push(t);
+                                    }
+                                }
+                            }
+                        }
+                        Attr::If => self.all = true,
+                        Attr::Ev => {
+                            // The processors of tiles `a..=b` (those on the screen).
+                            let or_tiles = |f: &mut FlagPlanes, a: usize, b: usize| {
+                                f.absorb(a * n, ((b + 1) * n).min(w))
+                            };
+                            if self.all {
+                                or_tiles(f, 0, tiles - 1);
+                            } else {
+                                for &t in &self.marked {
+                                    or_tiles(f, t, t);
+                                }
+                                if let Some((a, b)) = tile_range(sw.xl, sw.xr) {
+                                    or_tiles(f, a, b);
+                                }
+                            }
+                            self.end_volume();
+                        }
+                        Attr::Op => unreachable!("an OP span is not a flag command"),
+                    }
+                }
+                Command::Check { xl, xr } => {
+                    if let Some((lo, hi)) = cols(xl, xr) {
+                        f.absorb(lo, hi + 1);
+                    }
+                    self.end_volume();
+                }
+                Command::ClearFlags => {
+                    f.dsf.fill(0);
+                    f.fsf.fill(0);
+                }
+                Command::AccumulateShadow | Command::LatchShadow { .. } => f.latch(c, row),
+                Command::Nop => {}
+                Command::ClearLine { .. } => panic!("ClearLine is not a flag command"),
+            }
+        }
+        self.planes.store(row);
+    }
+
+    /// A volume ends: no tile touched.
+    fn end_volume(&mut self) {
+        for &t in &self.marked {
+            self.touched[t] = false;
+        }
+        self.marked.clear();
+        self.all = false;
     }
 }
 
@@ -382,35 +546,22 @@ impl PixelArray {
                 self.flags.load(&self.procs);
                 loaded = true;
             }
-            let f = &mut self.flags;
             match *c {
                 Command::Span(ref w) => {
-                    if w.attr == Attr::If {
-                        f.dsf.iter_mut().for_each(|d| *d ^= 1);
-                    }
-                    if let Some((lo, hi)) = self.tile_range(w) {
-                        let f = &mut self.flags;
-                        let z = w.zl as i64 + (self.base as i64 + lo as i64 - w.xl as i64) * w.dz;
-                        toggle_in_front(&f.zb[lo..=hi], &mut f.dsf[lo..=hi], z, w.dz);
-                    }
+                    let range = self.tile_range(w);
+                    let lo = range.map_or(0, |r| r.0) as i64;
+                    let z = w.zl as i64 + (self.base as i64 + lo - w.xl as i64) * w.dz;
+                    self.flags.span(w, range, z);
                     if w.attr == Attr::Ev {
-                        let f = &mut self.flags;
-                        f.fsf.iter_mut().zip(&f.dsf).for_each(|(s, d)| *s |= d);
+                        self.flags.absorb(0, self.procs.len());
                     }
                 }
                 Command::ClearFlags => {
-                    f.dsf.fill(0);
-                    f.fsf.fill(0);
+                    self.flags.dsf.fill(0);
+                    self.flags.fsf.fill(0);
                 }
-                Command::AccumulateShadow => {
-                    for (s, &b) in self.procs.iter_mut().zip(&f.fsf) {
-                        s.count = s.count.saturating_add(b);
-                    }
-                }
-                Command::LatchShadow { bit } => {
-                    for (s, &b) in self.procs.iter_mut().zip(&f.fsf) {
-                        s.mask |= b << (bit & 7);
-                    }
+                Command::AccumulateShadow | Command::LatchShadow { .. } => {
+                    self.flags.latch(c, &mut self.procs)
                 }
                 Command::Check { xl, xr } => {
                     let w = SpanWord {
@@ -419,9 +570,7 @@ impl PixelArray {
                         ..Default::default()
                     };
                     if let Some((lo, hi)) = self.tile_range(&w) {
-                        let f = &mut self.flags;
-                        let (fsf, dsf) = (&mut f.fsf[lo..=hi], &f.dsf[lo..=hi]);
-                        fsf.iter_mut().zip(dsf).for_each(|(s, d)| *s |= d);
+                        self.flags.absorb(lo, hi + 1);
                     }
                 }
                 Command::ClearLine { .. } | Command::Nop => unreachable!("not a shadow command"),

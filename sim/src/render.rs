@@ -6,7 +6,7 @@
 //! read out. Rows are independent, so they run in
 //! parallel (rayon) with bit-identical results.
 
-use crate::pixel_array::{Command, PixelArray, ProcState, MORE_SHADE};
+use crate::pixel_array::{is_flag_command, Command, PixelArray, ProcState, RowFlags, MORE_SHADE};
 use crate::raster::{SpanRaster, SpanSink};
 use crate::setup::{SetupError, SnappedTri};
 use crate::stream::{feed_routed, feed_routed_pairs, TileRouter};
@@ -155,7 +155,10 @@ pub(crate) fn chunks_or_empty<T>(buf: &mut [T], chunk: usize, count: usize) -> V
 /// `ClearLine`, the row's OP span words that touch it (an OP span outside a tile is a
 /// no-op there, so the span feeder skips it), then the row's commands `extra[row]`
 /// (shadow spans and controls, which all tiles see: IF acts on every processor; `extra`
-/// is empty when there are none).
+/// is empty when there are none). When a row's `extra` holds shadow commands only
+/// ([`is_flag_command`], as the shadow stage makes them), they are applied to the whole
+/// row once its tiles hold their polygon spans ([`RowFlags`]): the same state, one pass
+/// per span instead of one per tile.
 pub fn render_frame(
     src: &SpanSource,
     bg: [u8; 3],
@@ -200,11 +203,20 @@ where
                     vec![Vec::new(); tiles],
                     TileRouter::default(),
                     vec![Vec::new(); tiles],
+                    RowFlags::default(),
                 )
             },
-            |(arr, per_tile, router, routed), (j, (row, mrow))| {
+            |(arr, per_tile, router, routed, flags), (j, (row, mrow))| {
                 let cmds: &[Command] = extra.get(j).map_or(&[], |c| c);
-                router.route(cmds, array_width as u32, routed);
+                // Shadow commands alone (as the shadow stage makes them) are applied to the
+                // whole row once its tiles hold their polygons, with the result of routing
+                // them to the tiles; anything else goes through the tiles.
+                let row_wide = !cmds.is_empty() && cmds.iter().all(is_flag_command);
+                router.route(
+                    if row_wide { &[] } else { cmds },
+                    array_width as u32,
+                    routed,
+                );
                 for t in per_tile.iter_mut() {
                     t.clear();
                 }
@@ -231,6 +243,9 @@ where
                         mrow[b..b + n * more_stride]
                             .copy_from_slice(&arr.shade_regs()[..n * more_stride]);
                     }
+                }
+                if row_wide {
+                    flags.run(row, cmds, array_width);
                 }
                 readout(row, mrow);
             },

@@ -484,4 +484,90 @@ mod tests {
             }
         }
     }
+
+    /// [`RowFlags::run`] on a whole row gives the state of feeding each tile its polygon
+    /// spans and then the shadow commands the router picks for it ([`feed_routed`], the
+    /// way rows were rendered before): random rows of polygon spans, then volumes of SP,
+    /// EV and IF spans (half of them in the plane of a polygon span, so depth ties occur;
+    /// ranges empty, cut by tiles and off the screen), `Check`s and every control, on
+    /// screens that are not a multiple of the tile width.
+    #[test]
+    fn row_wide_flags_equal_the_routed_tiles() {
+        use crate::pixel_array::{is_flag_command, RowFlags};
+        let mut rng = crate::rng::XorShift64Star(0x0f1a_95ee_d5);
+        let (mut router, mut flags) = (TileRouter::default(), RowFlags::default());
+        let mut shadowed = 0;
+        for case in 0..600 {
+            let mut r = |m: u64| rng.next_u64() % m;
+            let n = [1usize, 3, 8, 16, 64][case % 5];
+            let width = 1 + r(300) as usize;
+            let tiles = width.div_ceil(n);
+            let x = |r: &mut dyn FnMut(u64) -> u64| r(width as u64 + 40) as u16;
+            let plane = |r: &mut dyn FnMut(u64) -> u64| {
+                ((r(1 << 20) + 16) << 12, r(1 << 16) as i64 - (1 << 15))
+            };
+            let ops: Vec<SpanWord> = (0..r(12))
+                .map(|_| {
+                    let (zl, dz) = plane(&mut r);
+                    let xl = x(&mut r);
+                    SpanWord {
+                        xl,
+                        xr: xl + r(80) as u16,
+                        zl,
+                        dz,
+                        ..Default::default()
+                    }
+                })
+                .collect();
+            let cmds: Vec<Command> = (0..r(60))
+                .map(|_| match r(12) {
+                    0..=6 => {
+                        let attr =
+                            [Attr::Sp, Attr::Sp, Attr::Ev, Attr::Ev, Attr::If][r(5) as usize];
+                        let (zl, dz) = match (ops.is_empty(), r(2)) {
+                            (false, 0) => {
+                                let o = ops[r(ops.len() as u64) as usize];
+                                (o.zl, o.dz)
+                            }
+                            _ => plane(&mut r),
+                        };
+                        let xl = x(&mut r);
+                        Command::Span(SpanWord {
+                            attr,
+                            xl,
+                            xr: (xl + r(120) as u16).saturating_sub(r(2) as u16 * 30),
+                            zl,
+                            dz,
+                            ..Default::default()
+                        })
+                    }
+                    7 => Command::Check {
+                        xl: x(&mut r),
+                        xr: x(&mut r),
+                    },
+                    8 => Command::ClearFlags,
+                    9 => Command::LatchShadow { bit: r(8) as u8 },
+                    10 => Command::AccumulateShadow,
+                    _ => Command::Nop,
+                })
+                .collect();
+            assert!(cmds.iter().all(is_flag_command));
+            let mut lists = vec![Vec::new(); tiles];
+            router.route(&cmds, n as u32, &mut lists);
+            let (mut want, mut got) = (Vec::new(), Vec::new());
+            for (t, list) in lists.iter().enumerate() {
+                let base = (t * n) as u32;
+                let k = (width - t * n).min(n);
+                let mut arr = PixelArray::new(n, base);
+                feed_routed(&mut arr, 7, ops.iter(), &cmds, list);
+                want.extend_from_slice(&arr.state()[..k]);
+                feed_routed(&mut arr, 7, ops.iter(), &cmds, &[]);
+                got.extend_from_slice(&arr.state()[..k]);
+            }
+            flags.run(&mut got, &cmds, n);
+            assert_eq!(got, want, "case {case}: n {n}, width {width}");
+            shadowed += want.iter().filter(|p| p.fsf || p.mask != 0).count();
+        }
+        assert!(shadowed > 10_000, "{shadowed}");
+    }
 }
