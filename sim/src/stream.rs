@@ -494,7 +494,7 @@ mod tests {
     #[test]
     fn row_wide_flags_equal_the_routed_tiles() {
         use crate::pixel_array::{is_flag_command, RowFlags};
-        let mut rng = crate::rng::XorShift64Star(0x0f1a_95ee_d5);
+        let mut rng = crate::rng::XorShift64Star(0x000f_1a95_eed5);
         let (mut router, mut flags) = (TileRouter::default(), RowFlags::default());
         let mut shadowed = 0;
         for case in 0..600 {
