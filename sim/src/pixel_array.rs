@@ -195,6 +195,10 @@ pub struct RowFlags {
 impl RowFlags {
     /// Applies `cmds` (each [`is_flag_command`]) to `row`, the processors of screen columns
     /// `0 .. row.len()` after the row's polygon spans, tiles of `n` processors.
+    ///
+    /// Only the tiles a span or a `Check` reaches (every tile after an IF span) can have
+    /// their flags changed by more than the controls; those are copied into the separate
+    /// arrays, and the controls act on the other processors in place.
     pub fn run(&mut self, row: &mut [ProcState], cmds: &[Command], n: usize) {
         assert!(n > 0, "tile width must be positive");
         let w = row.len();
@@ -206,22 +210,42 @@ impl RowFlags {
         self.touched.resize(tiles, false);
         self.marked.clear();
         self.all = false;
-        self.planes.load(row);
-        // The router's tiles of a column range (`TileRouter::route`), and the row's columns.
+        // The router's tiles of a column range (`TileRouter::route`).
         let tile_range = |xl: u16, xr: u16| {
             let (a, b) = (xl as usize / n, xr as usize / n);
             (xl <= xr && a < tiles).then(|| (a, b.min(tiles - 1)))
         };
+        // The processors `r0..r1` of the tiles any span or check reaches.
+        let (mut ta, mut tb) = (tiles, 0);
+        for c in cmds {
+            let range = match *c {
+                Command::Span(ref sw) if sw.attr == Attr::If => Some((0, tiles - 1)),
+                Command::Span(ref sw) => tile_range(sw.xl, sw.xr),
+                Command::Check { xl, xr } => tile_range(xl, xr),
+                _ => None,
+            };
+            if let Some((a, b)) = range {
+                (ta, tb) = (ta.min(a), tb.max(b));
+            }
+        }
+        let (r0, r1) = if ta <= tb {
+            (ta * n, ((tb + 1) * n).min(w))
+        } else {
+            (0, 0)
+        };
+        let (inner, outer) = (r0..r1, [0..r0, r1..w]);
+        self.planes.load(&row[inner.clone()]);
+        // A span's or check's columns on the row, as indices into the planes.
         let cols = |xl: u16, xr: u16| {
             let hi = (xr as usize).min(w - 1);
-            (xl as usize <= hi).then_some((xl as usize, hi))
+            (xl as usize <= hi).then(|| (xl as usize - r0, hi - r0))
         };
         for c in cmds {
             let f = &mut self.planes;
             match *c {
                 Command::Span(ref sw) => {
                     let range = cols(sw.xl, sw.xr);
-                    let lo = range.map_or(0, |r| r.0) as i64;
+                    let lo = range.map_or(0, |r| r.0 + r0) as i64;
                     f.span(sw, range, sw.zl as i64 + (lo - sw.xl as i64) * sw.dz);
                     match sw.attr {
                         Attr::Sp => {
@@ -238,7 +262,7 @@ impl RowFlags {
                         Attr::Ev => {
                             // The processors of tiles `a..=b` (those on the screen).
                             let or_tiles = |f: &mut FlagPlanes, a: usize, b: usize| {
-                                f.absorb(a * n, ((b + 1) * n).min(w))
+                                f.absorb(a * n - r0, ((b + 1) * n).min(w) - r0)
                             };
                             if self.all {
                                 or_tiles(f, 0, tiles - 1);
@@ -264,13 +288,23 @@ impl RowFlags {
                 Command::ClearFlags => {
                     f.dsf.fill(0);
                     f.fsf.fill(0);
+                    for o in &outer {
+                        for s in &mut row[o.clone()] {
+                            (s.dsf, s.fsf) = (false, false);
+                        }
+                    }
                 }
-                Command::AccumulateShadow | Command::LatchShadow { .. } => f.latch(c, row),
+                Command::AccumulateShadow | Command::LatchShadow { .. } => {
+                    f.latch(c, &mut row[inner.clone()]);
+                    for o in &outer {
+                        latch_in_place(c, &mut row[o.clone()]);
+                    }
+                }
                 Command::Nop => {}
                 Command::ClearLine { .. } => panic!("ClearLine is not a flag command"),
             }
         }
-        self.planes.store(row);
+        self.planes.store(&mut row[inner]);
     }
 
     /// A volume ends: no tile touched.
@@ -280,6 +314,24 @@ impl RowFlags {
         }
         self.marked.clear();
         self.all = false;
+    }
+}
+
+/// `AccumulateShadow` (`count := count + FSF`, saturating) or `LatchShadow { bit }`
+/// (`mask := mask | FSF << bit`) on the processors `procs`, from their own FSF.
+fn latch_in_place(c: &Command, procs: &mut [ProcState]) {
+    match *c {
+        Command::AccumulateShadow => {
+            for s in procs {
+                s.count = s.count.saturating_add(s.fsf as u8);
+            }
+        }
+        Command::LatchShadow { bit } => {
+            for s in procs {
+                s.mask |= (s.fsf as u8) << (bit & 7);
+            }
+        }
+        _ => unreachable!("not a latching control"),
     }
 }
 
@@ -350,15 +402,8 @@ impl PixelArray {
                     s.fsf = false;
                 }
             }
-            Command::AccumulateShadow => {
-                for s in &mut self.procs {
-                    s.count = s.count.saturating_add(s.fsf as u8);
-                }
-            }
-            Command::LatchShadow { bit } => {
-                for s in &mut self.procs {
-                    s.mask |= (s.fsf as u8) << (bit & 7);
-                }
+            Command::AccumulateShadow | Command::LatchShadow { .. } => {
+                latch_in_place(cmd, &mut self.procs)
             }
             Command::Check { xl, xr } => {
                 let w = SpanWord {

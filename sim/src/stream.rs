@@ -490,7 +490,8 @@ mod tests {
     /// way rows were rendered before): random rows of polygon spans, then volumes of SP,
     /// EV and IF spans (half of them in the plane of a polygon span, so depth ties occur;
     /// ranges empty, cut by tiles and off the screen), `Check`s and every control, on
-    /// screens that are not a multiple of the tile width.
+    /// screens that are not a multiple of the tile width; half the rows start with the
+    /// flags an earlier light's volumes left.
     #[test]
     fn row_wide_flags_equal_the_routed_tiles() {
         use crate::pixel_array::{is_flag_command, RowFlags};
@@ -519,49 +520,62 @@ mod tests {
                     }
                 })
                 .collect();
-            let cmds: Vec<Command> = (0..r(60))
-                .map(|_| match r(12) {
-                    0..=6 => {
-                        let attr =
-                            [Attr::Sp, Attr::Sp, Attr::Ev, Attr::Ev, Attr::If][r(5) as usize];
-                        let (zl, dz) = match (ops.is_empty(), r(2)) {
-                            (false, 0) => {
-                                let o = ops[r(ops.len() as u64) as usize];
-                                (o.zl, o.dz)
-                            }
-                            _ => plane(&mut r),
-                        };
-                        let xl = x(&mut r);
-                        Command::Span(SpanWord {
-                            attr,
-                            xl,
-                            xr: (xl + r(120) as u16).saturating_sub(r(2) as u16 * 30),
-                            zl,
-                            dz,
-                            ..Default::default()
-                        })
-                    }
-                    7 => Command::Check {
-                        xl: x(&mut r),
-                        xr: x(&mut r),
-                    },
-                    8 => Command::ClearFlags,
-                    9 => Command::LatchShadow { bit: r(8) as u8 },
-                    10 => Command::AccumulateShadow,
-                    _ => Command::Nop,
-                })
-                .collect();
+            let gen = |r: &mut dyn FnMut(u64) -> u64, len: u64| -> Vec<Command> {
+                (0..len)
+                    .map(|_| match r(12) {
+                        0..=6 => {
+                            let attr =
+                                [Attr::Sp, Attr::Sp, Attr::Ev, Attr::Ev, Attr::If][r(5) as usize];
+                            let (zl, dz) = match (ops.is_empty(), r(2)) {
+                                (false, 0) => {
+                                    let o = ops[r(ops.len() as u64) as usize];
+                                    (o.zl, o.dz)
+                                }
+                                _ => plane(r),
+                            };
+                            let xl = x(r);
+                            Command::Span(SpanWord {
+                                attr,
+                                xl,
+                                xr: (xl + r(120) as u16).saturating_sub(r(2) as u16 * 30),
+                                zl,
+                                dz,
+                                ..Default::default()
+                            })
+                        }
+                        7 => Command::Check { xl: x(r), xr: x(r) },
+                        8 => Command::ClearFlags,
+                        9 => Command::LatchShadow { bit: r(8) as u8 },
+                        10 => Command::AccumulateShadow,
+                        _ => Command::Nop,
+                    })
+                    .collect()
+            };
+            // An earlier light's commands, ending its last volume, leave flags set where
+            // the row's own commands may reach no span: the row is run from that state.
+            let len = r(2) * r(30);
+            let mut pre = gen(&mut r, len);
+            pre.push(Command::Span(SpanWord {
+                attr: Attr::Ev,
+                xl: 1,
+                xr: 0,
+                ..Default::default()
+            }));
+            let len = r(60);
+            let cmds = gen(&mut r, len);
             assert!(cmds.iter().all(is_flag_command));
-            let mut lists = vec![Vec::new(); tiles];
-            router.route(&cmds, n as u32, &mut lists);
+            let all: Vec<Command> = pre.iter().chain(&cmds).copied().collect();
+            let (mut lists, mut pre_lists) = (vec![Vec::new(); tiles], vec![Vec::new(); tiles]);
+            router.route(&all, n as u32, &mut lists);
+            router.route(&pre, n as u32, &mut pre_lists);
             let (mut want, mut got) = (Vec::new(), Vec::new());
-            for (t, list) in lists.iter().enumerate() {
+            for t in 0..tiles {
                 let base = (t * n) as u32;
                 let k = (width - t * n).min(n);
                 let mut arr = PixelArray::new(n, base);
-                feed_routed(&mut arr, 7, ops.iter(), &cmds, list);
+                feed_routed(&mut arr, 7, ops.iter(), &all, &lists[t]);
                 want.extend_from_slice(&arr.state()[..k]);
-                feed_routed(&mut arr, 7, ops.iter(), &cmds, &[]);
+                feed_routed(&mut arr, 7, ops.iter(), &pre, &pre_lists[t]);
                 got.extend_from_slice(&arr.state()[..k]);
             }
             flags.run(&mut got, &cmds, n);
