@@ -406,12 +406,7 @@ impl PixelArray {
                 latch_in_place(cmd, &mut self.procs)
             }
             Command::Check { xl, xr } => {
-                let w = SpanWord {
-                    xl,
-                    xr,
-                    ..Default::default()
-                };
-                if let Some((lo, hi)) = self.tile_range(&w) {
+                if let Some((lo, hi)) = self.columns(xl, xr) {
                     for s in &mut self.procs[lo..=hi] {
                         s.fsf |= s.dsf;
                     }
@@ -455,8 +450,15 @@ impl PixelArray {
     /// The processor index range `[lo, hi]` a span covers in this tile, if any.
     #[inline]
     fn tile_range(&self, w: &SpanWord) -> Option<(usize, usize)> {
-        let lo = (w.xl as i64).max(self.base as i64);
-        let hi = (w.xr as i64).min(self.base as i64 + self.procs.len() as i64 - 1);
+        self.columns(w.xl, w.xr)
+    }
+
+    /// The processor index range `[lo, hi]` of screen columns `xl..=xr` in this tile, if
+    /// any.
+    #[inline]
+    fn columns(&self, xl: u16, xr: u16) -> Option<(usize, usize)> {
+        let lo = (xl as i64).max(self.base as i64);
+        let hi = (xr as i64).min(self.base as i64 + self.procs.len() as i64 - 1);
         (lo <= hi).then(|| {
             (
                 (lo - self.base as i64) as usize,
@@ -609,12 +611,7 @@ impl PixelArray {
                     self.flags.latch(c, &mut self.procs)
                 }
                 Command::Check { xl, xr } => {
-                    let w = SpanWord {
-                        xl,
-                        xr,
-                        ..Default::default()
-                    };
-                    if let Some((lo, hi)) = self.tile_range(&w) {
+                    if let Some((lo, hi)) = self.columns(xl, xr) {
                         self.flags.absorb(lo, hi + 1);
                     }
                 }
