@@ -286,19 +286,23 @@ pub fn shadow_commands(
                         .filter(|&v| reach[v].is_some_and(|(a, z)| a <= j1 && z >= j0))
                         .collect();
                     let mut walk = BandRows::new(here.iter().map(|&v| &per_vol[v].0), j0 as i64);
-                    let mut row = Vec::new();
                     for (j, out) in (j0..).zip(band.iter_mut()) {
                         out.push(Command::ClearFlags);
                         for (i, &v) in here.iter().enumerate() {
-                            row.clear();
-                            walk.row(i, j as i64, w, &mut row);
+                            // The volume's SP words go straight into the row's commands;
+                            // their column range is kept for a `Check`.
+                            let start = out.len();
+                            let (mut lo, mut hi) = (u16::MAX, 0u16);
+                            walk.row(i, j as i64, w, |s| {
+                                (lo, hi) = (lo.min(s.xl), hi.max(s.xr));
+                                out.push(Command::Span(s));
+                            });
                             let inside = per_vol[v].1 == NearPlane::Inside;
-                            if row.is_empty() && !inside {
+                            if out.len() == start && !inside {
                                 continue;
                             }
-                            let before = out.len();
-                            emit_volume_row(out, row.iter().copied(), inside, form, w);
-                            words += (out.len() - before) as u64;
+                            end_volume_row(out, start, (lo, hi), inside, form, w);
+                            words += (out.len() - start) as u64;
                         }
                         out.push(end);
                     }
@@ -322,10 +326,14 @@ pub fn append_rows(rows: &mut [Vec<Command>], add: Vec<Vec<Command>>) {
     }
 }
 
-/// Appends one volume's commands for one row.
-fn emit_volume_row(
+/// Ends one volume's commands for one row, whose SP words are `out[start..]` (columns
+/// `lo..=hi` between them, `lo > hi` if none): the first word made IF (or an empty IF
+/// added) when the near point lies inside the volume, then the last word made EV (or an
+/// empty EV added), or a `Check` of the words' range (of the line with IF).
+fn end_volume_row(
     out: &mut Vec<Command>,
-    spans: impl Iterator<Item = SpanWord>,
+    start: usize,
+    (lo, hi): (u16, u16),
     eye_inside: bool,
     form: ShadowForm,
     width: u32,
@@ -335,13 +343,6 @@ fn emit_volume_row(
         xr: 0,
         ..Default::default()
     };
-    let start = out.len();
-    let (mut lo, mut hi) = (u16::MAX, 0u16);
-    for s in spans {
-        lo = lo.min(s.xl);
-        hi = hi.max(s.xr);
-        out.push(Command::Span(s));
-    }
     if eye_inside {
         match out.get_mut(start) {
             Some(Command::Span(s)) => s.attr = Attr::If,

@@ -238,15 +238,15 @@ impl<'a> BandRows<'a> {
         r
     }
 
-    /// Appends volume `i`'s SP words of row `j` to `out`. Called for every volume on every
+    /// Gives volume `i`'s SP words of row `j` to `push`, in triangle order. Called for every volume on every
     /// row from `j0` on, in row order, so each stepper stands at the row it is asked for.
-    pub(super) fn row(&mut self, i: usize, j: i64, width: u32, out: &mut Vec<SpanWord>) {
+    pub(super) fn row(&mut self, i: usize, j: i64, width: u32, mut push: impl FnMut(SpanWord)) {
         for (t, first, z) in &mut self.tris[self.start[i]..self.start[i + 1]] {
             if j < *first || j > t.row_max {
                 continue;
             }
             if let Some(w) = t.shadow_span(j, width, z) {
-                out.push(w);
+                push(w);
             }
             z.advance();
         }
@@ -342,7 +342,7 @@ mod tests {
                     for j in j0..=j1 {
                         for (i, v) in vols.iter().enumerate() {
                             let mut got = Vec::new();
-                            walk.row(i, j, w, &mut got);
+                            walk.row(i, j, w, |s| got.push(s));
                             let want: Vec<SpanWord> = v
                                 .tris
                                 .iter()
