@@ -74,14 +74,12 @@ pub struct PixelArray {
     procs: Vec<ProcState>,
     /// Shade registers 2..=`MAX_SHADE_CHANNELS` per processor (allocated on first use).
     more: Vec<u32>,
-    /// Scratch of [`PixelArray::run_commands`].
-    flags: FlagPlanes,
 }
 
-/// ZB, DSF and FSF of every processor in three separate arrays (a flag is one byte, 0 or
-/// 1): while [`PixelArray::run_commands`] applies shadow commands, which read ZB and
-/// change only the flags (and, from FSF, the counter and the light mask), their loops run
-/// over contiguous memory instead of over [`ProcState`] records.
+/// ZB, DSF and FSF of processors in three separate arrays (a flag is one byte, 0 or 1):
+/// while [`RowFlags`] applies shadow commands, which read ZB and change only the flags
+/// (and, from FSF, the counter and the light mask), their loops run over contiguous memory
+/// instead of over [`ProcState`] records.
 #[derive(Clone, Debug, Default)]
 struct FlagPlanes {
     zb: Vec<u32>,
@@ -178,9 +176,8 @@ pub fn is_flag_command(c: &Command) -> bool {
 /// its columns; an EV span ORs DSF into FSF on the tiles the router sends it to (its own,
 /// and those a span of its volume touched since the last EV or `Check`, or every tile
 /// after an IF span); a `Check` on its own columns; the controls on every processor.
-/// ZB and the flags are copied into separate arrays for the row, as in
-/// [`PixelArray::run_commands`], so each span is one pass over contiguous memory instead
-/// of one per tile.
+/// ZB and the flags are copied into separate arrays (a byte per flag), so each span's
+/// depth test is one vectorisable pass over contiguous memory instead of one per tile.
 #[derive(Debug, Default)]
 pub struct RowFlags {
     planes: FlagPlanes,
@@ -352,7 +349,6 @@ impl PixelArray {
                 width
             ],
             more: Vec::new(),
-            flags: FlagPlanes::default(),
         }
     }
 
@@ -563,63 +559,6 @@ impl PixelArray {
             for s in &mut self.procs {
                 s.fsf |= s.dsf;
             }
-        }
-    }
-
-    /// Applies `cmds` in order: the same final state as [`PixelArray::step`] on each.
-    /// Runs of shadow commands (SP, EV and IF spans, `ClearFlags`, `AccumulateShadow`,
-    /// `LatchShadow`, `Check`) are applied to a copy of ZB and the flags in separate
-    /// arrays, written back when the run ends.
-    pub fn run_commands<'a>(&mut self, cmds: impl IntoIterator<Item = &'a Command>) {
-        let mut loaded = false;
-        for c in cmds {
-            let shadow = match c {
-                Command::Span(w) => w.attr != Attr::Op,
-                Command::ClearFlags
-                | Command::AccumulateShadow
-                | Command::LatchShadow { .. }
-                | Command::Check { .. } => true,
-                Command::ClearLine { .. } | Command::Nop => false,
-            };
-            if !shadow {
-                if loaded {
-                    self.flags.store(&mut self.procs);
-                    loaded = false;
-                }
-                self.step(c);
-                continue;
-            }
-            if !loaded {
-                self.flags.load(&self.procs);
-                loaded = true;
-            }
-            match *c {
-                Command::Span(ref w) => {
-                    let range = self.tile_range(w);
-                    let lo = range.map_or(0, |r| r.0) as i64;
-                    let z = w.zl as i64 + (self.base as i64 + lo - w.xl as i64) * w.dz;
-                    self.flags.span(w, range, z);
-                    if w.attr == Attr::Ev {
-                        self.flags.absorb(0, self.procs.len());
-                    }
-                }
-                Command::ClearFlags => {
-                    self.flags.dsf.fill(0);
-                    self.flags.fsf.fill(0);
-                }
-                Command::AccumulateShadow | Command::LatchShadow { .. } => {
-                    self.flags.latch(c, &mut self.procs)
-                }
-                Command::Check { xl, xr } => {
-                    if let Some((lo, hi)) = self.columns(xl, xr) {
-                        self.flags.absorb(lo, hi + 1);
-                    }
-                }
-                Command::ClearLine { .. } | Command::Nop => unreachable!("not a shadow command"),
-            }
-        }
-        if loaded {
-            self.flags.store(&mut self.procs);
         }
     }
 
@@ -925,96 +864,6 @@ mod tests {
             inside > 300 && outside > 300,
             "{inside} inside, {outside} outside"
         );
-    }
-
-    /// [`PixelArray::run_commands`] against [`PixelArray::step`] on each command: random
-    /// streams mixing OP spans, shadow spans of every attribute (depths from 0 to the
-    /// top of `ZL`'s 36 bits, slopes up to `dZ`'s 38-bit limits, so `Z` leaves the 32
-    /// bits the test compares and goes negative), every control and `ClearLine`, on
-    /// arrays of 1 to 70 processors at tile bases that cut the spans; half the shadow
-    /// spans lie in the plane of the last OP span, where the test's `<` decides.
-    #[test]
-    fn batched_commands_step_alike() {
-        let mut rng = crate::rng::Lcg64(0x5ad0_f1a9);
-        let (mut toggled, mut latched) = (0usize, 0usize);
-        for round in 0..1_500 {
-            let mut r = |m: u64| (rng.step() >> 16) % m;
-            let width = [1, 7, 16, 17, 64, 70][round % 6];
-            let base = r(3) as u32 * width as u32 / 2;
-            let span = |r: &mut dyn FnMut(u64) -> u64, attr: Attr| {
-                let xl = r(width as u64 * 2 + 8) as u16;
-                let (zl, dz) = match r(3) {
-                    0 => ((r(1 << 24) + 1) << Z_FRAC, r(1 << 18) as i64 - (1 << 17)),
-                    1 => (r(1 << 36), r(1 << 38) as i64 - (1 << 37)),
-                    _ => (r(1 << 36), r(1 << 14) as i64 - (1 << 13)),
-                };
-                Command::Span(SpanWord {
-                    attr,
-                    xl,
-                    xr: (xl + r(width as u64 + 4) as u16).saturating_sub(r(2) as u16 * 3),
-                    zl,
-                    dz,
-                    il: [0; 3].map(|_| r(1 << 20) as u32),
-                    ..Default::default()
-                })
-            };
-            // Half the shadow spans lie in the plane of the last OP span: depths equal to
-            // ZB, which must not toggle.
-            let mut last_op: Option<SpanWord> = None;
-            let mut cmds: Vec<Command> = Vec::new();
-            for _ in 0..40 {
-                let shadow = |r: &mut dyn FnMut(u64) -> u64, attr: Attr| match (last_op, r(2)) {
-                    (Some(o), 0) => Command::Span(SpanWord { attr, ..o }),
-                    _ => span(r, attr),
-                };
-                let c = match r(12) {
-                    0..=1 => span(&mut r, Attr::Op),
-                    2..=4 => shadow(&mut r, Attr::Sp),
-                    5..=6 => shadow(&mut r, Attr::Ev),
-                    7 => shadow(&mut r, Attr::If),
-                    8 => [Command::ClearFlags, Command::AccumulateShadow][r(2) as usize],
-                    9 => Command::LatchShadow { bit: r(10) as u8 },
-                    10 => {
-                        let xl = r(width as u64 * 2) as u16;
-                        Command::Check {
-                            xl,
-                            xr: xl + r(width as u64) as u16,
-                        }
-                    }
-                    _ => [
-                        Command::Nop,
-                        Command::ClearLine {
-                            bg: r(1 << 24) as u32,
-                        },
-                    ][(r(8) == 0) as usize],
-                };
-                if let Command::Span(w) = c {
-                    if w.attr == Attr::Op {
-                        last_op = Some(w);
-                    }
-                }
-                cmds.push(c);
-            }
-            let mut one = PixelArray::new(width, base);
-            let mut two = PixelArray::new(width, base);
-            for (k, c) in cmds.iter().enumerate() {
-                one.step(c);
-                if matches!(c, Command::Span(w) if w.attr != Attr::Op) {
-                    toggled += one.state().iter().filter(|s| s.dsf).count();
-                }
-                // Batches of every length, split anywhere.
-                if k % 9 == 8 || k + 1 == cmds.len() {
-                    two.run_commands(&cmds[k - k % 9..=k]);
-                    assert_eq!(one.state(), two.state(), "round {round} at {k}: {cmds:?}");
-                }
-            }
-            latched += one
-                .state()
-                .iter()
-                .filter(|s| s.mask != 0 || s.count != 0)
-                .count();
-        }
-        assert!(toggled > 50_000 && latched > 2_000, "{toggled} {latched}");
     }
 
     #[test]

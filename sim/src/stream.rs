@@ -57,15 +57,6 @@ pub trait CommandSink {
         self.span(a);
         self.span(b);
     }
-    /// Several commands in successive clocks: the same as `command` on each, in order.
-    fn commands<'a>(&mut self, cs: impl IntoIterator<Item = &'a Command>)
-    where
-        Self: Sized,
-    {
-        for c in cs {
-            self.command(c);
-        }
-    }
 }
 
 impl CommandSink for PixelArray {
@@ -80,10 +71,6 @@ impl CommandSink for PixelArray {
     #[inline]
     fn span_pair(&mut self, a: &SpanWord, b: &SpanWord) {
         self.step_span_pair(a, b);
-    }
-    #[inline]
-    fn commands<'a>(&mut self, cs: impl IntoIterator<Item = &'a Command>) {
-        self.run_commands(cs);
     }
 }
 
@@ -196,7 +183,9 @@ fn feed_routed_with<'a, const PAIRS: bool>(
             false => sink.span(w),
         }
     }
-    sink.commands(list.iter().map(|&k| &cmds[k as usize]));
+    for &k in list {
+        sink.command(&cmds[k as usize]);
+    }
 }
 
 /// [`feed_tile`]'s choice of commands for every tile of a row at once: one pass over the
@@ -488,8 +477,9 @@ mod tests {
     /// [`RowFlags::run`] on a whole row gives the state of feeding each tile its polygon
     /// spans and then the shadow commands the router picks for it ([`feed_routed`], the
     /// way rows were rendered before): random rows of polygon spans, then volumes of SP,
-    /// EV and IF spans (half of them in the plane of a polygon span, so depth ties occur;
-    /// ranges empty, cut by tiles and off the screen), `Check`s and every control, on
+    /// EV and IF spans (half of them in the plane of a polygon span, so depth ties occur,
+    /// some with depths and slopes at their formats' limits; ranges empty, cut by tiles
+    /// and off the screen), `Check`s and every control, on
     /// screens that are not a multiple of the tile width; half the rows start with the
     /// flags an earlier light's volumes left.
     #[test]
@@ -531,6 +521,9 @@ mod tests {
                                     let o = ops[r(ops.len() as u64) as usize];
                                     (o.zl, o.dz)
                                 }
+                                // Depths to the top of `ZL`'s 36 bits, slopes to `dZ`'s
+                                // 38-bit limits: `Z` goes negative and past 32 bits.
+                                _ if r(3) == 0 => (r(1 << 36), r(1 << 38) as i64 - (1 << 37)),
                                 _ => plane(r),
                             };
                             let xl = x(r);
