@@ -196,12 +196,73 @@ fn feed_routed_with<'a, const PAIRS: bool>(
 /// its own tiles. The scratch state is kept between rows (no allocation per row).
 #[derive(Debug, Default)]
 pub struct TileRouter {
+    vol: VolumeTiles,
+}
+
+/// The tiles of `n` processors (of `tiles`) that columns `xl..=xr` touch, `[a, b]`, if any
+/// ([`feed_tile`]'s `touches`).
+#[inline]
+pub(crate) fn tile_span(xl: u16, xr: u16, n: usize, tiles: usize) -> Option<(usize, usize)> {
+    let (a, b) = (xl as usize / n, xr as usize / n);
+    (xl <= xr && a < tiles).then(|| (a, b.min(tiles - 1)))
+}
+
+/// Which tiles the current volume's spans touched since the last EV or `Check`: the tiles
+/// an EV span goes to besides its own ([`TileRouter`], and [`crate::pixel_array::RowFlags`]
+/// which applies the same choice to a whole row).
+#[derive(Debug, Default)]
+pub(crate) struct VolumeTiles {
     /// Per tile: touched by a span since the last EV or `Check`.
     touched: Vec<bool>,
     /// The tiles whose `touched` is set (to clear them without a sweep).
     marked: Vec<usize>,
     /// An IF span since the last EV or `Check`: every tile counts as touched.
     all: bool,
+}
+
+impl VolumeTiles {
+    /// A row of `tiles` tiles, none touched.
+    pub(crate) fn start(&mut self, tiles: usize) {
+        self.touched.clear();
+        self.touched.resize(tiles, false);
+        self.marked.clear();
+        self.all = false;
+    }
+
+    /// A span touched tiles `a..=b`.
+    #[inline]
+    pub(crate) fn touch(&mut self, a: usize, b: usize) {
+        for t in a..=b {
+            if !self.touched[t] {
+                self.touched[t] = true;
+                self.marked.push(t);
+            }
+        }
+    }
+
+    /// An IF span: every tile counts as touched.
+    pub(crate) fn touch_all(&mut self) {
+        self.all = true;
+    }
+
+    /// Whether an IF span came since the last EV or `Check`.
+    pub(crate) fn all(&self) -> bool {
+        self.all
+    }
+
+    /// The touched tiles, in the order they were first touched.
+    pub(crate) fn marked(&self) -> &[usize] {
+        &self.marked
+    }
+
+    /// Ends a volume: no tile touched.
+    pub(crate) fn reset(&mut self) {
+        for &t in &self.marked {
+            self.touched[t] = false;
+        }
+        self.marked.clear();
+        self.all = false;
+    }
 }
 
 impl TileRouter {
@@ -212,40 +273,30 @@ impl TileRouter {
         for l in lists.iter_mut() {
             l.clear();
         }
-        self.touched.clear();
-        self.touched.resize(tiles, false);
-        self.marked.clear();
-        self.all = false;
-        // The tiles [a, b] a range touches (`feed_tile`'s `touches`), if any.
-        let range = |xl: u16, xr: u16| {
-            let (a, b) = (xl as usize / n as usize, xr as usize / n as usize);
-            (xl <= xr && a < tiles).then(|| (a, b.min(tiles - 1)))
-        };
+        self.vol.start(tiles);
+        let range = |xl: u16, xr: u16| tile_span(xl, xr, n as usize, tiles);
         for (i, c) in cmds.iter().enumerate() {
             let i = i as u32;
             match c {
                 Command::Span(w) => match w.attr {
                     Attr::Op | Attr::Sp => {
                         if let Some((a, b)) = range(w.xl, w.xr) {
-                            for (t, list) in lists.iter_mut().enumerate().take(b + 1).skip(a) {
+                            for list in &mut lists[a..=b] {
                                 list.push(i);
-                                if !self.touched[t] {
-                                    self.touched[t] = true;
-                                    self.marked.push(t);
-                                }
                             }
+                            self.vol.touch(a, b);
                         }
                     }
                     Attr::If => {
-                        self.all = true;
+                        self.vol.touch_all();
                         lists.iter_mut().for_each(|l| l.push(i));
                     }
                     Attr::Ev => {
-                        if self.all {
+                        if self.vol.all() {
                             lists.iter_mut().for_each(|l| l.push(i));
                         } else {
                             let own = range(w.xl, w.xr);
-                            for &t in &self.marked {
+                            for &t in self.vol.marked() {
                                 if own.is_none_or(|(a, b)| t < a || t > b) {
                                     lists[t].push(i);
                                 }
@@ -256,7 +307,7 @@ impl TileRouter {
                                 }
                             }
                         }
-                        self.reset();
+                        self.vol.reset();
                     }
                 },
                 Command::Check { xl, xr } => {
@@ -265,20 +316,11 @@ impl TileRouter {
                             l.push(i);
                         }
                     }
-                    self.reset();
+                    self.vol.reset();
                 }
                 _ => lists.iter_mut().for_each(|l| l.push(i)),
             }
         }
-    }
-
-    /// Ends a volume: no tile touched.
-    fn reset(&mut self) {
-        for &t in &self.marked {
-            self.touched[t] = false;
-        }
-        self.marked.clear();
-        self.all = false;
     }
 }
 

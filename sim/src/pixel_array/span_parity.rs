@@ -6,6 +6,7 @@
 //! once, as the renderer does.
 
 use super::{Command, PixelArray, ProcState};
+use crate::stream::{tile_span, VolumeTiles};
 use pixelproc_formats::{Attr, SpanWord, Z_FRAC};
 
 /// ZB, DSF and FSF of processors in three separate arrays (a flag is one byte, 0 or 1):
@@ -113,12 +114,8 @@ pub fn is_flag_command(c: &Command) -> bool {
 #[derive(Debug, Default)]
 pub struct RowFlags {
     planes: FlagPlanes,
-    /// Per tile: touched by a span since the last EV or `Check`.
-    touched: Vec<bool>,
-    /// The tiles whose `touched` is set.
-    marked: Vec<usize>,
-    /// An IF span since the last EV or `Check`.
-    all: bool,
+    /// The tiles the current volume touched (the router's choice for EV).
+    vol: VolumeTiles,
 }
 
 impl RowFlags {
@@ -135,15 +132,9 @@ impl RowFlags {
             return;
         }
         let tiles = w.div_ceil(n);
-        self.touched.clear();
-        self.touched.resize(tiles, false);
-        self.marked.clear();
-        self.all = false;
+        self.vol.start(tiles);
         // The router's tiles of a column range (`TileRouter::route`).
-        let tile_range = |xl: u16, xr: u16| {
-            let (a, b) = (xl as usize / n, xr as usize / n);
-            (xl <= xr && a < tiles).then(|| (a, b.min(tiles - 1)))
-        };
+        let tile_range = |xl: u16, xr: u16| tile_span(xl, xr, n, tiles);
         // The processors `r0..r1` of the tiles any span or check reaches.
         let (mut ta, mut tb) = (tiles, 0);
         for c in cmds {
@@ -179,31 +170,26 @@ impl RowFlags {
                     match sw.attr {
                         Attr::Sp => {
                             if let Some((a, b)) = tile_range(sw.xl, sw.xr) {
-                                for t in a..=b {
-                                    if !self.touched[t] {
-                                        self.touched[t] = true;
-                                        self.marked.push(t);
-                                    }
-                                }
+                                self.vol.touch(a, b);
                             }
                         }
-                        Attr::If => self.all = true,
+                        Attr::If => self.vol.touch_all(),
                         Attr::Ev => {
                             // The processors of tiles `a..=b` (those on the screen).
                             let or_tiles = |f: &mut FlagPlanes, a: usize, b: usize| {
                                 f.absorb(a * n - r0, ((b + 1) * n).min(w) - r0)
                             };
-                            if self.all {
+                            if self.vol.all() {
                                 or_tiles(f, 0, tiles - 1);
                             } else {
-                                for &t in &self.marked {
+                                for &t in self.vol.marked() {
                                     or_tiles(f, t, t);
                                 }
                                 if let Some((a, b)) = tile_range(sw.xl, sw.xr) {
                                     or_tiles(f, a, b);
                                 }
                             }
-                            self.end_volume();
+                            self.vol.reset();
                         }
                         Attr::Op => unreachable!("an OP span is not a flag command"),
                     }
@@ -212,7 +198,7 @@ impl RowFlags {
                     if let Some((lo, hi)) = cols(xl, xr) {
                         f.absorb(lo, hi + 1);
                     }
-                    self.end_volume();
+                    self.vol.reset();
                 }
                 Command::ClearFlags => {
                     f.dsf.fill(0);
@@ -234,15 +220,6 @@ impl RowFlags {
             }
         }
         self.planes.store(&mut row[inner]);
-    }
-
-    /// A volume ends: no tile touched.
-    fn end_volume(&mut self) {
-        for &t in &self.marked {
-            self.touched[t] = false;
-        }
-        self.marked.clear();
-        self.all = false;
     }
 }
 
