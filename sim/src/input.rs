@@ -208,10 +208,9 @@ pub fn resolve_in_sandbox(
 mod tests {
     use super::*;
 
-    fn tmp() -> PathBuf {
-        let d = std::env::temp_dir().join(format!("pixelproc-input-{}", std::process::id()));
-        std::fs::create_dir_all(&d).unwrap();
-        d
+    /// A scratch directory removed when the test ends, passed or failed.
+    fn tmp() -> tempfile::TempDir {
+        tempfile::tempdir().unwrap()
     }
 
     #[test]
@@ -224,8 +223,9 @@ mod tests {
 
     #[test]
     fn directories_and_devices_are_refused() {
-        let d = tmp();
-        let e = read_text(&d, &ReadPolicy::default()).unwrap_err();
+        let t = tmp();
+        let d = t.path();
+        let e = read_text(d, &ReadPolicy::default()).unwrap_err();
         assert!(matches!(
             e,
             InputError::NotRegular {
@@ -251,8 +251,8 @@ mod tests {
 
     #[test]
     fn size_limit_is_enforced() {
-        let d = tmp();
-        let p = d.join("big.obj");
+        let t = tmp();
+        let p = t.path().join("big.obj");
         std::fs::write(&p, vec![b'#'; 100]).unwrap();
         let pol = ReadPolicy {
             max_bytes: 99,
@@ -272,7 +272,8 @@ mod tests {
 
     #[test]
     fn sandbox_keeps_paths_inside() {
-        let d = tmp().join("sb");
+        let t = tmp();
+        let d = t.path().join("sb");
         std::fs::create_dir_all(d.join("in")).unwrap();
         std::fs::write(d.join("in/a.obj"), "v 0 0 0").unwrap();
         std::fs::write(d.join("b.obj"), "v 0 0 0").unwrap();

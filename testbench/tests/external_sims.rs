@@ -14,15 +14,19 @@ fn stimulus() -> Vec<(u32, Command)> {
 }
 
 fn check(sim: ExternalSim, tag: &str) {
-    let dir = std::env::temp_dir().join(format!("pixelproc-ext-{tag}-{}", std::process::id()));
-    match run_external(sim, &dir, &stimulus(), 8, true).unwrap() {
+    // Removed when the test ends, also when it fails.
+    let tmp = tempfile::Builder::new()
+        .prefix(&format!("pixelproc-ext-{tag}-"))
+        .tempdir()
+        .unwrap();
+    let dir = tmp.path();
+    match run_external(sim, dir, &stimulus(), 8, true).unwrap() {
         None => {}
         Some(r) => {
             assert!(r.pass, "{:?} failed:\n{}", sim, r.log);
             assert!(r.cycles > 500 && r.log.contains("PASS"));
         }
     }
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
