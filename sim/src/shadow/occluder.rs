@@ -41,10 +41,12 @@ fn mesh_occluders(m: &crate::scene::LoadedMesh) -> Vec<Occluder> {
     let comps = components(faces.len(), &edge_faces);
     // Each component's edges (those whose first face is in it), in one pass over the
     // edges rather than one per component.
-    let mut comp_of = vec![0usize; faces.len()];
+    // And each face's place in its component's list: its index in that occluder.
+    let (mut comp_of, mut local) = (vec![0usize; faces.len()], vec![0usize; faces.len()]);
     for (c, fl) in comps.iter().enumerate() {
-        for &f in fl {
+        for (k, &f) in fl.iter().enumerate() {
             comp_of[f] = c;
+            local[f] = k;
         }
     }
     let mut comp_edges: Vec<Vec<&(usize, usize)>> = vec![Vec::new(); comps.len()];
@@ -54,7 +56,7 @@ fn mesh_occluders(m: &crate::scene::LoadedMesh) -> Vec<Occluder> {
     comps
         .iter()
         .zip(comp_edges)
-        .map(|(fl, keys)| occluder(&pos, &faces, &edge_faces, fl, keys))
+        .map(|(fl, keys)| occluder(&pos, &faces, &edge_faces, &local, fl, keys))
         .collect()
 }
 
@@ -130,25 +132,34 @@ pub(super) fn components(n: usize, edge_faces: &EdgeFaces) -> Vec<Vec<usize>> {
 }
 
 /// One component as an occluder: its faces, welded edges, closed and convex tests.
-/// `keys` are the component's edges: those whose first face is in `fl`.
+/// `keys` are the component's edges: those whose first face is in `fl`; `local[f]` is
+/// face `f`'s index in its component's list.
 pub(super) fn occluder(
     pos: &[DVec3],
     faces: &[[usize; 3]],
     edge_faces: &EdgeFaces,
+    local: &[usize],
     fl: &[usize],
     mut keys: Vec<&(usize, usize)>,
 ) -> Occluder {
-    let local: HashMap<usize, usize> = fl.iter().enumerate().map(|(k, &f)| (f, k)).collect();
     let mut edges = Vec::new();
     let mut closed = true;
     keys.sort_unstable();
     for e in keys {
-        let fs: Vec<usize> = edge_faces[e].iter().map(|f| local[f]).collect();
+        let fs: Vec<usize> = edge_faces[e].iter().map(|&f| local[f]).collect();
         closed &= fs.len() == 2;
         edges.push(([pos[e.0], pos[e.1]], fs));
     }
     let ftris: Vec<[DVec3; 3]> = fl.iter().map(|&f| faces[f].map(|i| pos[i])).collect();
-    let convex = closed && is_convex(&ftris);
+    let convex = closed && {
+        // The component's positions, each once: welding made equal positions (to the
+        // bit) one index, so distinct indices are the distinct positions `is_convex`
+        // finds by sorting the coordinates' bits, found here by sorting integers.
+        let mut ids: Vec<usize> = fl.iter().flat_map(|&f| faces[f]).collect();
+        ids.sort_unstable();
+        ids.dedup();
+        is_convex_over(&ftris, ids.into_iter().map(|i| pos[i]).collect())
+    };
     Occluder {
         faces: ftris,
         convex_closed: convex,
@@ -166,16 +177,24 @@ pub(super) fn occluder(
 /// once) are kept in a bounding-box tree ([`VertexTree`]), and a box whose every point is
 /// provably on the tested side by more than the rounding of the per-vertex expression
 /// passes without evaluating its vertices; the others are evaluated exactly as written.
-pub(super) fn is_convex(ftris: &[[DVec3; 3]]) -> bool {
+/// (The occluders call [`is_convex_over`] with the welded positions.)
+#[cfg(test)]
+fn is_convex(ftris: &[[DVec3; 3]]) -> bool {
     let mut verts: Vec<DVec3> = ftris.iter().flatten().copied().collect();
-    let scale = verts
-        .iter()
-        .fold(0.0f64, |s, v| s.max(v.abs().max_element()))
-        .max(1.0);
     // Each position once: a vertex repeated changes neither `all`.
     let bits = |v: &DVec3| v.to_array().map(f64::to_bits);
     verts.sort_unstable_by_key(bits);
     verts.dedup_by_key(|v| bits(v));
+    is_convex_over(ftris, verts)
+}
+
+/// [`is_convex`] of `ftris` given `verts`, the positions of their corners, each once
+/// (in any order).
+pub(super) fn is_convex_over(ftris: &[[DVec3; 3]], verts: Vec<DVec3>) -> bool {
+    let scale = verts
+        .iter()
+        .fold(0.0f64, |s, v| s.max(v.abs().max_element()))
+        .max(1.0);
     let eps = 1e-9 * scale;
     if !verts.iter().all(|v| v.is_finite()) {
         return ftris.iter().all(|t| face_splits_none(t, &verts, eps, None));
@@ -204,8 +223,7 @@ fn face_splits_none(
     let side = |v: &DVec3| (*v - t[0]).dot(n);
     match tree {
         Some((tree, scale)) if n.is_finite() => {
-            tree.all_within(t[0], n, scale, eps, 1.0, &side)
-                || tree.all_within(t[0], n, scale, eps, -1.0, &side)
+            tree.all_within(t[0], n, scale, eps, 1.0) || tree.all_within(t[0], n, scale, eps, -1.0)
         }
         _ => verts.iter().all(|v| side(v) <= eps) || verts.iter().all(|v| side(v) >= -eps),
     }
@@ -216,6 +234,9 @@ fn face_splits_none(
 struct VertexTree {
     /// The vertices, reordered so that each node's are contiguous.
     verts: Vec<DVec3>,
+    /// Their coordinates, one list per axis (a leaf's vertices are then tested several
+    /// at a time).
+    xyz: [Vec<f64>; 3],
     /// Nodes: box centre, half extent, vertex range, children (0 for a leaf).
     nodes: Vec<BoxNode>,
 }
@@ -230,12 +251,13 @@ struct BoxNode {
 
 impl VertexTree {
     /// Most vertices in a leaf.
-    const LEAF: usize = 16;
+    const LEAF: usize = 32;
 
     fn new(mut verts: Vec<DVec3>) -> Self {
         let mut nodes = Vec::with_capacity(2 * verts.len() / Self::LEAF + 1);
         Self::build(&mut verts, 0, &mut nodes);
-        VertexTree { verts, nodes }
+        let xyz = [0, 1, 2].map(|k| verts.iter().map(|v| v[k]).collect());
+        VertexTree { verts, xyz, nodes }
     }
 
     /// Builds the node of `verts` (starting at index `at` of the whole list) and its
@@ -272,19 +294,13 @@ impl VertexTree {
     }
 
     /// Whether `sign · side(v) ≤ eps` for every vertex (`sign` ±1; `side(v)` is
-    /// `(v − p)·n` as [`is_convex`] computes it, `n` a unit normal, every coordinate within
-    /// `scale`). A box passes unopened when the exact maximum of `sign · (x − p)·n` over
-    /// it, bounded from above with room for the rounding of both that bound and `side`,
-    /// is at most `eps`.
-    fn all_within(
-        &self,
-        p: DVec3,
-        n: DVec3,
-        scale: f64,
-        eps: f64,
-        sign: f64,
-        side: &impl Fn(&DVec3) -> f64,
-    ) -> bool {
+    /// `(v − p)·n` as [`face_splits_none`] computes it, `n` a unit normal, every coordinate
+    /// within `scale`). A box passes unopened when the exact maximum of `sign · (x − p)·n`
+    /// over it, bounded from above with room for the rounding of both that bound and
+    /// `side`, is at most `eps`. A leaf's vertices are evaluated with the same operations
+    /// in the same order as `side` (glam's `DVec3` subtraction and `dot`:
+    /// `((dx·nx) + (dy·ny)) + (dz·nz)`), so to the same bits.
+    fn all_within(&self, p: DVec3, n: DVec3, scale: f64, eps: f64, sign: f64) -> bool {
         // |side(v) − (v − p)·n| and the rounding of the bound below are each under
         // 1e-14 · scale (a handful of roundings of terms below 4 · scale, |n| ≈ 1); the
         // slack is a thousand times more and a thousand times less than eps.
@@ -302,7 +318,14 @@ impl VertexTree {
             }
             if b.kids.0 == 0 {
                 let (s, e) = (b.range.0 as usize, b.range.1 as usize);
-                if !self.verts[s..e].iter().all(|v| sign * side(v) <= eps) {
+                let [xs, ys, zs] = [0, 1, 2].map(|k| &self.xyz[k][s..e]);
+                // No early exit inside a leaf: the loop runs several vertices at a time.
+                let mut out = false;
+                for ((x, y), z) in xs.iter().zip(ys).zip(zs) {
+                    let side = (x - p.x) * n.x + (y - p.y) * n.y + (z - p.z) * n.z;
+                    out |= !(sign * side <= eps);
+                }
+                if out {
                     return false;
                 }
             } else {
@@ -399,6 +422,41 @@ mod tests {
                 verts.iter().all(|v| side(v) <= eps) || verts.iter().all(|v| side(v) >= -eps)
             }
         })
+    }
+
+    /// The tree's leaf evaluation is the face test's own expression to the bit: with `eps`
+    /// set to the largest `sign · side(v)` over random point clouds (`side` as
+    /// [`face_splits_none`] writes it), every vertex passes, and with the next smaller
+    /// `eps` one fails. A different rounding of the vertex that sets the maximum, or a
+    /// strict comparison, fails this.
+    #[test]
+    fn leaf_sides_are_the_face_tests_to_the_bit() {
+        let mut rng = crate::rng::XorShift64Star(0x1eaf);
+        for trial in 0..400 {
+            let s = [1e-3, 1.0, 7.5, 1e5][trial % 4];
+            let count = 1 + (rng.next_u64() % 300) as usize;
+            let mut r = || (rng.unit() - 0.5) * 2.0 * s;
+            let pts: Vec<DVec3> = (0..count).map(|_| DVec3::new(r(), r(), r())).collect();
+            let p = pts[trial % count];
+            let n = DVec3::new(r(), r(), r()).normalize();
+            let scale = pts
+                .iter()
+                .fold(0.0f64, |m, v| m.max(v.abs().max_element()))
+                .max(1.0);
+            let side = |v: &DVec3| (*v - p).dot(n);
+            let tree = VertexTree::new(pts.clone());
+            for sign in [1.0, -1.0] {
+                let eps = pts
+                    .iter()
+                    .map(|v| sign * side(v))
+                    .fold(f64::NEG_INFINITY, f64::max);
+                assert!(tree.all_within(p, n, scale, eps, sign), "trial {trial}");
+                assert!(
+                    !tree.all_within(p, n, scale, eps.next_down(), sign),
+                    "trial {trial}"
+                );
+            }
+        }
     }
 
     /// A sphere's surface: the octahedron's faces subdivided `level` times, the vertices
@@ -519,6 +577,18 @@ mod tests {
                     "shape of {} faces, case {case}",
                     t.len()
                 );
+                // The occluders' form: the distinct positions in another order (last
+                // appearance first), as welding lists them.
+                let mut distinct: Vec<DVec3> = Vec::new();
+                for v in t.iter().flatten().rev() {
+                    if !distinct
+                        .iter()
+                        .any(|d| d.to_array().map(f64::to_bits) == v.to_array().map(f64::to_bits))
+                    {
+                        distinct.push(*v);
+                    }
+                }
+                assert_eq!(is_convex_over(&t, distinct), want, "case {case}, welded");
                 if want {
                     yes += 1;
                 } else {
