@@ -320,12 +320,12 @@ impl VertexTree {
                 let (s, e) = (b.range.0 as usize, b.range.1 as usize);
                 let [xs, ys, zs] = [0, 1, 2].map(|k| &self.xyz[k][s..e]);
                 // No early exit inside a leaf: the loop runs several vertices at a time.
-                let mut out = false;
+                let mut ok = true;
                 for ((x, y), z) in xs.iter().zip(ys).zip(zs) {
                     let side = (x - p.x) * n.x + (y - p.y) * n.y + (z - p.z) * n.z;
-                    out |= !(sign * side <= eps);
+                    ok &= sign * side <= eps;
                 }
-                if out {
+                if !ok {
                     return false;
                 }
             } else {
