@@ -1,6 +1,8 @@
 //! Runs a plan: the parts [`Plan`] lists, in order, each stage timed. Each part hands
 //! its output to the next as a value (the array's frame and shadow table, the
-//! anti-aliased image), so a stage cannot run before what it reads.
+//! anti-aliased image), so a stage cannot run before what it reads. The one stage that
+//! reads only the scene, the shadow casters, runs alongside the front end and span
+//! setup.
 
 use crate::frontend::{self, FrontError, Projected};
 use crate::pixel_array::Command;
@@ -130,21 +132,62 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
     let lights: Vec<ShadowLight> = shadow::shadow_lights(ls, &fx.shadow_lights)?;
     let shape = Plan::new(fx);
     let mut timings = Timings::new();
-    let projected = timed(&mut timings, Stage::FrontEnd, || {
-        frontend::project_shaded(ls, fx.shade_channels())
-    })?;
+    let shadows = shape.array().is_some_and(|a| !a.shadow_lights.is_empty());
+    // The front end and span setup, with the shadow casters found alongside: they depend
+    // on neither the camera nor a light, and their meshes' welding and convexity tests
+    // fill the cores where the two stages run on one (their serial parts). Timed as the
+    // wall time they add after span setup is done.
+    let t0 = Instant::now();
+    let (first, occ) = rayon::join(
+        || -> Result<_, RenderError> {
+            let projected = timed(&mut timings, Stage::FrontEnd, || {
+                frontend::project_shaded(ls, fx.shade_channels())
+            })?;
+            let src = match shape.array() {
+                Some(_) => Some(timed(&mut timings, Stage::SpanSetup, || {
+                    SpanSource::new(&projected.array_tris(), w, h)
+                })?),
+                None => None,
+            };
+            Ok((projected, src, t0.elapsed()))
+        },
+        || shadows.then(|| shadow::occluders(ls)),
+    );
+    let (projected, src, ahead) = first?;
+    if shadows {
+        timings.push((Stage::ShadowCasters, t0.elapsed().saturating_sub(ahead)));
+    }
+    let occ = occ.as_deref().unwrap_or(&[]);
     // Under anti-aliasing: the shadowed fraction per pixel from the method's own samples,
     // and how many sample lattices the array rendered for it.
     let mut fraction: Option<Vec<u8>> = None;
     let mut shadow_passes = 0;
     let (data, array, aa) = match &shape {
         Plan::Array(a) => {
-            let arr = run_array(ls, fx, a, &projected, bg, &lights, &mut timings)?;
+            let ctx = ArrayCtx {
+                ls,
+                fx,
+                a,
+                lights: &lights,
+                occ,
+                bg,
+            };
+            let arr = run_array(&ctx, src.as_ref(), &projected, &mut timings)?;
             (arr.frame.rgb8(), Some(arr), None)
         }
         Plan::Antialias { method, array, .. } => {
             let arr = match array {
-                Some(a) => Some(run_array(ls, fx, a, &projected, bg, &lights, &mut timings)?),
+                Some(a) => {
+                    let ctx = ArrayCtx {
+                        ls,
+                        fx,
+                        a,
+                        lights: &lights,
+                        occ,
+                        bg,
+                    };
+                    Some(run_array(&ctx, src.as_ref(), &projected, &mut timings)?)
+                }
                 None => None,
             };
             let stage = Stage::Antialias(*method);
@@ -180,6 +223,7 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
                                 fx,
                                 a,
                                 lights: &lights,
+                                occ,
                                 bg,
                             },
                             table: t,
@@ -259,35 +303,33 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
     })
 }
 
-/// The array's stages: span setup, each light's shadow volumes, the array, shadow
-/// shading.
+/// The array's stages: span setup (unless `src` has its span words already), each
+/// light's shadow volumes, the array, shadow shading.
 fn run_array(
-    ls: &LoadedScene,
-    fx: &Effects,
-    a: &ArrayPlan,
+    ctx: &ArrayCtx,
+    src: Option<&SpanSource>,
     projected: &Projected,
-    bg: [u8; 3],
-    lights: &[ShadowLight],
     timings: &mut Timings,
 ) -> Result<ArrayOut, RenderError> {
+    let ArrayCtx { ls, fx, a, .. } = *ctx;
     let (w, h) = (ls.scene.width, ls.scene.height);
-    let src = timed(timings, Stage::SpanSetup, || {
-        SpanSource::new(&projected.array_tris(), w, h)
-    })?;
+    let made;
+    let src = match src {
+        Some(s) => s,
+        None => {
+            made = timed(timings, Stage::SpanSetup, || {
+                SpanSource::new(&projected.array_tris(), w, h)
+            })?;
+            &made
+        }
+    };
     // Shadows need a camera: planning allows them only for 3-D scenes.
     let pj = (!a.shadow_lights.is_empty()).then(|| frontend::Projector::new(ls));
-    let ctx = ArrayCtx {
-        ls,
-        fx,
-        a,
-        lights,
-        bg,
-    };
     // With shadows, each row is shaded as it is read out of the array (the core's shade
     // unit), in the array's stage.
     let table =
-        (!a.shadow_lights.is_empty()).then(|| FactorTable::for_mode(ls, lights, fx.shading));
-    let (frame, stats) = ctx.draw(&src, pj.as_ref(), table.as_ref(), timings)?;
+        (!a.shadow_lights.is_empty()).then(|| FactorTable::for_mode(ls, ctx.lights, fx.shading));
+    let (frame, stats) = ctx.draw(src, pj.as_ref(), table.as_ref(), timings)?;
     Ok(ArrayOut {
         span_words: src.span_count() as u64,
         frame,
@@ -308,6 +350,8 @@ pub(super) struct ArrayCtx<'a> {
     pub a: &'a ArrayPlan,
     /// The shadowing lights.
     pub lights: &'a [ShadowLight],
+    /// The scene's shadow casters ([`shadow::occluders`]; empty without shadows).
+    pub occ: &'a [shadow::Occluder],
     /// Background colour.
     pub bg: [u8; 3],
 }
@@ -328,15 +372,7 @@ impl ArrayCtx<'_> {
         if let Some(pj) = pj {
             for &light in &self.a.shadow_lights {
                 timed(timings, Stage::ShadowVolumes { light }, || {
-                    shadow_volumes(
-                        self.ls,
-                        pj,
-                        self.fx,
-                        self.lights,
-                        light,
-                        &mut shadow_rows,
-                        &mut stats,
-                    )
+                    self.shadow_volumes(pj, light, &mut shadow_rows, &mut stats)
                 })?;
             }
         }
@@ -355,30 +391,29 @@ impl ArrayCtx<'_> {
         });
         Ok((frame, stats))
     }
-}
 
-/// One light's shadow volumes, appended to each row's shadow commands.
-fn shadow_volumes(
-    ls: &LoadedScene,
-    pj: &frontend::Projector,
-    fx: &Effects,
-    lights: &[ShadowLight],
-    light: usize,
-    rows: &mut [Vec<Command>],
-    stats: &mut ShadowStats,
-) -> Result<(), RenderError> {
-    let l: Vec<ShadowLight> = lights
-        .iter()
-        .filter(|x| x.index == light)
-        .cloned()
-        .collect();
-    let sc = shadow::shadow_commands(ls, pj, &l, fx.shadow_form)?;
-    shadow::append_rows(rows, sc.rows);
-    stats.volumes += sc.stats.volumes;
-    stats.span_words += sc.stats.span_words;
-    stats.eye_inside += sc.stats.eye_inside;
-    stats.near_caps += sc.stats.near_caps;
-    Ok(())
+    /// One light's shadow volumes, appended to each row's shadow commands.
+    fn shadow_volumes(
+        &self,
+        pj: &frontend::Projector,
+        light: usize,
+        rows: &mut [Vec<Command>],
+        stats: &mut ShadowStats,
+    ) -> Result<(), RenderError> {
+        let l: Vec<ShadowLight> = self
+            .lights
+            .iter()
+            .filter(|x| x.index == light)
+            .cloned()
+            .collect();
+        let sc = shadow::shadow_commands_of(self.occ, self.ls, pj, &l, self.fx.shadow_form)?;
+        shadow::append_rows(rows, sc.rows);
+        stats.volumes += sc.stats.volumes;
+        stats.span_words += sc.stats.span_words;
+        stats.eye_inside += sc.stats.eye_inside;
+        stats.near_caps += sc.stats.near_caps;
+        Ok(())
+    }
 }
 
 /// Post-processing of the array's shadowed baseline: the image and the shadowed fraction.

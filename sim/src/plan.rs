@@ -201,6 +201,11 @@ pub enum Stage {
     FrontEnd,
     /// Span setup: triangles to span words, binned by scanline.
     SpanSetup,
+    /// The scene's shadow casters: each shadow-casting mesh welded, split into connected
+    /// components, tested for closed and convex (seed 001's silhouette volumes need
+    /// both). Found once per frame, alongside the front end and span setup; its time is
+    /// the wall time it adds after those two.
+    ShadowCasters,
     /// Shadow volumes of one light (all its samples) to shadow span words (seed 001).
     ShadowVolumes {
         /// Index of the light in the scene.
@@ -225,6 +230,7 @@ impl fmt::Display for Stage {
         match self {
             Stage::FrontEnd => write!(f, "front end (project, clip, snap)"),
             Stage::SpanSetup => write!(f, "span setup"),
+            Stage::ShadowCasters => write!(f, "shadow casters (beyond setup)"),
             Stage::ShadowVolumes { light } => write!(f, "shadow volumes, light {light}"),
             Stage::PixelArray => write!(f, "pixel-processor array"),
             Stage::Antialias(m) => write!(f, "anti-aliasing: {m}"),
@@ -300,6 +306,9 @@ impl Plan {
         let shadows = self.array().is_some_and(|a| !a.shadow_lights.is_empty());
         if let Some(a) = self.array() {
             st.push(Stage::SpanSetup);
+            if shadows {
+                st.push(Stage::ShadowCasters);
+            }
             for &l in &a.shadow_lights {
                 st.push(Stage::ShadowVolumes { light: l });
             }
@@ -359,6 +368,7 @@ mod tests {
             vec![
                 Stage::FrontEnd,
                 Stage::SpanSetup,
+                Stage::ShadowCasters,
                 Stage::ShadowVolumes { light: 0 },
                 Stage::ShadowVolumes { light: 2 },
                 Stage::PixelArray

@@ -362,8 +362,9 @@ impl SceneStream {
         if !shadow_lights.is_empty() {
             let lights = shadow::shadow_lights(ls, shadow_lights)?;
             let pj = Projector::new(ls);
+            let occ = shadow::occluders(ls);
             for l in &lights {
-                let sc = shadow::shadow_commands(ls, &pj, std::slice::from_ref(l), form)?;
+                let sc = shadow::shadow_commands_of(&occ, ls, &pj, std::slice::from_ref(l), form)?;
                 shadow::append_rows(&mut stream.shadow, sc.rows);
                 stream.shadow_stats.volumes += sc.stats.volumes;
                 stream.shadow_stats.span_words += sc.stats.span_words;

@@ -68,7 +68,6 @@ use glam::{DVec3, DVec4};
 use pixelproc_formats::core_stream::shade_rgb;
 use pixelproc_formats::{Attr, SpanWord, Z_FAR};
 use rayon::prelude::*;
-use std::collections::HashMap;
 use thiserror::Error;
 
 mod near;
@@ -238,14 +237,26 @@ pub fn shadow_commands(
     lights: &[ShadowLight],
     form: ShadowForm,
 ) -> Result<ShadowCommands, ShadowError> {
+    shadow_commands_of(&occluders(ls), ls, pj, lights, form)
+}
+
+/// [`shadow_commands`] with the scene's occluders already found ([`occluders`]: they do
+/// not depend on the light or the camera, so one list serves every light and every
+/// sample lattice of a frame).
+pub fn shadow_commands_of(
+    occ: &[Occluder],
+    ls: &LoadedScene,
+    pj: &Projector,
+    lights: &[ShadowLight],
+    form: ShadowForm,
+) -> Result<ShadowCommands, ShadowError> {
     let (w, h) = pj.raster_size();
-    let occ = occluders(ls);
     let bbox = ray_box(ls, pj.eye);
     let mut rows: Vec<Vec<Command>> = vec![Vec::new(); h as usize];
     let mut stats = ShadowStats::default();
     for l in lights {
         for &s in &l.samples {
-            let vols = volumes(&occ, s, pj.eye);
+            let vols = volumes(occ, s, pj.eye);
             stats.volumes += vols.len();
             stats.eye_inside += vols.iter().filter(|v| v.eye_inside).count();
             let per_vol: Vec<(VolumeTris, NearPlane)> = vols

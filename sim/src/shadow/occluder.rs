@@ -2,6 +2,11 @@
 //! its faces, closedness and convexity (see the module header of [`super`]).
 
 use super::*;
+use ahash::AHashMap;
+use smallvec::SmallVec;
+
+/// The faces on one welded edge: two on a closed surface.
+pub(super) type EdgeFaceList = SmallVec<[usize; 2]>;
 
 /// An occluder in world space: triangles and, per volume, the polygons to extrude.
 #[derive(Clone, Debug)]
@@ -13,7 +18,7 @@ pub struct Occluder {
     /// Closed (every edge shared by exactly two faces).
     pub closed: bool,
     /// Welded edges: vertex pairs and their adjacent faces.
-    pub(super) edges: Vec<([DVec3; 2], Vec<usize>)>,
+    pub(super) edges: Vec<([DVec3; 2], EdgeFaceList)>,
 }
 
 /// Splits every shadow-casting mesh into connected components (meshes in parallel; the
@@ -62,7 +67,7 @@ fn mesh_occluders(m: &crate::scene::LoadedMesh) -> Vec<Occluder> {
 
 /// Welds a mesh's positions bit-exactly; drops faces that become degenerate.
 pub(super) fn weld(m: &crate::scene::LoadedMesh) -> (Vec<DVec3>, Vec<[usize; 3]>) {
-    let mut ids: HashMap<[u64; 3], usize> = HashMap::new();
+    let mut ids: AHashMap<[u64; 3], usize> = AHashMap::new();
     let mut pos = Vec::new();
     let mut weld = |p: [f64; 3]| {
         *ids.entry(p.map(f64::to_bits)).or_insert_with(|| {
@@ -80,10 +85,10 @@ pub(super) fn weld(m: &crate::scene::LoadedMesh) -> (Vec<DVec3>, Vec<[usize; 3]>
 }
 
 /// Faces adjacent to each undirected edge (vertex pair, smaller index first).
-type EdgeFaces = HashMap<(usize, usize), Vec<usize>>;
+type EdgeFaces = AHashMap<(usize, usize), EdgeFaceList>;
 
 pub(super) fn edge_faces(faces: &[[usize; 3]]) -> EdgeFaces {
-    let mut edge_faces: EdgeFaces = HashMap::new();
+    let mut edge_faces: EdgeFaces = AHashMap::new();
     for (fi, f) in faces.iter().enumerate() {
         for k in 0..3 {
             let (a, b) = (f[k], f[(k + 1) % 3]);
@@ -146,7 +151,7 @@ pub(super) fn occluder(
     let mut closed = true;
     keys.sort_unstable();
     for e in keys {
-        let fs: Vec<usize> = edge_faces[e].iter().map(|&f| local[f]).collect();
+        let fs: EdgeFaceList = edge_faces[e].iter().map(|&f| local[f]).collect();
         closed &= fs.len() == 2;
         edges.push(([pos[e.0], pos[e.1]], fs));
     }
