@@ -136,28 +136,34 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
     // The front end and span setup, with the shadow casters found alongside: they depend
     // on neither the camera nor a light, and their meshes' welding and convexity tests
     // fill the cores where the two stages run on one (their serial parts). Timed as the
-    // wall time they add after span setup is done.
-    let t0 = Instant::now();
-    let (first, occ) = rayon::join(
-        || -> Result<_, RenderError> {
-            let projected = timed(&mut timings, Stage::FrontEnd, || {
-                frontend::project_shaded(ls, fx.shade_channels())
-            })?;
-            let src = match shape.array() {
-                Some(_) => Some(timed(&mut timings, Stage::SpanSetup, || {
-                    SpanSource::new(&projected.array_tris(), w, h)
-                })?),
-                None => None,
-            };
-            Ok((projected, src, t0.elapsed()))
-        },
-        || shadows.then(|| shadow::occluders(ls)),
-    );
-    let (projected, src, ahead) = first?;
-    if shadows {
+    // wall time they add after span setup is done. Without shadows the two stages run
+    // alone, on the calling thread.
+    let front = |timings: &mut Timings| -> Result<_, RenderError> {
+        let projected = timed(timings, Stage::FrontEnd, || {
+            frontend::project_shaded(ls, fx.shade_channels())
+        })?;
+        let src = match shape.array() {
+            Some(_) => Some(timed(timings, Stage::SpanSetup, || {
+                SpanSource::new(&projected.array_tris(), w, h)
+            })?),
+            None => None,
+        };
+        Ok((projected, src))
+    };
+    let (projected, src, occ) = if shadows {
+        let t0 = Instant::now();
+        let (first, occ) = rayon::join(
+            || front(&mut timings).map(|f| (f, t0.elapsed())),
+            || shadow::occluders(ls),
+        );
+        let ((projected, src), ahead) = first?;
         timings.push((Stage::ShadowCasters, t0.elapsed().saturating_sub(ahead)));
-    }
-    let occ = occ.as_deref().unwrap_or(&[]);
+        (projected, src, occ)
+    } else {
+        let (projected, src) = front(&mut timings)?;
+        (projected, src, Vec::new())
+    };
+    let occ = &occ[..];
     // Under anti-aliasing: the shadowed fraction per pixel from the method's own samples,
     // and how many sample lattices the array rendered for it.
     let mut fraction: Option<Vec<u8>> = None;
