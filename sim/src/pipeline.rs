@@ -163,37 +163,31 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
         let (projected, src) = front(&mut timings)?;
         (projected, src, Vec::new())
     };
-    let occ = &occ[..];
+    let ctx_of = |a| ArrayCtx {
+        ls,
+        fx,
+        a,
+        lights: &lights,
+        occ: &occ,
+        bg,
+    };
     // Under anti-aliasing: the shadowed fraction per pixel from the method's own samples,
     // and how many sample lattices the array rendered for it.
     let mut fraction: Option<Vec<u8>> = None;
     let mut shadow_passes = 0;
     let (data, array, aa) = match &shape {
         Plan::Array(a) => {
-            let ctx = ArrayCtx {
-                ls,
-                fx,
-                a,
-                lights: &lights,
-                occ,
-                bg,
-            };
-            let arr = run_array(&ctx, src.as_ref(), &projected, &mut timings)?;
+            let arr = run_array(&ctx_of(a), src.as_ref(), &projected, &mut timings)?;
             (arr.frame.rgb8(), Some(arr), None)
         }
         Plan::Antialias { method, array, .. } => {
             let arr = match array {
-                Some(a) => {
-                    let ctx = ArrayCtx {
-                        ls,
-                        fx,
-                        a,
-                        lights: &lights,
-                        occ,
-                        bg,
-                    };
-                    Some(run_array(&ctx, src.as_ref(), &projected, &mut timings)?)
-                }
+                Some(a) => Some(run_array(
+                    &ctx_of(a),
+                    src.as_ref(),
+                    &projected,
+                    &mut timings,
+                )?),
                 None => None,
             };
             let stage = Stage::Antialias(*method);
@@ -224,14 +218,7 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
                 {
                     let sampled = timed(&mut timings, Stage::ShadowApply, || {
                         let inp = shadow_samples::PassInput {
-                            ctx: ArrayCtx {
-                                ls,
-                                fx,
-                                a,
-                                lights: &lights,
-                                occ,
-                                bg,
-                            },
+                            ctx: ctx_of(a),
                             table: t,
                         };
                         shadow_samples::sample_shadows(&inp, &fx.aa, &mut out.rgb)
