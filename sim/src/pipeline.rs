@@ -171,23 +171,22 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
         occ: &occ,
         bg,
     };
+    let run = |a, timings: &mut Timings| match &src {
+        Some(src) => run_array(&ctx_of(a), src, timings),
+        None => unreachable!("span setup runs for every plan with an array"),
+    };
     // Under anti-aliasing: the shadowed fraction per pixel from the method's own samples,
     // and how many sample lattices the array rendered for it.
     let mut fraction: Option<Vec<u8>> = None;
     let mut shadow_passes = 0;
     let (data, array, aa) = match &shape {
         Plan::Array(a) => {
-            let arr = run_array(&ctx_of(a), src.as_ref(), &projected, &mut timings)?;
+            let arr = run(a, &mut timings)?;
             (arr.frame.rgb8(), Some(arr), None)
         }
         Plan::Antialias { method, array, .. } => {
             let arr = match array {
-                Some(a) => Some(run_array(
-                    &ctx_of(a),
-                    src.as_ref(),
-                    &projected,
-                    &mut timings,
-                )?),
+                Some(a) => Some(run(a, &mut timings)?),
                 None => None,
             };
             let stage = Stage::Antialias(*method);
@@ -296,26 +295,14 @@ pub fn render(ls: &LoadedScene, fx: &Effects) -> Result<RenderOutput, RenderErro
     })
 }
 
-/// The array's stages: span setup (unless `src` has its span words already), each
-/// light's shadow volumes, the array, shadow shading.
+/// The array's stages after span setup (`src`): each light's shadow volumes, the array,
+/// shadow shading.
 fn run_array(
     ctx: &ArrayCtx,
-    src: Option<&SpanSource>,
-    projected: &Projected,
+    src: &SpanSource,
     timings: &mut Timings,
 ) -> Result<ArrayOut, RenderError> {
     let ArrayCtx { ls, fx, a, .. } = *ctx;
-    let (w, h) = (ls.scene.width, ls.scene.height);
-    let made;
-    let src = match src {
-        Some(s) => s,
-        None => {
-            made = timed(timings, Stage::SpanSetup, || {
-                SpanSource::new(&projected.array_tris(), w, h)
-            })?;
-            &made
-        }
-    };
     // Shadows need a camera: planning allows them only for 3-D scenes.
     let pj = (!a.shadow_lights.is_empty()).then(|| frontend::Projector::new(ls));
     // With shadows, each row is shaded as it is read out of the array (the core's shade
