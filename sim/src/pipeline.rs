@@ -5,12 +5,11 @@
 //! setup.
 
 use crate::frontend::{self, FrontError, Projected};
-use crate::pixel_array::Command;
 use crate::plan::{AaMethod, Aov, ArrayPlan, Effects, Plan, Stage};
-use crate::render::{render_frame_with, Frame, SpanSource};
+use crate::render::{render_frame_with, Frame, RowExtra, SpanSource};
 use crate::scene::LoadedScene;
 use crate::setup::SetupError;
-use crate::shadow::{self, FactorTable, ShadowError, ShadowLight, ShadowStats};
+use crate::shadow::{self, FactorTable, ShadowError, ShadowLight, ShadowRows, ShadowStats};
 use crate::stream::StreamError;
 use crate::{aa, abuffer};
 use rayon::prelude::*;
@@ -337,9 +336,10 @@ pub(super) struct ArrayCtx<'a> {
 }
 
 impl ArrayCtx<'_> {
-    /// The array drawing a frame: each shadowing light's volumes through `pj` (timed as
-    /// their own stages), then the span words of `src` with those shadow commands behind
-    /// each row's spans. Each row is shaded by `table` at readout, if given.
+    /// The array drawing a frame: each shadowing light's volumes through `pj` set up
+    /// (timed as their own stages), then the span words of `src` with those volumes'
+    /// shadow commands behind each row's spans, made as the rows are drawn. Each row is
+    /// shaded by `table` at readout, if given.
     fn draw(
         &self,
         src: &SpanSource,
@@ -347,52 +347,52 @@ impl ArrayCtx<'_> {
         table: Option<&FactorTable>,
         timings: &mut Timings,
     ) -> Result<(Frame, ShadowStats), RenderError> {
-        let mut shadow_rows: Vec<Vec<Command>> = vec![Vec::new(); src.height() as usize];
-        let mut stats = ShadowStats::default();
+        let mut shadows: Option<ShadowRows> = None;
         if let Some(pj) = pj {
             for &light in &self.a.shadow_lights {
-                timed(timings, Stage::ShadowVolumes { light }, || {
-                    self.shadow_volumes(pj, light, &mut shadow_rows, &mut stats)
+                let more = timed(timings, Stage::ShadowVolumes { light }, || {
+                    self.shadow_volumes(pj, light)
                 })?;
+                match &mut shadows {
+                    Some(s) => s.append(more),
+                    None => shadows = Some(more),
+                }
             }
         }
+        let extra = match &shadows {
+            Some(s) => RowExtra::Shadows(s),
+            None => RowExtra::Stored(&[]),
+        };
         let frame = timed(timings, Stage::PixelArray, || {
-            render_frame_with(
-                src,
-                self.bg,
-                self.fx.array_width,
-                &shadow_rows,
-                |row, more| {
-                    if let Some(t) = table {
-                        shadow::shade_row(row, more, t)
-                    }
-                },
-            )
+            render_frame_with(src, self.bg, self.fx.array_width, extra, |row, more| {
+                if let Some(t) = table {
+                    shadow::shade_row(row, more, t)
+                }
+            })
         });
+        let stats = shadows.map_or_else(ShadowStats::default, |s| s.stats());
         Ok((frame, stats))
     }
 
-    /// One light's shadow volumes, appended to each row's shadow commands.
+    /// One light's shadow volumes, set up.
     fn shadow_volumes(
         &self,
         pj: &frontend::Projector,
         light: usize,
-        rows: &mut [Vec<Command>],
-        stats: &mut ShadowStats,
-    ) -> Result<(), RenderError> {
+    ) -> Result<ShadowRows, RenderError> {
         let l: Vec<ShadowLight> = self
             .lights
             .iter()
             .filter(|x| x.index == light)
             .cloned()
             .collect();
-        let sc = shadow::shadow_commands_of(self.occ, self.ls, pj, &l, self.fx.shadow_form)?;
-        shadow::append_rows(rows, sc.rows);
-        stats.volumes += sc.stats.volumes;
-        stats.span_words += sc.stats.span_words;
-        stats.eye_inside += sc.stats.eye_inside;
-        stats.near_caps += sc.stats.near_caps;
-        Ok(())
+        Ok(ShadowRows::new(
+            self.occ,
+            self.ls,
+            pj,
+            &l,
+            self.fx.shadow_form,
+        )?)
     }
 }
 

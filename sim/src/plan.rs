@@ -206,7 +206,10 @@ pub enum Stage {
     /// both). Found once per frame, alongside the front end and span setup; its time is
     /// the wall time it adds after those two.
     ShadowCasters,
-    /// Shadow volumes of one light (all its samples) to shadow span words (seed 001).
+    /// Shadow volumes of one light (all its samples), set up for the array: extruded,
+    /// clipped, snapped, their triangles set up (seed 001). Their shadow span words are
+    /// made a band of rows at a time as the array draws the rows, in its stage, and never
+    /// stored.
     ShadowVolumes {
         /// Index of the light in the scene.
         light: usize,

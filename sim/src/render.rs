@@ -9,6 +9,7 @@
 use crate::pixel_array::{is_flag_command, Command, PixelArray, ProcState, RowFlags, MORE_SHADE};
 use crate::raster::{SpanRaster, SpanSink};
 use crate::setup::{SetupError, SnappedTri};
+use crate::shadow::ShadowRows;
 use crate::stream::{feed_routed, feed_routed_pairs, TileRouter};
 use pixelproc_formats::{SpanWord, MAX_SCREEN};
 use rayon::prelude::*;
@@ -165,96 +166,256 @@ pub fn render_frame(
     array_width: usize,
     extra: &[Vec<Command>],
 ) -> Frame {
-    render_frame_with(src, bg, array_width, extra, |_, _| {})
+    render_frame_with(src, bg, array_width, RowExtra::Stored(extra), |_, _| {})
 }
+
+/// Where each row's commands after its polygon spans come from.
+#[derive(Clone, Copy)]
+pub enum RowExtra<'a> {
+    /// One stored list per row (or none at all: an empty slice).
+    Stored(&'a [Vec<Command>]),
+    /// The shadow commands of volumes set up beforehand, made a band of rows at a time as
+    /// the rows are drawn ([`ShadowRows::band`]) and never stored.
+    Shadows(&'a ShadowRows),
+}
+
+/// Rows drawn by one task: a band's shadow commands are made by one walk of its volumes.
+const BAND: usize = 16;
 
 /// [`render_frame`], with `readout(row, more)` called on each row's final processor
 /// states (and its shade registers 2.., empty if unused) as the row is read out, while it
 /// is still in cache: where the core's shade unit corrects intensities
-/// ([`crate::shadow::shade_row`]).
+/// ([`crate::shadow::shade_row`]). Rows are drawn in bands of 16, in parallel.
 pub fn render_frame_with<G>(
     src: &SpanSource,
     bg: [u8; 3],
     array_width: usize,
-    extra: &[Vec<Command>],
+    extra: RowExtra,
     readout: G,
 ) -> Frame
 where
     G: Fn(&mut [ProcState], &[u32]) + Sync,
 {
-    assert!(
-        extra.is_empty() || extra.len() == src.height as usize,
-        "one command list per row"
-    );
+    match extra {
+        RowExtra::Stored(rows) => assert!(
+            rows.is_empty() || rows.len() == src.height as usize,
+            "one command list per row"
+        ),
+        RowExtra::Shadows(s) => assert_eq!(s.height(), src.height, "one shadow row per row"),
+    }
     let (w, h) = (src.width, src.height);
     let bg = pixelproc_formats::pack_rgb(bg);
     let tiles = (w as usize).div_ceil(array_width);
     let mut px = vec![ProcState::default(); (w * h) as usize];
     let more_stride = if src.max_chan >= 2 { MORE_SHADE } else { 0 };
     let mut more = vec![0u32; (w * h) as usize * more_stride];
-    let mut more_rows = chunks_or_empty(&mut more, w as usize * more_stride, h as usize);
-    px.par_chunks_mut(w as usize)
-        .zip(more_rows.par_iter_mut())
+    let bands = (h as usize).div_ceil(BAND);
+    let mut more_bands = chunks_or_empty(&mut more, w as usize * more_stride * BAND, bands);
+    px.par_chunks_mut(w as usize * BAND)
+        .zip(more_bands.par_iter_mut())
         .enumerate()
         .for_each_init(
-            || {
-                (
-                    PixelArray::new(array_width, 0),
-                    vec![Vec::new(); tiles],
-                    TileRouter::default(),
-                    vec![Vec::new(); tiles],
-                    RowFlags::default(),
-                )
-            },
-            |(arr, per_tile, router, routed, flags), (j, (row, mrow))| {
-                let cmds: &[Command] = extra.get(j).map_or(&[], |c| c);
-                // Shadow commands alone (as the shadow stage makes them) are applied to the
-                // whole row once its tiles hold their polygons, with the result of routing
-                // them to the tiles; anything else goes through the tiles.
-                let row_wide = !cmds.is_empty() && cmds.iter().all(is_flag_command);
-                router.route(
-                    if row_wide { &[] } else { cmds },
-                    array_width as u32,
-                    routed,
-                );
-                for t in per_tile.iter_mut() {
-                    t.clear();
-                }
-                let spans = src.row_spans(j as u32);
-                for (k, s) in spans.iter().enumerate() {
-                    let (a, b) = (s.xl as usize / array_width, s.xr as usize / array_width);
-                    for t in per_tile.iter_mut().take(b.min(tiles - 1) + 1).skip(a) {
-                        t.push(k as u32);
-                    }
-                }
-                for (t, list) in per_tile.iter().enumerate() {
-                    let base = (t * array_width) as u32;
-                    arr.set_base(base);
-                    let ops = list.iter().map(|&k| &spans[k as usize]);
-                    if src.max_chan >= 1 {
-                        feed_routed_pairs(arr, bg, ops, cmds, &routed[t]);
+            || (RowScratch::new(array_width, tiles), Vec::new()),
+            |(scratch, made), (b, (band, mband))| {
+                let j0 = (b * BAND) as u32;
+                let rows = band.chunks_mut(w as usize);
+                let mut walk = match extra {
+                    RowExtra::Shadows(s) => Some(s.band(j0, j0 + rows.len() as u32 - 1)),
+                    RowExtra::Stored(_) => None,
+                };
+                for (r, row) in rows.enumerate() {
+                    let j = j0 + r as u32;
+                    let ws = w as usize * more_stride;
+                    let mrow: &mut [u32] = if mband.is_empty() {
+                        &mut []
                     } else {
-                        feed_routed(arr, bg, ops, cmds, &routed[t]);
-                    }
-                    let n = (w - base).min(array_width as u32) as usize;
-                    row[base as usize..base as usize + n].copy_from_slice(&arr.state()[..n]);
-                    if more_stride > 0 && !arr.shade_regs().is_empty() {
-                        let b = base as usize * more_stride;
-                        mrow[b..b + n * more_stride]
-                            .copy_from_slice(&arr.shade_regs()[..n * more_stride]);
-                    }
+                        &mut mband[r * ws..(r + 1) * ws]
+                    };
+                    let cmds: &[Command] = match (extra, walk.as_mut()) {
+                        (RowExtra::Stored(rows), _) => rows.get(j as usize).map_or(&[], |c| c),
+                        (RowExtra::Shadows(_), Some(walk)) => {
+                            made.clear();
+                            walk.row(j, made);
+                            made
+                        }
+                        (RowExtra::Shadows(_), None) => unreachable!("a walk per band"),
+                    };
+                    scratch.draw(src, bg, j, cmds, row, mrow);
+                    readout(row, mrow);
                 }
-                if row_wide {
-                    flags.run(row, cmds, array_width);
-                }
-                readout(row, mrow);
             },
         );
-    drop(more_rows);
+    drop(more_bands);
     Frame {
         width: w,
         height: h,
         px,
         more,
+    }
+}
+
+/// One task's array and buffers for drawing rows.
+struct RowScratch {
+    arr: PixelArray,
+    /// Per tile: the indices of the row's OP spans that touch it.
+    per_tile: Vec<Vec<u32>>,
+    router: TileRouter,
+    /// Per tile: which of the row's commands it is fed ([`TileRouter::route`]).
+    routed: Vec<Vec<u32>>,
+    flags: RowFlags,
+}
+
+impl RowScratch {
+    fn new(array_width: usize, tiles: usize) -> RowScratch {
+        RowScratch {
+            arr: PixelArray::new(array_width, 0),
+            per_tile: vec![Vec::new(); tiles],
+            router: TileRouter::default(),
+            routed: vec![Vec::new(); tiles],
+            flags: RowFlags::default(),
+        }
+    }
+
+    /// Draws row `j` of `src` into `row` (and its shade registers 2.. into `mrow`, empty
+    /// if unused): its tiles fed `ClearLine`, their OP spans and the routed `cmds`.
+    fn draw(
+        &mut self,
+        src: &SpanSource,
+        bg: u32,
+        j: u32,
+        cmds: &[Command],
+        row: &mut [ProcState],
+        mrow: &mut [u32],
+    ) {
+        let RowScratch {
+            arr,
+            per_tile,
+            router,
+            routed,
+            flags,
+        } = self;
+        let array_width = arr.width();
+        let (w, tiles) = (src.width, per_tile.len());
+        let more_stride = if src.max_chan >= 2 { MORE_SHADE } else { 0 };
+        // Shadow commands alone (as the shadow stage makes them) are applied to the
+        // whole row once its tiles hold their polygons, with the result of routing
+        // them to the tiles; anything else goes through the tiles.
+        let row_wide = !cmds.is_empty() && cmds.iter().all(is_flag_command);
+        router.route(
+            if row_wide { &[] } else { cmds },
+            array_width as u32,
+            routed,
+        );
+        for t in per_tile.iter_mut() {
+            t.clear();
+        }
+        let spans = src.row_spans(j);
+        for (k, s) in spans.iter().enumerate() {
+            let (a, b) = (s.xl as usize / array_width, s.xr as usize / array_width);
+            for t in per_tile.iter_mut().take(b.min(tiles - 1) + 1).skip(a) {
+                t.push(k as u32);
+            }
+        }
+        for (t, list) in per_tile.iter().enumerate() {
+            let base = (t * array_width) as u32;
+            arr.set_base(base);
+            let ops = list.iter().map(|&k| &spans[k as usize]);
+            if src.max_chan >= 1 {
+                feed_routed_pairs(arr, bg, ops, cmds, &routed[t]);
+            } else {
+                feed_routed(arr, bg, ops, cmds, &routed[t]);
+            }
+            let n = (w - base).min(array_width as u32) as usize;
+            row[base as usize..base as usize + n].copy_from_slice(&arr.state()[..n]);
+            if more_stride > 0 && !arr.shade_regs().is_empty() {
+                let b = base as usize * more_stride;
+                mrow[b..b + n * more_stride].copy_from_slice(&arr.shade_regs()[..n * more_stride]);
+            }
+        }
+        if row_wide {
+            flags.run(row, cmds, array_width);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::frontend::Projector;
+    use crate::scene::{load_builtin, Light};
+    use crate::shadow::{occluders, shadow_lights, Shading, ShadowForm};
+    use crate::stream::SceneStream;
+
+    /// Drawing with each band's shadow commands made as its rows are drawn gives the same
+    /// frame (every register, the shade registers 2.. included) and the same count of
+    /// shadow span words as drawing the commands stored per row, one light's after the
+    /// other's, as the RTL benches' stimulus stores them: two point lights and an area
+    /// light with exact shading (three shade channels), both shadow forms, heights that
+    /// are and are not a multiple of the band, arrays narrower and wider than the screen;
+    /// and each row is what one array as wide as the screen makes of the stream's row.
+    #[test]
+    fn shadow_rows_made_per_band_draw_the_stored_commands_frame() {
+        let mut drawn = 0;
+        for (h, form, n) in [
+            (37u32, ShadowForm::Ev, 16usize),
+            (48, ShadowForm::Check, 7),
+            (9, ShadowForm::Ev, 128),
+        ] {
+            let mut ls = load_builtin("default").unwrap();
+            ls.scene.width = 96;
+            ls.scene.height = h;
+            let p0 = ls.scene.lights[0].position;
+            for (dx, radius) in [(-3.0, 0.0), (2.0, 0.8)] {
+                ls.scene.lights.push(Light {
+                    position: [p0[0] + dx, p0[1], p0[2] + 1.0],
+                    intensity: 0.5,
+                    shadows: true,
+                    radius,
+                    samples: Some(3),
+                });
+            }
+            let which: Vec<usize> = (0..ls.scene.lights.len()).collect();
+            let s = SceneStream::of_scene(&ls, &which, form, Shading::Exact).unwrap();
+            assert!(
+                s.spans.max_chan() >= 2,
+                "exact shading uses shade registers 2.."
+            );
+            let (pj, occ) = (Projector::new(&ls), occluders(&ls));
+            let lights = shadow_lights(&ls, &which).unwrap();
+            let mut made: Option<ShadowRows> = None;
+            for l in &lights {
+                let more = ShadowRows::new(&occ, &ls, &pj, std::slice::from_ref(l), form).unwrap();
+                match &mut made {
+                    Some(m) => m.append(more),
+                    None => made = Some(more),
+                }
+            }
+            let made = made.unwrap();
+            let bg = s.bg;
+            let want = render_frame(&s.spans, bg, n, &s.shadow);
+            let got = render_frame_with(&s.spans, bg, n, RowExtra::Shadows(&made), |_, _| {});
+            assert_eq!(got.px, want.px, "height {h}, {form:?}, array {n}");
+            assert_eq!(got.more, want.more, "height {h}, {form:?}, array {n}");
+            assert!(!got.more.is_empty());
+            // And each row as one array as wide as the screen runs it, straight from the
+            // stream's commands (no tiles, no bands).
+            let w = s.width() as usize;
+            let mut arr = PixelArray::new(w, 0);
+            for j in 0..h as usize {
+                arr.run_line(s.bg_packed(), &s.row(j as u32));
+                assert_eq!(arr.state(), &got.px[j * w..(j + 1) * w], "row {j}");
+                let m = &got.more[j * w * MORE_SHADE..(j + 1) * w * MORE_SHADE];
+                match arr.shade_regs() {
+                    [] => assert!(m.iter().all(|&v| v == 0), "row {j}: no shade register 2.."),
+                    regs => assert_eq!(regs, m, "row {j}'s shade registers 2.."),
+                }
+            }
+            let stats = made.stats();
+            assert_eq!(stats.span_words, s.shadow_stats.span_words);
+            assert_eq!(stats.volumes, s.shadow_stats.volumes);
+            assert!(want.px.iter().any(|p| p.mask != 0) && want.px.iter().any(|p| p.count != 0));
+            drawn += stats.span_words;
+        }
+        assert!(drawn > 1000, "{drawn} shadow span words drawn");
     }
 }

@@ -68,6 +68,7 @@ use glam::{DVec3, DVec4};
 use pixelproc_formats::core_stream::shade_rgb;
 use pixelproc_formats::{Attr, SpanWord, Z_FAR};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicU64, Ordering};
 use thiserror::Error;
 
 mod near;
@@ -250,79 +251,217 @@ pub fn shadow_commands_of(
     lights: &[ShadowLight],
     form: ShadowForm,
 ) -> Result<ShadowCommands, ShadowError> {
-    let (w, h) = pj.raster_size();
-    let bbox = ray_box(ls, pj.eye);
-    let mut rows: Vec<Vec<Command>> = vec![Vec::new(); h as usize];
-    let mut stats = ShadowStats::default();
-    for l in lights {
-        for &s in &l.samples {
-            let vols = volumes(occ, s, pj.eye);
-            stats.volumes += vols.len();
-            stats.eye_inside += vols.iter().filter(|v| v.eye_inside).count();
-            let per_vol: Vec<(VolumeTris, NearPlane)> = vols
-                .par_iter()
-                .map(|v| volume_tris(pj, v, bbox))
-                .collect::<Result<_, _>>()?;
-            stats.near_caps += per_vol
-                .iter()
-                .filter(|(_, near)| *near == NearPlane::Cut)
-                .count();
-            let end = match l.bit {
-                Some(bit) => Command::LatchShadow { bit },
-                None => Command::AccumulateShadow,
-            };
-            // The rows a volume may emit on: those its triangles may cover, or every row
-            // when the eye is inside it (its IF span comes even without spans).
-            let reach: Vec<Option<(u32, u32)>> = per_vol
-                .iter()
-                .map(|(tris, near)| match near {
-                    NearPlane::Inside => Some((0, u32::MAX)),
-                    _ => tris.rows(h),
-                })
-                .collect();
-            // Rows are independent: each band of rows walks the triangles of the volumes
-            // that reach it from its first row on, appending in volume order as a
-            // sequential pass over all volumes would (a volume with no span on a row, and
-            // the eye outside it, adds nothing to it). The words are made as they are
-            // appended, never stored per volume.
-            const BAND: usize = 16;
-            stats.span_words += rows
-                .par_chunks_mut(BAND)
-                .enumerate()
-                .map(|(b, band)| {
-                    let j0 = (b * BAND) as u32;
-                    let j1 = j0 + band.len() as u32 - 1;
-                    let mut words = 0u64;
-                    let here: Vec<usize> = (0..per_vol.len())
-                        .filter(|&v| reach[v].is_some_and(|(a, z)| a <= j1 && z >= j0))
-                        .collect();
-                    let mut walk = BandRows::new(here.iter().map(|&v| &per_vol[v].0), j0 as i64);
-                    for (j, out) in (j0..).zip(band.iter_mut()) {
-                        out.push(Command::ClearFlags);
-                        for (i, &v) in here.iter().enumerate() {
-                            // The volume's SP words go straight into the row's commands;
-                            // their column range is kept for a `Check`.
-                            let start = out.len();
-                            let (mut lo, mut hi) = (u16::MAX, 0u16);
-                            walk.row(i, j as i64, w, |s| {
-                                (lo, hi) = (lo.min(s.xl), hi.max(s.xr));
-                                out.push(Command::Span(s));
-                            });
-                            let inside = per_vol[v].1 == NearPlane::Inside;
-                            if out.len() == start && !inside {
-                                continue;
-                            }
-                            end_volume_row(out, start, (lo, hi), inside, form, w);
-                            words += (out.len() - start) as u64;
-                        }
-                        out.push(end);
-                    }
-                    words
-                })
-                .sum::<u64>();
+    let setup = ShadowRows::new(occ, ls, pj, lights, form)?;
+    Ok(setup.commands())
+}
+
+/// Rows per band: a band's rows are made by one walk over the volumes that reach it.
+const BAND: usize = 16;
+
+/// One light sample's volumes, set up.
+struct SampleVolumes {
+    /// Per volume: its triangles and where the near plane lies.
+    per_vol: Vec<(VolumeTris, NearPlane)>,
+    /// The rows a volume may emit on: those its triangles may cover, or every row when
+    /// the near plane is inside it (its IF span comes even without spans).
+    reach: Vec<Option<(u32, u32)>>,
+    /// The control that ends the sample's commands on every row.
+    end: Command,
+}
+
+/// Some lights' shadow volumes, set up (clipped, snapped, their triangles set up), from
+/// which each row's shadow commands are made when the row is drawn, a band of rows at a
+/// time ([`ShadowRows::band`]): the commands of [`shadow_commands_of`], never stored.
+/// Per light sample and row: `ClearFlags`, the volumes' spans in volume order (first IF
+/// when the near plane is inside the volume, last EV or a `Check`), then `LatchShadow`
+/// (point light) or `AccumulateShadow` (area-light sample).
+pub struct ShadowRows {
+    samples: Vec<SampleVolumes>,
+    form: ShadowForm,
+    width: u32,
+    height: u32,
+    /// Statistics of the set-up (`span_words` is counted in `words` as rows are made).
+    stats: ShadowStats,
+    /// Shadow span words made so far.
+    words: AtomicU64,
+}
+
+impl ShadowRows {
+    /// Sets up the volumes of `lights`' samples cast by `occ`, seen through `pj`.
+    pub fn new(
+        occ: &[Occluder],
+        ls: &LoadedScene,
+        pj: &Projector,
+        lights: &[ShadowLight],
+        form: ShadowForm,
+    ) -> Result<ShadowRows, ShadowError> {
+        let (width, height) = pj.raster_size();
+        let bbox = ray_box(ls, pj.eye);
+        let mut stats = ShadowStats::default();
+        let mut samples = Vec::new();
+        for l in lights {
+            for &s in &l.samples {
+                let vols = volumes(occ, s, pj.eye);
+                stats.volumes += vols.len();
+                stats.eye_inside += vols.iter().filter(|v| v.eye_inside).count();
+                let per_vol: Vec<(VolumeTris, NearPlane)> = vols
+                    .par_iter()
+                    .map(|v| volume_tris(pj, v, bbox))
+                    .collect::<Result<_, _>>()?;
+                stats.near_caps += per_vol
+                    .iter()
+                    .filter(|(_, near)| *near == NearPlane::Cut)
+                    .count();
+                let reach = per_vol
+                    .iter()
+                    .map(|(tris, near)| match near {
+                        NearPlane::Inside => Some((0, u32::MAX)),
+                        _ => tris.rows(height),
+                    })
+                    .collect();
+                let end = match l.bit {
+                    Some(bit) => Command::LatchShadow { bit },
+                    None => Command::AccumulateShadow,
+                };
+                samples.push(SampleVolumes {
+                    per_vol,
+                    reach,
+                    end,
+                });
+            }
+        }
+        Ok(ShadowRows {
+            samples,
+            form,
+            width,
+            height,
+            stats,
+            words: AtomicU64::new(0),
+        })
+    }
+
+    /// Puts `more`'s commands after this set-up's on every row (one more light, as
+    /// [`append_rows`] does with stored commands).
+    pub fn append(&mut self, more: ShadowRows) {
+        assert_eq!(
+            (self.width, self.height, self.form),
+            (more.width, more.height, more.form),
+            "shadow set-ups of different frames"
+        );
+        self.stats.volumes += more.stats.volumes;
+        self.stats.eye_inside += more.stats.eye_inside;
+        self.stats.near_caps += more.stats.near_caps;
+        *self.words.get_mut() += more.words.into_inner();
+        self.samples.extend(more.samples);
+    }
+
+    /// Rows of the frame.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// Statistics, with the shadow span words made so far.
+    pub fn stats(&self) -> ShadowStats {
+        ShadowStats {
+            span_words: self.words.load(Ordering::Relaxed),
+            ..self.stats.clone()
         }
     }
-    Ok(ShadowCommands { rows, stats })
+
+    /// A walk that makes the commands of rows `j0..=j1`, asked in that order
+    /// ([`ShadowBand::row`]).
+    pub fn band(&self, j0: u32, j1: u32) -> ShadowBand<'_> {
+        let walks = self
+            .samples
+            .iter()
+            .map(|s| {
+                // Rows are independent: a band walks the triangles of the volumes that
+                // reach it from its first row on, appending in volume order as a pass
+                // over all volumes would (a volume with no span on a row, and the near
+                // plane outside it, adds nothing to it).
+                let here: Vec<usize> = (0..s.per_vol.len())
+                    .filter(|&v| s.reach[v].is_some_and(|(a, z)| a <= j1 && z >= j0))
+                    .collect();
+                let walk = BandRows::new(here.iter().map(|&v| &s.per_vol[v].0), j0 as i64);
+                (here, walk)
+            })
+            .collect();
+        ShadowBand {
+            rows: self,
+            walks,
+            next: j0,
+            last: j1,
+            words: 0,
+        }
+    }
+
+    /// Every row's commands, stored.
+    pub fn commands(&self) -> ShadowCommands {
+        let mut rows: Vec<Vec<Command>> = vec![Vec::new(); self.height as usize];
+        rows.par_chunks_mut(BAND).enumerate().for_each(|(b, band)| {
+            let j0 = (b * BAND) as u32;
+            let mut walk = self.band(j0, j0 + band.len() as u32 - 1);
+            for (j, out) in (j0..).zip(band.iter_mut()) {
+                walk.row(j, out);
+            }
+        });
+        ShadowCommands {
+            rows,
+            stats: self.stats(),
+        }
+    }
+}
+
+/// The walk of [`ShadowRows::band`]: makes one row's shadow commands at a time.
+pub struct ShadowBand<'a> {
+    rows: &'a ShadowRows,
+    /// Per light sample: the volumes that reach the band, and their triangles' walk.
+    walks: Vec<(Vec<usize>, BandRows<'a>)>,
+    /// The row asked next, and the band's last row.
+    next: u32,
+    last: u32,
+    /// Shadow span words made by this walk.
+    words: u64,
+}
+
+impl ShadowBand<'_> {
+    /// Appends row `j`'s shadow commands to `out`. Rows are asked in order from the
+    /// band's first.
+    pub fn row(&mut self, j: u32, out: &mut Vec<Command>) {
+        assert!(
+            j == self.next && j <= self.last,
+            "row {j} asked out of its band's order (expected {})",
+            self.next
+        );
+        self.next += 1;
+        let (form, width) = (self.rows.form, self.rows.width);
+        for (s, (here, walk)) in self.rows.samples.iter().zip(&mut self.walks) {
+            out.push(Command::ClearFlags);
+            for (i, &v) in here.iter().enumerate() {
+                // The volume's SP words go straight into the row's commands; their column
+                // range is kept for a `Check`.
+                let start = out.len();
+                let (mut lo, mut hi) = (u16::MAX, 0u16);
+                walk.row(i, j as i64, width, |w| {
+                    (lo, hi) = (lo.min(w.xl), hi.max(w.xr));
+                    out.push(Command::Span(w));
+                });
+                let inside = s.per_vol[v].1 == NearPlane::Inside;
+                if out.len() == start && !inside {
+                    continue;
+                }
+                end_volume_row(out, start, (lo, hi), inside, form, width);
+                self.words += (out.len() - start) as u64;
+            }
+            out.push(s.end);
+        }
+    }
+}
+
+impl Drop for ShadowBand<'_> {
+    fn drop(&mut self) {
+        self.rows.words.fetch_add(self.words, Ordering::Relaxed);
+    }
 }
 
 /// Appends `add`'s commands to each row of `rows` (one more light's commands); moves them
