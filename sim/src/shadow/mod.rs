@@ -382,7 +382,8 @@ impl ShadowRows {
                 let here: Vec<usize> = (0..s.per_vol.len())
                     .filter(|&v| s.reach[v].is_some_and(|(a, z)| a <= j1 && z >= j0))
                     .collect();
-                let walk = BandRows::new(here.iter().map(|&v| &s.per_vol[v].0), j0 as i64);
+                let walk =
+                    BandRows::new(here.iter().map(|&v| &s.per_vol[v].0), j0 as i64, j1 as i64);
                 (here, walk)
             })
             .collect();

@@ -223,13 +223,17 @@ pub(super) struct BandRows<'a> {
 
 impl<'a> BandRows<'a> {
     /// The volumes `vols`, in order, from row `j0` on.
-    pub(super) fn new(vols: impl Iterator<Item = &'a VolumeTris>, j0: i64) -> BandRows<'a> {
+    pub(super) fn new(
+        vols: impl Iterator<Item = &'a VolumeTris>,
+        j0: i64,
+        j1: i64,
+    ) -> BandRows<'a> {
         let mut r = BandRows {
             tris: Vec::new(),
             start: vec![0],
         };
         for v in vols {
-            for t in &v.tris {
+            for t in v.tris.iter().filter(|t| t.row_min <= j1 && t.row_max >= j0) {
                 let first = t.row_min.max(j0);
                 r.tris.push((t, first, t.depth_rows(first)));
             }
@@ -338,7 +342,7 @@ mod tests {
                 let mut j0 = 0;
                 while j0 < h {
                     let j1 = (j0 + band - 1).min(h - 1);
-                    let mut walk = BandRows::new(vols.iter(), j0);
+                    let mut walk = BandRows::new(vols.iter(), j0, j1);
                     for j in j0..=j1 {
                         for (i, v) in vols.iter().enumerate() {
                             let mut got = Vec::new();
