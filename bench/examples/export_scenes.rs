@@ -1,5 +1,5 @@
 //! Writes the `--all-methods` benchmark's hard scenes (`forest`, `spheres`, `closeup`,
-//! `shards`) as scene files: `OUTDIR/<name>/scene.json` and the OBJ files it names, so
+//! `shards`, `tori`) as scene files: `OUTDIR/<name>/scene.json` and the OBJ files it names, so
 //! that they can be rendered with `pixelproc render`, benchmarked one case at a time with
 //! `pixelproc bench`, or given to a build that predates them.
 //!

@@ -5,9 +5,9 @@
 //! (`large`), the built-in `@boxes` city (about 10k small triangles, hundreds of shadow
 //! volumes), and two tessellated grids with the same coverage and 10× apart in triangle
 //! count (`grid-1k`, `grid-10k`), which show whether a method's cost grows linearly with
-//! the work (spans, fragments) rather than with the triangles per row; then four harder
+//! the work (spans, fragments) rather than with the triangles per row; then five harder
 //! scenes ([`hard_scenes`]: high depth complexity, long shadow volumes, large closed
-//! casters, thousands of volumes).
+//! casters, thousands of volumes, non-convex casters with a volume per face).
 //!
 //! Every case of a scene is rendered once as a warm-up, then the cases are timed in turn,
 //! `runs` rounds (interleaved, so a busy machine slows every case alike); the table gives
@@ -278,6 +278,49 @@ fn shards_scene() -> GenScene {
     (json, files)
 }
 
+/// `tori`: six tori of 4,096 triangles each, lying 2.5 units over the ground (each turned
+/// about the vertical, so their tessellations differ on screen): closed casters that are
+/// not convex, so each face towards the light casts its own volume (12,040 volumes,
+/// 5.7 M shadow span words; `docs/shadows.md`).
+fn tori_scene() -> GenScene {
+    let mut files = ground_and_box();
+    files.insert("torus.obj".to_string(), torus_obj(64, 32, 2.0, 0.7));
+    let mut meshes = vec![ground_entry([0.55, 0.6, 0.5])];
+    for k in 0..6 {
+        let t = [-10.0 + 4.0 * k as f64, 2.5, -6.0 - 3.0 * (k % 2) as f64];
+        let c = [0.7, 0.35 + 0.08 * k as f64, 0.3];
+        meshes.push(mesh_entry("torus.obj", c, t, [1.0; 3], 30.0 * k as f64, true));
+    }
+    let json = scene_json_at(
+        ([0.0, 6.0, 14.0], [0.0, 1.0, -5.0], 60.0),
+        [10.0, 20.0, 10.0],
+        &meshes,
+    );
+    (json, files)
+}
+
+/// A torus about the y axis (ring radius `big`, tube radius `small`), `nu × nv` quads
+/// split in two triangles wound outward, vertices shared.
+fn torus_obj(nu: usize, nv: usize, big: f64, small: f64) -> String {
+    let mut s = String::new();
+    for i in 0..nu {
+        for j in 0..nv {
+            let u = std::f64::consts::TAU * i as f64 / nu as f64;
+            let v = std::f64::consts::TAU * j as f64 / nv as f64;
+            let ring = big + small * v.cos();
+            let _ = writeln!(s, "v {} {} {}", ring * u.cos(), small * v.sin(), ring * u.sin());
+        }
+    }
+    let at = |i: usize, j: usize| (i % nu) * nv + j % nv + 1;
+    for i in 0..nu {
+        for j in 0..nv {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            let _ = writeln!(s, "f {a} {c} {b}\nf {a} {d} {c}");
+        }
+    }
+    s
+}
+
 /// The ground quad's mesh entry in colour `c`, casting no shadow.
 fn ground_entry(c: [f64; 3]) -> String {
     mesh_entry("ground.obj", c, [0.0; 3], [1.0; 3], 0.0, false)
@@ -397,19 +440,20 @@ pub fn target_scenes() -> Result<Vec<LoadedScene>, scene::SceneError> {
 }
 
 /// Scenes added after the targets were met on the [`target_scenes`], where they are not:
-/// `forest`, `spheres`, `closeup` and `shards` (see their functions).
+/// `forest`, `spheres`, `closeup`, `shards` and `tori` (see their functions).
 pub fn hard_scenes() -> Result<Vec<LoadedScene>, scene::SceneError> {
     embedded(hard_scene_files())
 }
 
 /// The [`hard_scenes`] as files: name, scene JSON, and the OBJ files it names (for
 /// rendering them with `pixelproc render`, or with a build that predates them).
-pub fn hard_scene_files() -> [(&'static str, GenScene); 4] {
+pub fn hard_scene_files() -> [(&'static str, GenScene); 5] {
     [
         ("forest", forest_scene()),
         ("spheres", spheres_scene()),
         ("closeup", closeup_scene()),
         ("shards", shards_scene()),
+        ("tori", tori_scene()),
     ]
 }
 
