@@ -222,7 +222,8 @@ pub(super) struct BandRows<'a> {
 }
 
 impl<'a> BandRows<'a> {
-    /// The volumes `vols`, in order, from row `j0` on.
+    /// The volumes `vols`, in order, through rows `j0..=j1`: only the triangles that may
+    /// cover one of those rows are walked, each stepped from the first of them it covers.
     pub(super) fn new(
         vols: impl Iterator<Item = &'a VolumeTris>,
         j0: i64,
@@ -242,8 +243,9 @@ impl<'a> BandRows<'a> {
         r
     }
 
-    /// Gives volume `i`'s SP words of row `j` to `push`, in triangle order. Called for every volume on every
-    /// row from `j0` on, in row order, so each stepper stands at the row it is asked for.
+    /// Gives volume `i`'s SP words of row `j` to `push`, in triangle order. Called for
+    /// every volume on every row of the band, in row order, so each stepper stands at the
+    /// row it is asked for.
     pub(super) fn row(&mut self, i: usize, j: i64, width: u32, mut push: impl FnMut(SpanWord)) {
         for (t, first, z) in &mut self.tris[self.start[i]..self.start[i + 1]] {
             if j < *first || j > t.row_max {
