@@ -219,9 +219,10 @@ where
             |(scratch, made), (b, (band, mband))| {
                 let j0 = (b * BAND) as u32;
                 let rows = band.chunks_mut(w as usize);
-                let mut walk = match extra {
-                    RowExtra::Shadows(s) => Some(s.band(j0, j0 + rows.len() as u32 - 1)),
-                    RowExtra::Stored(_) => None,
+                // With shadows made per band, every row's commands come from the walk.
+                let (mut walk, stored) = match extra {
+                    RowExtra::Shadows(s) => (Some(s.band(j0, j0 + rows.len() as u32 - 1)), &[][..]),
+                    RowExtra::Stored(rows) => (None, rows),
                 };
                 for (r, row) in rows.enumerate() {
                     let j = j0 + r as u32;
@@ -231,14 +232,13 @@ where
                     } else {
                         &mut mband[r * ws..(r + 1) * ws]
                     };
-                    let cmds: &[Command] = match (extra, walk.as_mut()) {
-                        (RowExtra::Stored(rows), _) => rows.get(j as usize).map_or(&[], |c| c),
-                        (RowExtra::Shadows(_), Some(walk)) => {
+                    let cmds: &[Command] = match &mut walk {
+                        Some(walk) => {
                             made.clear();
-                            walk.row(j, made);
+                            walk.next_row(made);
                             made
                         }
-                        (RowExtra::Shadows(_), None) => unreachable!("a walk per band"),
+                        None => stored.get(j as usize).map_or(&[], |c| c),
                     };
                     scratch.draw(src, bg, j, cmds, row, mrow);
                     readout(row, mrow);

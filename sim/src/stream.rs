@@ -362,15 +362,10 @@ impl SceneStream {
         if !shadow_lights.is_empty() {
             let lights = shadow::shadow_lights(ls, shadow_lights)?;
             let pj = Projector::new(ls);
-            let occ = shadow::occluders(ls);
-            for l in &lights {
-                let sc = shadow::shadow_commands_of(&occ, ls, &pj, std::slice::from_ref(l), form)?;
-                shadow::append_rows(&mut stream.shadow, sc.rows);
-                stream.shadow_stats.volumes += sc.stats.volumes;
-                stream.shadow_stats.span_words += sc.stats.span_words;
-                stream.shadow_stats.eye_inside += sc.stats.eye_inside;
-                stream.shadow_stats.near_caps += sc.stats.near_caps;
-            }
+            // Every light's commands on each row, one light's after the other's.
+            let sc = shadow::shadow_commands_of(&shadow::occluders(ls), ls, &pj, &lights, form)?;
+            stream.shadow = sc.rows;
+            stream.shadow_stats = sc.stats;
         }
         Ok(stream)
     }

@@ -340,8 +340,7 @@ impl ShadowRows {
         })
     }
 
-    /// Puts `more`'s commands after this set-up's on every row (one more light, as
-    /// [`append_rows`] does with stored commands).
+    /// Puts `more`'s commands after this set-up's on every row (one more light).
     pub fn append(&mut self, more: ShadowRows) {
         assert_eq!(
             (self.width, self.height, self.form),
@@ -368,8 +367,8 @@ impl ShadowRows {
         }
     }
 
-    /// A walk that makes the commands of rows `j0..=j1`, asked in that order
-    /// ([`ShadowBand::row`]).
+    /// A walk that makes the commands of rows `j0..=j1`, in that order
+    /// ([`ShadowBand::next_row`]).
     pub fn band(&self, j0: u32, j1: u32) -> ShadowBand<'_> {
         let walks = self
             .samples
@@ -402,8 +401,8 @@ impl ShadowRows {
         rows.par_chunks_mut(BAND).enumerate().for_each(|(b, band)| {
             let j0 = (b * BAND) as u32;
             let mut walk = self.band(j0, j0 + band.len() as u32 - 1);
-            for (j, out) in (j0..).zip(band.iter_mut()) {
-                walk.row(j, out);
+            for out in band.iter_mut() {
+                walk.next_row(out);
             }
         });
         ShadowCommands {
@@ -426,14 +425,11 @@ pub struct ShadowBand<'a> {
 }
 
 impl ShadowBand<'_> {
-    /// Appends row `j`'s shadow commands to `out`. Rows are asked in order from the
-    /// band's first.
-    pub fn row(&mut self, j: u32, out: &mut Vec<Command>) {
-        assert!(
-            j == self.next && j <= self.last,
-            "row {j} asked out of its band's order (expected {})",
-            self.next
-        );
+    /// Appends the next row's shadow commands to `out` (the band's first row, then the
+    /// one below, …).
+    pub fn next_row(&mut self, out: &mut Vec<Command>) {
+        let j = self.next;
+        assert!(j <= self.last, "row {j} is past the band's last row");
         self.next += 1;
         let (form, width) = (self.rows.form, self.rows.width);
         for (s, (here, walk)) in self.rows.samples.iter().zip(&mut self.walks) {
@@ -462,18 +458,6 @@ impl ShadowBand<'_> {
 impl Drop for ShadowBand<'_> {
     fn drop(&mut self) {
         self.rows.words.fetch_add(self.words, Ordering::Relaxed);
-    }
-}
-
-/// Appends `add`'s commands to each row of `rows` (one more light's commands); moves them
-/// when `rows` has none yet.
-pub fn append_rows(rows: &mut [Vec<Command>], add: Vec<Vec<Command>>) {
-    for (dst, src) in rows.iter_mut().zip(add) {
-        if dst.is_empty() {
-            *dst = src;
-        } else {
-            dst.extend(src);
-        }
     }
 }
 
