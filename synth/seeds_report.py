@@ -1,11 +1,14 @@
 #!/usr/bin/env python3
 """Summarises a placement-seed sweep (synth/seeds_ecp5.sh) into a markdown results file.
 
-    seeds_report.py OUT.md TITLE COMMAND TOOLS SYNTH_TIME SEED=REPORT.json=PNR_TIME...
+    seeds_report.py [--script S] [--constraint C] OUT.md TITLE COMMAND TOOLS SYNTH_TIME SEED=REPORT.json=PNR_TIME...
 
 One row per seed: the Fmax of the clock, the critical path in words (from pnr_report.py),
-the place-and-route time; then the minimum, median and maximum Fmax.
+the place-and-route time; then the minimum, median and maximum Fmax. `--script` names
+the script that wrote the file (default synth/seeds_ecp5.sh), `--constraint` where the
+clock constraint comes from (default synth/ecp5/pixelproc.lpf).
 """
+import argparse
 import json
 import os
 import statistics
@@ -16,9 +19,19 @@ from pnr_report import path_words  # noqa: E402
 
 
 def main():
-    out, title, command, tools, synth_time = sys.argv[1:6]
+    ap = argparse.ArgumentParser(description="Summarise a placement-seed sweep.")
+    ap.add_argument("--script", default="synth/seeds_ecp5.sh")
+    ap.add_argument("--constraint", default="synth/ecp5/pixelproc.lpf")
+    ap.add_argument("out")
+    ap.add_argument("title")
+    ap.add_argument("command")
+    ap.add_argument("tools")
+    ap.add_argument("synth_time")
+    ap.add_argument("runs", nargs="+", metavar="SEED=REPORT.json=PNR_TIME")
+    a = ap.parse_args()
+    out, title, command, tools, synth_time = a.out, a.title, a.command, a.tools, a.synth_time
     rows = []
-    for arg in sys.argv[6:]:
+    for arg in a.runs:
         seed, path, pnr_time = arg.split("=", 2)
         rep = json.load(open(path))
         fmax = rep.get("fmax", {})
@@ -34,12 +47,12 @@ def main():
     lines = [
         f"# {title}",
         "",
-        "Written by `synth/seeds_ecp5.sh` (see `docs/fpga.md`); do not edit by hand.",
+        f"Written by `{a.script}` (see `docs/fpga.md`); do not edit by hand.",
         "",
         "| item | value |",
         "|---|---|",
         "| device | LFE5U-85F-6 CABGA381, out of context |",
-        f"| constraint | synth/ecp5/pixelproc.lpf: {rows[0][3]:.2f} MHz on `{rows[0][1]}` |",
+        f"| constraint | {a.constraint}: {rows[0][3]:.2f} MHz on `{rows[0][1]}` |",
         f"| command | {command} |",
         f"| tools | {tools} |",
         f"| synthesis time (once) | {synth_time} |",
