@@ -40,6 +40,11 @@ pub struct ProcState {
     pub won: bool,
 }
 
+// SAFETY: every field is an integer or a `bool`, for which all-zero bits are a valid value
+// (0, `false`); the all-zero `ProcState` is `ProcState::default()` (tested below). It lets a
+// frame of processor states be allocated as zeroed memory (`bytemuck::zeroed_vec`).
+unsafe impl bytemuck::Zeroable for ProcState {}
+
 /// Width of the intensity register (RGB888).
 pub const RGB_BITS: usize = 24;
 /// Width of the shadow counter.
@@ -147,6 +152,16 @@ impl ProcState {
 mod tests {
     use super::*;
     use crate::fields::{parse_doc_table, table_rows};
+
+    /// A zeroed state (what a frame allocated as zeroed memory starts from) is the
+    /// default state, field by field.
+    #[test]
+    fn zeroed_state_is_the_default() {
+        let z: ProcState = bytemuck::Zeroable::zeroed();
+        assert_eq!(z, ProcState::default());
+        let v: Vec<ProcState> = bytemuck::zeroed_vec(3);
+        assert_eq!(v, vec![ProcState::default(); 3]);
+    }
 
     #[test]
     fn readout_is_99_bits_and_round_trips() {
