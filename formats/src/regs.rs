@@ -41,7 +41,8 @@ pub struct ProcState {
 }
 
 // SAFETY: every field is an integer or a `bool`, for which all-zero bits are a valid value
-// (0, `false`); the all-zero `ProcState` is `ProcState::default()` (tested below). It lets a
+// (0, `false`); the all-zero `ProcState` is `ProcState::default()` (tested below). A field
+// added later must keep both true (no reference, no enum without a zero variant). It lets a
 // frame of processor states be allocated as zeroed memory (`bytemuck::zeroed_vec`).
 unsafe impl bytemuck::Zeroable for ProcState {}
 

@@ -208,7 +208,7 @@ where
     let tiles = (w as usize).div_ceil(array_width);
     // Zeroed memory (the default state): at 1080p the allocator maps fresh pages, which the
     // bands below fault in in parallel as they write their rows, instead of one thread
-    // writing the whole frame first (41 MB, 15–20 ms on 2 cores).
+    // writing the whole frame first (41 MB at 1080p: 15–20 ms on one core).
     let mut px: Vec<ProcState> = bytemuck::zeroed_vec((w * h) as usize);
     let more_stride = if src.max_chan >= 2 { MORE_SHADE } else { 0 };
     let mut more = vec![0u32; (w * h) as usize * more_stride];
