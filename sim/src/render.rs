@@ -182,6 +182,14 @@ pub enum RowExtra<'a> {
 /// Rows drawn by one task: a band's shadow commands are made by one walk of its volumes.
 const BAND: usize = 16;
 
+thread_local! {
+    /// A band's shadow commands, one list per row, kept on each thread from band to band
+    /// (and frame to frame): with thousands of volumes a row's list is hundreds of KiB, and
+    /// fresh lists per band would be faulted in page by page every time.
+    static BAND_SHADOWS: std::cell::Cell<Vec<Vec<Command>>> =
+        const { std::cell::Cell::new(Vec::new()) };
+}
+
 /// [`render_frame`], with `readout(row, more)` called on each row's final processor
 /// states (and its shade registers 2.., empty if unused) as the row is read out, while it
 /// is still in cache: where the core's shade unit corrects intensities
@@ -218,14 +226,20 @@ where
         .zip(more_bands.par_iter_mut())
         .enumerate()
         .for_each_init(
-            || (RowScratch::new(array_width, tiles), Vec::new()),
-            |(scratch, made), (b, (band, mband))| {
+            || RowScratch::new(array_width, tiles),
+            |scratch, (b, (band, mband))| {
                 let j0 = (b * BAND) as u32;
                 let rows = band.chunks_mut(w as usize);
-                // With shadows made per band, every row's commands come from the walk.
-                let (mut walk, stored) = match extra {
-                    RowExtra::Shadows(s) => (Some(s.band(j0, j0 + rows.len() as u32 - 1)), &[][..]),
-                    RowExtra::Stored(rows) => (None, rows),
+                // With shadows made per band, every row's commands come from the band's.
+                let n = rows.len();
+                let mut made = BAND_SHADOWS.take();
+                let stored = match extra {
+                    RowExtra::Shadows(s) => {
+                        made.resize_with(n.max(made.len()), Vec::new);
+                        s.band(j0, &mut made[..n]);
+                        &made[..n]
+                    }
+                    RowExtra::Stored(rows) => &rows[(j0 as usize).min(rows.len())..],
                 };
                 for (r, row) in rows.enumerate() {
                     let j = j0 + r as u32;
@@ -235,17 +249,11 @@ where
                     } else {
                         &mut mband[r * ws..(r + 1) * ws]
                     };
-                    let cmds: &[Command] = match &mut walk {
-                        Some(walk) => {
-                            made.clear();
-                            walk.next_row(made);
-                            made
-                        }
-                        None => stored.get(j as usize).map_or(&[], |c| c),
-                    };
+                    let cmds: &[Command] = stored.get(r).map_or(&[], |c| c);
                     scratch.draw(src, bg, j, cmds, row, mrow);
                     readout(row, mrow);
                 }
+                BAND_SHADOWS.set(made);
             },
         );
     drop(more_bands);

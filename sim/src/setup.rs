@@ -26,7 +26,9 @@
 //! an in-triangle value never leaves the 24-bit range or reaches `Z_FAR`.
 
 use crate::raster::edge::{check_coords, check_depths, rewind, winding, EdgeFn};
-use crate::raster::{ceil_div, round_div, rows::centre_rows, RoundDivStep, RoundDivSteps};
+use crate::raster::{
+    ceil_div, round_div, rows::centre_rows, FloorSteps, PlaneStepper, RoundDivStep, RoundDivSteps,
+};
 use pixelproc_formats::{
     Attr, SpanWord, DI_BITS, DZ_BITS, IL_BITS, I_FRAC, MAX_COORD_PX, SUBPIXEL_ONE, Z_FRAC,
     Z_GEOM_MAX, Z_GEOM_MIN,
@@ -191,6 +193,55 @@ pub(crate) fn shadow_word(w: SpanWord) -> SpanWord {
     }
 }
 
+/// Which column bound an edge sets on a scanline (the three cases of
+/// [`TriSetup::columns`]).
+#[derive(Clone, Copy, Debug)]
+enum EdgeBound {
+    /// `A > 0`: the first column, `⌈−k / 256A⌉ = −⌊k / 256A⌋`.
+    Left,
+    /// `A < 0`: the last column, `⌈k / −256A⌉ − 1 = −⌊−k / −256A⌋ − 1`.
+    Right,
+    /// `A = 0`: the whole row is in or out by the fill rule on `k` (the edge's top-left
+    /// flag).
+    Flat(bool),
+}
+
+/// [`TriSetup::columns`] on successive rows with additions only
+/// ([`TriSetup::column_rows`]): per edge, the floor quotient its bound is made of, stepped
+/// by the edge function's row increment instead of divided afresh on every row. The same
+/// columns, bit for bit.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ColumnSteps {
+    edges: [(EdgeBound, FloorSteps); 3],
+}
+
+impl ColumnSteps {
+    /// The current row's inclusive columns, clamped to `0..width`, or `None` (what
+    /// [`TriSetup::columns`] gives on that row, if it lies in `row_min..=row_max`).
+    #[inline]
+    pub(crate) fn columns(&self, width: u32) -> Option<(i64, i64)> {
+        let (mut lo, mut hi) = (0i64, width as i64 - 1);
+        let mut inside = true;
+        for (bound, q) in &self.edges {
+            let q = q.value();
+            match *bound {
+                EdgeBound::Left => lo = lo.max(-q),
+                EdgeBound::Right => hi = hi.min(-q - 1),
+                EdgeBound::Flat(top_left) => inside &= q > 0 || (q == 0 && top_left),
+            }
+        }
+        (inside && lo <= hi).then_some((lo, hi))
+    }
+
+    /// Moves one row down.
+    #[inline]
+    pub(crate) fn advance(&mut self) {
+        for (_, q) in &mut self.edges {
+            q.advance();
+        }
+    }
+}
+
 /// Everything per triangle that span setup needs, computed once.
 #[derive(Clone, Debug)]
 pub struct TriSetup {
@@ -283,6 +334,31 @@ impl TriSetup {
         Some((lo, hi))
     }
 
+    /// The stepper of [`TriSetup::columns`] from row `first` on: [`ColumnSteps::columns`]
+    /// gives row `first`'s columns, and each [`ColumnSteps::advance`] moves one row down.
+    /// (Rows outside `row_min..=row_max` are the caller's to skip, as `columns` does.)
+    pub(crate) fn column_rows(&self, first: i64) -> ColumnSteps {
+        let one = SUBPIXEL_ONE as i64;
+        let yc = first * one + one / 2;
+        ColumnSteps {
+            edges: self.edges.map(|e| {
+                // E at column i of row j is 256·A·i + k(j), k(j + 1) = k(j) + 256·B.
+                let (k, dk) = (e.b * yc + e.c + e.a * (one / 2), e.b * one);
+                match e.a.cmp(&0) {
+                    std::cmp::Ordering::Greater => {
+                        (EdgeBound::Left, FloorSteps::new(k, dk, one * e.a))
+                    }
+                    std::cmp::Ordering::Less => {
+                        (EdgeBound::Right, FloorSteps::new(-k, -dk, -one * e.a))
+                    }
+                    std::cmp::Ordering::Equal => {
+                        (EdgeBound::Flat(e.top_left), FloorSteps::new(k, dk, 1))
+                    }
+                }
+            }),
+        }
+    }
+
     /// The OP span word of row `j`, or `None` if the row covers no pixel centre.
     pub fn span(&self, j: i64, width: u32) -> Option<SpanWord> {
         let (xl, xr) = self.columns(j, width)?;
@@ -309,12 +385,14 @@ impl TriSetup {
         let x0 = (SUBPIXEL_ONE / 2) as i64;
         let mut zr = self.z.rows(x0, first, Z_FRAC);
         let mut cr = [0, 1, 2].map(|k| self.c[k].rows(x0, first, 0));
+        let mut cols = self.column_rows(first);
         for j in first..=last {
-            if let Some((xl, xr)) = self.columns(j, width) {
+            if let Some((xl, xr)) = cols.columns(width) {
                 let w = self.word(xl, xr, zr.value() as i64, cr.map(|r| r.value() as i64));
                 debug_assert_eq!(Some(w), self.span(j, width));
                 f(j as u32, w);
             }
+            cols.advance();
             zr.advance();
             for r in &mut cr {
                 r.advance();
@@ -353,8 +431,9 @@ impl TriSetup {
         let mut cr: Vec<[RoundDivSteps; 3]> = all()
             .map(|t| [0, 1, 2].map(|k| t.c[k].rows(x0, first, 0)))
             .collect();
+        let mut cols = self.column_rows(first);
         for j in first..=last {
-            if let Some((xl, xr)) = self.columns(j, width) {
+            if let Some((xl, xr)) = cols.columns(width) {
                 let z0 = zr.value() as i64;
                 for (i, (t, r)) in all().zip(&cr).enumerate() {
                     let w = t.word(xl, xr, z0, r.map(|r| r.value() as i64));
@@ -362,6 +441,7 @@ impl TriSetup {
                     f(i, j as u32, w);
                 }
             }
+            cols.advance();
             zr.advance();
             for r in cr.iter_mut().flatten() {
                 r.advance();
@@ -383,10 +463,18 @@ impl TriSetup {
     }
 
     /// Row `j`'s word as a shadow polygon sends it: [`TriSetup::span`] with attr SP and
-    /// zero intensities, its depth origin from `z`, the [`TriSetup::depth_rows`] stepper
-    /// standing at row `j`. `None` if the row covers no pixel centre.
-    pub(crate) fn shadow_span(&self, j: i64, width: u32, z: &RoundDivSteps) -> Option<SpanWord> {
-        let (xl, xr) = self.columns(j, width)?;
+    /// zero intensities, its columns from `cols` and its depth origin from `z`, the
+    /// [`TriSetup::column_rows`] and [`TriSetup::depth_rows`] steppers standing at row `j`.
+    /// `None` if the row covers no pixel centre.
+    pub(crate) fn shadow_span(
+        &self,
+        j: i64,
+        width: u32,
+        cols: &ColumnSteps,
+        z: &impl PlaneStepper,
+    ) -> Option<SpanWord> {
+        let (xl, xr) = cols.columns(width)?;
+        debug_assert_eq!(Some((xl, xr)), self.columns(j, width));
         let w = shadow_word(self.word(xl, xr, z.value() as i64, [0; 3]));
         debug_assert_eq!(Some(w), self.span(j, width).map(shadow_word));
         Some(w)
@@ -457,6 +545,51 @@ mod tests {
             Err(SetupError::NotFinite(_))
         ));
         assert!(matches!(snap_coord(1e9), Err(SetupError::OutOfRange(_))));
+    }
+
+    /// The stepped columns equal the divided ones on every row, from any first row: random
+    /// triangles with vertices on the pixel lattice's centres and edges (flat edges, centres
+    /// exactly on edges) and anywhere in the coordinate range, clamped to narrow and wide
+    /// lines.
+    #[test]
+    fn stepped_columns_equal_divided_columns_on_every_row() {
+        let mut rng = crate::rng::XorShift64Star(0x000c_01d5_7e95);
+        let lim = pixelproc_formats::MAX_COORD_PX as f64;
+        let (mut rows, mut some) = (0, 0);
+        for case in 0..3000 {
+            let v: [[f64; 2]; 3] = std::array::from_fn(|_| match case % 3 {
+                // Half-pixel lattice within a small screen: flat edges, centres on edges.
+                0 => [
+                    (rng.unit() * 80.0).round() / 2.0,
+                    (rng.unit() * 60.0).round() / 2.0,
+                ],
+                1 => [rng.unit() * 60.0 - 10.0, rng.unit() * 50.0 - 10.0],
+                _ => [
+                    (rng.unit() * 2.0 - 1.0) * lim,
+                    (rng.unit() * 2.0 - 1.0) * lim,
+                ],
+            });
+            let Some(t) = TriSetup::new(&tri(v)).unwrap() else {
+                continue;
+            };
+            let width = [1u32, 16, 40, 4096][case % 4];
+            let first = t.row_min + (rng.unit() * 4.0) as i64 - 2;
+            let last = t.row_max.min(first + 200);
+            let mut cols = t.column_rows(first);
+            for j in first..=last {
+                if j >= t.row_min {
+                    let got = cols.columns(width);
+                    assert_eq!(got, t.columns(j, width), "case {case} row {j} {v:?}");
+                    rows += 1;
+                    some += got.is_some() as u32;
+                }
+                cols.advance();
+            }
+        }
+        assert!(
+            rows > 50_000 && some > 20_000,
+            "{rows} rows, {some} covered"
+        );
     }
 
     #[test]

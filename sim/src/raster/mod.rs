@@ -65,6 +65,51 @@ pub(crate) fn floor_div_wide(n: i128, d: i128) -> i128 {
     }
 }
 
+/// `⌊(n0 + k·dn) / d⌋` (`d > 0`) for `k = 0, 1, 2, …`, stepped with additions only: the
+/// quotient and the remainder (`0 ≤ r < d`) move by the quotient and remainder of `dn`,
+/// plus a carry when the remainder reaches `d`. A scanline's column bound on an edge
+/// ([`crate::setup::ColumnSteps`]) without a division per row.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct FloorSteps {
+    q: i64,
+    r: i64,
+    dq: i64,
+    dr: i64,
+    d: i64,
+}
+
+impl FloorSteps {
+    /// Starts at `k = 0`; `d > 0`.
+    #[inline]
+    pub(crate) fn new(n0: i64, dn: i64, d: i64) -> FloorSteps {
+        debug_assert!(d > 0);
+        let (q, dq) = (n0.div_euclid(d), dn.div_euclid(d));
+        FloorSteps {
+            q,
+            r: n0 - q * d,
+            dq,
+            dr: dn - dq * d,
+            d,
+        }
+    }
+
+    /// The current value, `⌊(n0 + k·dn) / d⌋`.
+    #[inline]
+    pub(crate) fn value(&self) -> i64 {
+        self.q
+    }
+
+    /// Moves to `k + 1`.
+    #[inline]
+    pub(crate) fn advance(&mut self) {
+        // Without a branch: the carry is as likely as not on an edge's rows.
+        let r = self.r + self.dr;
+        let carry = (r >= self.d) as i64;
+        self.q += self.dq + carry;
+        self.r = r - carry * self.d;
+    }
+}
+
 /// `round_div(n0 + k·dn, d)` for `k = 0, 1, 2, …`, stepped with additions only: the exact
 /// values of [`round_div`] along an arithmetic progression of numerators (a plane evaluated
 /// at successive pixels), without a 128-bit division per step.
@@ -109,12 +154,12 @@ impl RoundDivSteps {
     /// Moves to `k + 1`.
     #[inline]
     pub(crate) fn advance(&mut self) {
-        self.q += self.dq;
-        self.r += self.dr;
-        if self.r >= self.den {
-            self.r -= self.den;
-            self.q += 1;
-        }
+        // Without a branch: whether the remainder carries follows no pattern a predictor
+        // learns.
+        let r = self.r + self.dr;
+        let carry = (r >= self.den) as i128;
+        self.q += self.dq + carry;
+        self.r = r - carry * self.den;
     }
 }
 

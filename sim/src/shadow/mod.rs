@@ -367,32 +367,56 @@ impl ShadowRows {
         }
     }
 
-    /// A walk that makes the commands of rows `j0..=j1`, in that order
-    /// ([`ShadowBand::next_row`]).
-    pub fn band(&self, j0: u32, j1: u32) -> ShadowBand<'_> {
-        let walks = self
-            .samples
-            .iter()
-            .map(|s| {
-                // Rows are independent: a band walks the triangles of the volumes that
-                // reach it from its first row on, appending in volume order as a pass
-                // over all volumes would (a volume with no span on a row, and the near
-                // plane outside it, adds nothing to it).
-                let here: Vec<usize> = (0..s.per_vol.len())
-                    .filter(|&v| s.reach[v].is_some_and(|(a, z)| a <= j1 && z >= j0))
-                    .collect();
-                let walk =
-                    BandRows::new(here.iter().map(|&v| &s.per_vol[v].0), j0 as i64, j1 as i64);
-                (here, walk)
-            })
-            .collect();
-        ShadowBand {
-            rows: self,
-            walks,
-            next: j0,
-            last: j1,
-            words: 0,
+    /// The commands of rows `j0 .. j0 + made.len()`, made at once into `made` (one list per
+    /// row, cleared first; their allocations are reused). Rows are independent: per light
+    /// sample, each volume that reaches the band gives its triangles' words
+    /// ([`VolumeTris::band_words`]), appended to each row in volume order as a pass over
+    /// all volumes row by row would append them (a volume with no span on a row, and the
+    /// near plane outside it, adds nothing to it). Walking a volume's triangles once per
+    /// band, each through its rows, reads each triangle's set-up once instead of once per
+    /// row.
+    pub fn band(&self, j0: u32, made: &mut [Vec<Command>]) {
+        let j1 = j0 + made.len() as u32 - 1;
+        assert!(
+            !made.is_empty() && j1 < self.height,
+            "rows {j0}..={j1} of {}",
+            self.height
+        );
+        made.iter_mut().for_each(Vec::clear);
+        let (form, width) = (self.form, self.width);
+        // Per row: where the current volume's commands start, and its words' columns.
+        let mut open = vec![(0usize, u16::MAX, 0u16); made.len()];
+        let mut words = 0;
+        for s in &self.samples {
+            made.iter_mut()
+                .for_each(|out| out.push(Command::ClearFlags));
+            for ((tris, near), reach) in s.per_vol.iter().zip(&s.reach) {
+                if !reach.is_some_and(|(a, z)| a <= j1 && z >= j0) {
+                    continue;
+                }
+                for (o, out) in open.iter_mut().zip(made.iter()) {
+                    *o = (out.len(), u16::MAX, 0);
+                }
+                // The volume's SP words go straight into the rows' commands; their column
+                // range is kept for a `Check`.
+                tris.band_words(j0 as i64, j1 as i64, width, |j, w| {
+                    let r = (j - j0 as i64) as usize;
+                    let o = &mut open[r];
+                    (o.1, o.2) = (o.1.min(w.xl), o.2.max(w.xr));
+                    made[r].push(Command::Span(w));
+                });
+                let inside = *near == NearPlane::Inside;
+                for (out, &(start, lo, hi)) in made.iter_mut().zip(&open) {
+                    if out.len() == start && !inside {
+                        continue;
+                    }
+                    end_volume_row(out, start, (lo, hi), inside, form, width);
+                    words += (out.len() - start) as u64;
+                }
+            }
+            made.iter_mut().for_each(|out| out.push(s.end));
         }
+        self.words.fetch_add(words, Ordering::Relaxed);
     }
 
     /// Every row's commands, stored.
@@ -400,64 +424,12 @@ impl ShadowRows {
         let mut rows: Vec<Vec<Command>> = vec![Vec::new(); self.height as usize];
         rows.par_chunks_mut(BAND).enumerate().for_each(|(b, band)| {
             let j0 = (b * BAND) as u32;
-            let mut walk = self.band(j0, j0 + band.len() as u32 - 1);
-            for out in band.iter_mut() {
-                walk.next_row(out);
-            }
+            self.band(j0, band);
         });
         ShadowCommands {
             rows,
             stats: self.stats(),
         }
-    }
-}
-
-/// The walk of [`ShadowRows::band`]: makes one row's shadow commands at a time.
-pub struct ShadowBand<'a> {
-    rows: &'a ShadowRows,
-    /// Per light sample: the volumes that reach the band, and their triangles' walk.
-    walks: Vec<(Vec<usize>, BandRows<'a>)>,
-    /// The row asked next, and the band's last row.
-    next: u32,
-    last: u32,
-    /// Shadow span words made by this walk.
-    words: u64,
-}
-
-impl ShadowBand<'_> {
-    /// Appends the next row's shadow commands to `out` (the band's first row, then the
-    /// one below, …).
-    pub fn next_row(&mut self, out: &mut Vec<Command>) {
-        let j = self.next;
-        assert!(j <= self.last, "row {j} is past the band's last row");
-        self.next += 1;
-        let (form, width) = (self.rows.form, self.rows.width);
-        for (s, (here, walk)) in self.rows.samples.iter().zip(&mut self.walks) {
-            out.push(Command::ClearFlags);
-            for (i, &v) in here.iter().enumerate() {
-                // The volume's SP words go straight into the row's commands; their column
-                // range is kept for a `Check`.
-                let start = out.len();
-                let (mut lo, mut hi) = (u16::MAX, 0u16);
-                walk.row(i, j as i64, width, |w| {
-                    (lo, hi) = (lo.min(w.xl), hi.max(w.xr));
-                    out.push(Command::Span(w));
-                });
-                let inside = s.per_vol[v].1 == NearPlane::Inside;
-                if out.len() == start && !inside {
-                    continue;
-                }
-                end_volume_row(out, start, (lo, hi), inside, form, width);
-                self.words += (out.len() - start) as u64;
-            }
-            out.push(s.end);
-        }
-    }
-}
-
-impl Drop for ShadowBand<'_> {
-    fn drop(&mut self) {
-        self.rows.words.fetch_add(self.words, Ordering::Relaxed);
     }
 }
 

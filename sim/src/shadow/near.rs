@@ -2,7 +2,7 @@
 //! near cap of a cut volume, and a volume's span words per row.
 
 use super::*;
-use crate::raster::RoundDivSteps;
+use crate::raster::PlaneStepper;
 
 /// Where the camera's near plane (its part inside the guard band) lies relative to a
 /// volume.
@@ -198,6 +198,50 @@ pub(super) struct VolumeTris {
 }
 
 impl VolumeTris {
+    /// Gives the SP words of rows `j0..=j1` to `push(row, word)`, triangle after triangle,
+    /// each triangle's rows top to bottom: on every row, the words come in triangle order.
+    /// Each triangle's columns and depth plane are stepped exactly
+    /// ([`TriSetup::column_rows`], [`TriSetup::depth_rows`]) from the first of those rows
+    /// it covers, so its set-up is read once per band rather than once per row.
+    pub(super) fn band_words(
+        &self,
+        j0: i64,
+        j1: i64,
+        width: u32,
+        mut push: impl FnMut(i64, SpanWord),
+    ) {
+        /// One triangle's rows `first..=last`, `z` standing at `first`.
+        #[inline(always)]
+        fn rows(
+            t: &TriSetup,
+            (first, last): (i64, i64),
+            width: u32,
+            mut z: impl PlaneStepper,
+            push: &mut impl FnMut(i64, SpanWord),
+        ) {
+            let mut cols = t.column_rows(first);
+            for j in first..=last {
+                if let Some(w) = t.shadow_span(j, width, &cols, &z) {
+                    push(j, w);
+                }
+                cols.advance();
+                z.advance();
+            }
+        }
+        for t in &self.tris {
+            let (first, last) = (t.row_min.max(j0), t.row_max.min(j1));
+            if first > last {
+                continue;
+            }
+            // The depth stepper in 64 bits when its values stay there (nearly always).
+            let z = t.depth_rows(first);
+            match z.narrow((last - first) as u64) {
+                Some(z) => rows(t, (first, last), width, z, &mut push),
+                None => rows(t, (first, last), width, z, &mut push),
+            }
+        }
+    }
+
     /// The rows any of the triangles may cover, clamped to `0..height`, if any.
     pub(super) fn rows(&self, height: u32) -> Option<(u32, u32)> {
         let lo = self.tris.iter().map(|t| t.row_min).min()?.max(0);
@@ -208,54 +252,6 @@ impl VolumeTris {
             .max()?
             .min(height as i64 - 1);
         (lo <= hi).then_some((lo as u32, hi as u32))
-    }
-}
-
-/// Some volumes' span words row by row through a band of rows, top to bottom, without
-/// storing them: each triangle's depth plane is stepped exactly
-/// ([`TriSetup::depth_rows`]) from the first row of the band it covers.
-pub(super) struct BandRows<'a> {
-    /// Per triangle: its setup, the first row it is stepped from, its depth stepper.
-    tris: Vec<(&'a TriSetup, i64, RoundDivSteps)>,
-    /// Volume `i`'s triangles are `tris[start[i]..start[i + 1]]`.
-    start: Vec<usize>,
-}
-
-impl<'a> BandRows<'a> {
-    /// The volumes `vols`, in order, through rows `j0..=j1`: only the triangles that may
-    /// cover one of those rows are walked, each stepped from the first of them it covers.
-    pub(super) fn new(
-        vols: impl Iterator<Item = &'a VolumeTris>,
-        j0: i64,
-        j1: i64,
-    ) -> BandRows<'a> {
-        let mut r = BandRows {
-            tris: Vec::new(),
-            start: vec![0],
-        };
-        for v in vols {
-            for t in v.tris.iter().filter(|t| t.row_min <= j1 && t.row_max >= j0) {
-                let first = t.row_min.max(j0);
-                r.tris.push((t, first, t.depth_rows(first)));
-            }
-            r.start.push(r.tris.len());
-        }
-        r
-    }
-
-    /// Gives volume `i`'s SP words of row `j` to `push`, in triangle order. Called for
-    /// every volume on every row of the band, in row order, so each stepper stands at the
-    /// row it is asked for.
-    pub(super) fn row(&mut self, i: usize, j: i64, width: u32, mut push: impl FnMut(SpanWord)) {
-        for (t, first, z) in &mut self.tris[self.start[i]..self.start[i + 1]] {
-            if j < *first || j > t.row_max {
-                continue;
-            }
-            if let Some(w) = t.shadow_span(j, width, z) {
-                push(w);
-            }
-            z.advance();
-        }
     }
 }
 
@@ -308,8 +304,8 @@ mod tests {
     use super::*;
     use crate::rng::XorShift64Star;
 
-    /// Walking bands of rows gives, on every row, each volume's SP words in triangle order,
-    /// each equal to the triangle's span computed directly on that row (`TriSetup::span`,
+    /// A band's words give, on every row, each volume's SP words in triangle order, each
+    /// equal to the triangle's span computed directly on that row (`TriSetup::span`,
     /// exact division, no stepping) with attr SP and zero intensities; on random fans,
     /// with bands starting inside, above and below the triangles, off-screen parts
     /// included.
@@ -344,11 +340,10 @@ mod tests {
                 let mut j0 = 0;
                 while j0 < h {
                     let j1 = (j0 + band - 1).min(h - 1);
-                    let mut walk = BandRows::new(vols.iter(), j0, j1);
-                    for j in j0..=j1 {
-                        for (i, v) in vols.iter().enumerate() {
-                            let mut got = Vec::new();
-                            walk.row(i, j, w, |s| got.push(s));
+                    for (i, v) in vols.iter().enumerate() {
+                        let mut rows = vec![Vec::new(); (j1 - j0 + 1) as usize];
+                        v.band_words(j0, j1, w, |j, s| rows[(j - j0) as usize].push(s));
+                        for (j, got) in (j0..).zip(rows) {
                             let want: Vec<SpanWord> = v
                                 .tris
                                 .iter()
