@@ -16,6 +16,7 @@
 
 use crate::frontend::{self, FrontError, Projector};
 use crate::pixel_array::{Command, PixelArray};
+use crate::raster::divisor::FloorDivisor;
 use crate::render::{render_frame, Frame, SpanSource};
 use crate::scene::LoadedScene;
 use crate::setup::SetupError;
@@ -199,12 +200,34 @@ pub struct TileRouter {
     vol: VolumeTiles,
 }
 
-/// The tiles of `n` processors (of `tiles`) that columns `xl..=xr` touch, `[a, b]`, if any
-/// ([`feed_tile`]'s `touches`).
-#[inline]
-pub(crate) fn tile_span(xl: u16, xr: u16, n: usize, tiles: usize) -> Option<(usize, usize)> {
-    let (a, b) = (xl as usize / n, xr as usize / n);
-    (xl <= xr && a < tiles).then(|| (a, b.min(tiles - 1)))
+/// A row's tiles of `n` processors: which of them a column range touches, with the
+/// column's tile found by one multiplication ([`FloorDivisor`]) rather than a division
+/// (a row with thousands of shadow spans asks several times per span).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RowTiles {
+    div: FloorDivisor,
+    tiles: usize,
+}
+
+impl RowTiles {
+    /// `tiles` tiles of `n > 0` processors (`n < 2^63`).
+    pub(crate) fn new(n: usize, tiles: usize) -> RowTiles {
+        RowTiles {
+            div: FloorDivisor::new(n as i128).expect("tile width is positive"),
+            tiles,
+        }
+    }
+
+    /// The tiles that columns `xl..=xr` touch, `[a, b]`, if any ([`feed_tile`]'s
+    /// `touches`).
+    #[inline]
+    pub(crate) fn span(&self, xl: u16, xr: u16) -> Option<(usize, usize)> {
+        let tile = |x: u16| self.div.floor(x as i64) as usize;
+        (xl <= xr)
+            .then(|| (tile(xl), tile(xr)))
+            .filter(|&(a, _)| a < self.tiles)
+            .map(|(a, b)| (a, b.min(self.tiles - 1)))
+    }
 }
 
 /// Which tiles the current volume's spans touched since the last EV or `Check`: the tiles
@@ -274,7 +297,8 @@ impl TileRouter {
             l.clear();
         }
         self.vol.start(tiles);
-        let range = |xl: u16, xr: u16| tile_span(xl, xr, n as usize, tiles);
+        let row_tiles = RowTiles::new(n as usize, tiles);
+        let range = |xl: u16, xr: u16| row_tiles.span(xl, xr);
         for (i, c) in cmds.iter().enumerate() {
             let i = i as u32;
             match c {
@@ -427,6 +451,25 @@ mod tests {
     use super::*;
     use crate::plan::{Effects, Overrides};
     use crate::scene::load_builtin;
+
+    /// The tiles a column range touches, by multiplication, are those of dividing each end
+    /// column by the tile width: every range of columns `0..300` (empty ones included) on
+    /// tile widths 1 to 70 and on rows shorter and longer than the columns.
+    #[test]
+    fn row_tiles_are_those_of_dividing_by_the_tile_width() {
+        for n in 1..=70usize {
+            for tiles in [1, 3, 300usize.div_ceil(n), 400] {
+                let rt = RowTiles::new(n, tiles);
+                for xl in 0..300u16 {
+                    for xr in 0..300u16 {
+                        let (a, b) = (xl as usize / n, xr as usize / n);
+                        let want = (xl <= xr && a < tiles).then(|| (a, b.min(tiles - 1)));
+                        assert_eq!(rt.span(xl, xr), want, "n {n} tiles {tiles} {xl}..={xr}");
+                    }
+                }
+            }
+        }
+    }
 
     /// Feeding every tile of every row its [`SceneStream::tile`] commands gives the
     /// rendered frame, and so does feeding every tile the whole row.

@@ -6,7 +6,7 @@
 //! once, as the renderer does.
 
 use super::{Command, PixelArray, ProcState};
-use crate::stream::{tile_span, VolumeTiles};
+use crate::stream::{RowTiles, VolumeTiles};
 use pixelproc_formats::{Attr, SpanWord, Z_FRAC};
 
 /// ZB, DSF and FSF of processors in three separate arrays (a flag is one byte, 0 or 1):
@@ -134,7 +134,8 @@ impl RowFlags {
         let tiles = w.div_ceil(n);
         self.vol.start(tiles);
         // The router's tiles of a column range (`TileRouter::route`).
-        let tile_range = |xl: u16, xr: u16| tile_span(xl, xr, n, tiles);
+        let row_tiles = RowTiles::new(n, tiles);
+        let tile_range = |xl: u16, xr: u16| row_tiles.span(xl, xr);
         // The processors `r0..r1` of the tiles any span or check reaches.
         let (mut ta, mut tb) = (tiles, 0);
         for c in cmds {
