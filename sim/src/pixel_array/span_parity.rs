@@ -136,23 +136,26 @@ impl RowFlags {
         // The router's tiles of a column range (`TileRouter::route`).
         let row_tiles = RowTiles::new(n, tiles);
         let tile_range = |xl: u16, xr: u16| row_tiles.span(xl, xr);
-        // The processors `r0..r1` of the tiles any span or check reaches.
-        let (mut ta, mut tb) = (tiles, 0);
+        // The processors `r0..r1` of the tiles any span or check reaches: those from the
+        // tile of the least first column to that of the greatest last column among the
+        // ranges that reach a tile (a column's tile grows with the column), every tile
+        // after an IF span.
+        let on_tiles = tiles * n;
+        let (mut lo, mut hi) = (u16::MAX, 0u16);
         for c in cmds {
-            let range = match *c {
-                Command::Span(ref sw) if sw.attr == Attr::If => Some((0, tiles - 1)),
-                Command::Span(ref sw) => tile_range(sw.xl, sw.xr),
-                Command::Check { xl, xr } => tile_range(xl, xr),
-                _ => None,
+            let (xl, xr) = match *c {
+                Command::Span(ref sw) if sw.attr == Attr::If => (0, u16::MAX),
+                Command::Span(ref sw) => (sw.xl, sw.xr),
+                Command::Check { xl, xr } => (xl, xr),
+                _ => continue,
             };
-            if let Some((a, b)) = range {
-                (ta, tb) = (ta.min(a), tb.max(b));
+            if xl <= xr && (xl as usize) < on_tiles {
+                (lo, hi) = (lo.min(xl), hi.max(xr));
             }
         }
-        let (r0, r1) = if ta <= tb {
-            (ta * n, ((tb + 1) * n).min(w))
-        } else {
-            (0, 0)
+        let (r0, r1) = match tile_range(lo, hi) {
+            Some((ta, tb)) => (ta * n, ((tb + 1) * n).min(w)),
+            None => (0, 0),
         };
         let (inner, outer) = (r0..r1, [0..r0, r1..w]);
         self.planes.load(&row[inner.clone()]);
