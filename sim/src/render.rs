@@ -229,31 +229,56 @@ where
             || RowScratch::new(array_width, tiles),
             |scratch, (b, (band, mband))| {
                 let j0 = (b * BAND) as u32;
-                let rows = band.chunks_mut(w as usize);
-                // With shadows made per band, every row's commands come from the band's.
-                let n = rows.len();
-                let mut made = BAND_SHADOWS.take();
-                let stored = match extra {
-                    RowExtra::Shadows(s) => {
-                        made.resize_with(n.max(made.len()), Vec::new);
-                        s.band(j0, &mut made[..n]);
-                        &made[..n]
-                    }
-                    RowExtra::Stored(rows) => &rows[(j0 as usize).min(rows.len())..],
-                };
-                for (r, row) in rows.enumerate() {
-                    let j = j0 + r as u32;
-                    let ws = w as usize * more_stride;
-                    let mrow: &mut [u32] = if mband.is_empty() {
-                        &mut []
+                let n = band.len() / w as usize;
+                let ws = w as usize * more_stride;
+                let mrow = |mband: &mut [u32], r: usize| -> std::ops::Range<usize> {
+                    if mband.is_empty() {
+                        0..0
                     } else {
-                        &mut mband[r * ws..(r + 1) * ws]
+                        r * ws..(r + 1) * ws
+                    }
+                };
+                let row = |r: usize| r * w as usize..(r + 1) * w as usize;
+                // Each row's polygon spans (and stored commands) through the tiles.
+                let shadows = match extra {
+                    RowExtra::Shadows(s) => Some(s),
+                    RowExtra::Stored(_) => None,
+                };
+                for r in 0..n {
+                    let j = j0 + r as u32;
+                    let cmds: &[Command] = match extra {
+                        RowExtra::Stored(rows) => rows.get(j as usize).map_or(&[], |c| c),
+                        RowExtra::Shadows(_) => &[],
                     };
-                    let cmds: &[Command] = stored.get(r).map_or(&[], |c| c);
-                    scratch.draw(src, bg, j, cmds, row, mrow);
-                    readout(row, mrow);
+                    let m = mrow(mband, r);
+                    scratch.draw(src, bg, j, cmds, &mut band[row(r)], &mut mband[m.clone()]);
+                    if shadows.is_none() {
+                        readout(&mut band[row(r)], &mut mband[m]);
+                    }
                 }
-                BAND_SHADOWS.set(made);
+                // Then the shadows' commands, light sample by light sample (each sample's
+                // for the band's rows made at once, unless that would take too much
+                // memory), applied to the whole rows as the routed tiles would apply them.
+                if let Some(s) = shadows {
+                    let mut made = BAND_SHADOWS.take();
+                    for k in 0..s.samples() {
+                        let mut r0 = 0;
+                        while r0 < n {
+                            let m = s.sample_rows_at_once(k, j0 + r0 as u32, n - r0);
+                            made.resize_with(m.max(made.len()), Vec::new);
+                            s.sample_rows(k, j0 + r0 as u32, &mut made[..m]);
+                            for (r, cmds) in (r0..).zip(&made[..m]) {
+                                scratch.shadow_flags(&mut band[row(r)], cmds);
+                            }
+                            r0 += m;
+                        }
+                    }
+                    BAND_SHADOWS.set(made);
+                    for r in 0..n {
+                        let m = mrow(mband, r);
+                        readout(&mut band[row(r)], &mut mband[m]);
+                    }
+                }
             },
         );
     drop(more_bands);
@@ -347,6 +372,14 @@ impl RowScratch {
             flags.run(row, cmds, array_width);
         }
     }
+
+    /// Applies shadow commands (each [`is_flag_command`]) to a row drawn by
+    /// [`RowScratch::draw`] without them, as `draw` would have: the row's commands may be
+    /// applied in parts, light sample after light sample ([`crate::shadow::ShadowRows`]).
+    fn shadow_flags(&mut self, row: &mut [ProcState], cmds: &[Command]) {
+        debug_assert!(cmds.iter().all(is_flag_command));
+        self.flags.run(row, cmds, self.arr.width());
+    }
 }
 
 #[cfg(test)]
@@ -393,20 +426,36 @@ mod tests {
             );
             let (pj, occ) = (Projector::new(&ls), occluders(&ls));
             let lights = shadow_lights(&ls, &which).unwrap();
-            let mut made: Option<ShadowRows> = None;
-            for l in &lights {
-                let more = ShadowRows::new(&occ, &ls, &pj, std::slice::from_ref(l), form).unwrap();
-                match &mut made {
-                    Some(m) => m.append(more),
-                    None => made = Some(more),
+            let make = |budget: u64| {
+                let mut made: Option<ShadowRows> = None;
+                for l in &lights {
+                    let more =
+                        ShadowRows::new(&occ, &ls, &pj, std::slice::from_ref(l), form).unwrap();
+                    match &mut made {
+                        Some(m) => m.append(more),
+                        None => made = Some(more),
+                    }
                 }
-            }
-            let made = made.unwrap();
+                let mut made = made.unwrap();
+                made.set_budget(budget);
+                made
+            };
             let bg = s.bg;
             let want = render_frame(&s.spans, bg, n, &s.shadow);
+            // Each light sample's commands made for a whole band at once, one row at a
+            // time (the least budget), and a few rows at a time.
+            for budget in [1, 3000] {
+                let made = make(budget);
+                let got = render_frame_with(&s.spans, bg, n, RowExtra::Shadows(&made), |_, _| {});
+                assert_eq!(got.px, want.px, "height {h}, {form:?}, array {n}, {budget}");
+                assert_eq!(
+                    got.more, want.more,
+                    "height {h}, {form:?}, array {n}, {budget}"
+                );
+                assert_eq!(made.stats().span_words, s.shadow_stats.span_words);
+            }
+            let made = make(u64::MAX);
             let got = render_frame_with(&s.spans, bg, n, RowExtra::Shadows(&made), |_, _| {});
-            assert_eq!(got.px, want.px, "height {h}, {form:?}, array {n}");
-            assert_eq!(got.more, want.more, "height {h}, {form:?}, array {n}");
             assert!(!got.more.is_empty());
             // And each row as one array as wide as the screen runs it, straight from the
             // stream's commands (no tiles, no bands).

@@ -267,7 +267,14 @@ struct SampleVolumes {
     reach: Vec<Option<(u32, u32)>>,
     /// The control that ends the sample's commands on every row.
     end: Command,
+    /// Per row: an upper bound on the sample's commands
+    /// ([`ShadowRows::sample_rows_at_once`]).
+    row_bound: Vec<u64>,
 }
+
+/// The most commands (by [`SampleVolumes::row_bound`]) made at once for one light sample:
+/// about 16 MB of commands per drawing thread.
+const BAND_BUDGET: u64 = 1 << 20;
 
 /// Some lights' shadow volumes, set up (clipped, snapped, their triangles set up), from
 /// which each row's shadow commands are made when the row is drawn, a band of rows at a
@@ -284,6 +291,8 @@ pub struct ShadowRows {
     stats: ShadowStats,
     /// Shadow span words made so far.
     words: AtomicU64,
+    /// The most commands made at once for one light sample ([`BAND_BUDGET`]).
+    budget: u64,
 }
 
 impl ShadowRows {
@@ -312,7 +321,7 @@ impl ShadowRows {
                     .iter()
                     .filter(|(_, near)| *near == NearPlane::Cut)
                     .count();
-                let reach = per_vol
+                let reach: Vec<Option<(u32, u32)>> = per_vol
                     .iter()
                     .map(|(tris, near)| match near {
                         NearPlane::Inside => Some((0, u32::MAX)),
@@ -323,10 +332,31 @@ impl ShadowRows {
                     Some(bit) => Command::LatchShadow { bit },
                     None => Command::AccumulateShadow,
                 };
+                // On each row: `ClearFlags` and the end control, at most one word per
+                // triangle whose rows include it, and one more per volume that reaches it
+                // (a `Check`, or an EV added), two with the near plane inside (an IF too).
+                let mut steps = vec![0i64; height as usize + 1];
+                steps[0] += 2;
+                for ((tris, near), reach) in per_vol.iter().zip(&reach) {
+                    tris.count_rows(&mut steps);
+                    if let Some((a, z)) = *reach {
+                        let extra = 1 + (*near == NearPlane::Inside) as i64;
+                        steps[a as usize] += extra;
+                        steps[z.min(height - 1) as usize + 1] -= extra;
+                    }
+                }
+                let row_bound = steps[..height as usize]
+                    .iter()
+                    .scan(0i64, |sum, d| {
+                        *sum += d;
+                        Some(*sum as u64)
+                    })
+                    .collect();
                 samples.push(SampleVolumes {
                     per_vol,
                     reach,
                     end,
+                    row_bound,
                 });
             }
         }
@@ -337,6 +367,7 @@ impl ShadowRows {
             height,
             stats,
             words: AtomicU64::new(0),
+            budget: BAND_BUDGET,
         })
     }
 
@@ -367,55 +398,90 @@ impl ShadowRows {
         }
     }
 
-    /// The commands of rows `j0 .. j0 + made.len()`, made at once into `made` (one list per
-    /// row, cleared first; their allocations are reused). Rows are independent: per light
-    /// sample, each volume that reaches the band gives its triangles' words
-    /// ([`VolumeTris::band_words`]), appended to each row in volume order as a pass over
-    /// all volumes row by row would append them (a volume with no span on a row, and the
-    /// near plane outside it, adds nothing to it). Walking a volume's triangles once per
-    /// band, each through its rows, reads each triangle's set-up once instead of once per
-    /// row.
-    pub fn band(&self, j0: u32, made: &mut [Vec<Command>]) {
+    /// Light samples (one per point light, one per sample of an area light), in the
+    /// order their commands come on every row.
+    pub fn samples(&self) -> usize {
+        self.samples.len()
+    }
+
+    /// How many rows from `j0` on (at least 1, at most `max`) to make light sample `k`'s
+    /// commands for at once ([`ShadowRows::sample_rows`]): as many as keep them within
+    /// about 16 MB, by an upper bound counted at set-up (on each row: two controls, at
+    /// most one word per triangle whose rows include the row, and one more per volume
+    /// that reaches it, two with the near plane inside). A light's volumes on a 1080p
+    /// scene fit a band of 16 rows.
+    pub fn sample_rows_at_once(&self, k: usize, j0: u32, max: usize) -> usize {
+        let mut sum = 0;
+        let fit = self.samples[k].row_bound[j0 as usize..]
+            .iter()
+            .take(max)
+            .take_while(|&&b| {
+                sum += b;
+                sum <= self.budget
+            })
+            .count();
+        fit.clamp(1, max.max(1))
+    }
+
+    /// Sets the most commands made at once for one light sample (the tests' way to make
+    /// a band's rows a few at a time).
+    #[cfg(test)]
+    pub(crate) fn set_budget(&mut self, budget: u64) {
+        self.budget = budget;
+    }
+
+    /// Light sample `k`'s commands on rows `j0 .. j0 + made.len()`, made at once into
+    /// `made` (one list per row, cleared first; their allocations are reused):
+    /// `ClearFlags`, the words of each volume that reaches the rows
+    /// ([`VolumeTris::band_words`]), each row's ended ([`end_volume_row`]), in volume
+    /// order as a pass over all volumes row by row would append them (a volume with no
+    /// span on a row, and the near plane outside it, adds nothing to it), then the
+    /// sample's end control. A row's commands are its samples' in sample order; samples
+    /// are independent (each starts by clearing the flags, and every volume ends with an
+    /// EV or a `Check`), so they can be applied one after the other. Walking a volume's
+    /// triangles once for all the rows, each through its rows, reads each triangle's
+    /// set-up once instead of once per row.
+    pub fn sample_rows(&self, k: usize, j0: u32, made: &mut [Vec<Command>]) {
         let j1 = j0 + made.len() as u32 - 1;
         assert!(
             !made.is_empty() && j1 < self.height,
             "rows {j0}..={j1} of {}",
             self.height
         );
-        made.iter_mut().for_each(Vec::clear);
+        let s = &self.samples[k];
         let (form, width) = (self.form, self.width);
         // Per row: where the current volume's commands start, and its words' columns.
         let mut open = vec![(0usize, u16::MAX, 0u16); made.len()];
         let mut words = 0;
-        for s in &self.samples {
-            made.iter_mut()
-                .for_each(|out| out.push(Command::ClearFlags));
-            for ((tris, near), reach) in s.per_vol.iter().zip(&s.reach) {
-                if !reach.is_some_and(|(a, z)| a <= j1 && z >= j0) {
+        for out in made.iter_mut() {
+            out.clear();
+            out.push(Command::ClearFlags);
+        }
+        for ((tris, near), reach) in s.per_vol.iter().zip(&s.reach) {
+            if !reach.is_some_and(|(a, z)| a <= j1 && z >= j0) {
+                continue;
+            }
+            for (o, out) in open.iter_mut().zip(made.iter()) {
+                *o = (out.len(), u16::MAX, 0);
+            }
+            // The volume's SP words go straight into the rows' commands; their column
+            // range is kept for a `Check`.
+            tris.band_words(j0 as i64, j1 as i64, width, |j, w| {
+                let r = (j - j0 as i64) as usize;
+                let o = &mut open[r];
+                (o.1, o.2) = (o.1.min(w.xl), o.2.max(w.xr));
+                made[r].push(Command::Span(w));
+            });
+            let inside = *near == NearPlane::Inside;
+            for (out, &(start, lo, hi)) in made.iter_mut().zip(&open) {
+                if out.len() == start && !inside {
                     continue;
                 }
-                for (o, out) in open.iter_mut().zip(made.iter()) {
-                    *o = (out.len(), u16::MAX, 0);
-                }
-                // The volume's SP words go straight into the rows' commands; their column
-                // range is kept for a `Check`.
-                tris.band_words(j0 as i64, j1 as i64, width, |j, w| {
-                    let r = (j - j0 as i64) as usize;
-                    let o = &mut open[r];
-                    (o.1, o.2) = (o.1.min(w.xl), o.2.max(w.xr));
-                    made[r].push(Command::Span(w));
-                });
-                let inside = *near == NearPlane::Inside;
-                for (out, &(start, lo, hi)) in made.iter_mut().zip(&open) {
-                    if out.len() == start && !inside {
-                        continue;
-                    }
-                    end_volume_row(out, start, (lo, hi), inside, form, width);
-                    words += (out.len() - start) as u64;
-                }
+                end_volume_row(out, start, (lo, hi), inside, form, width);
+                words += (out.len() - start) as u64;
             }
-            made.iter_mut().for_each(|out| out.push(s.end));
         }
+        made.iter_mut().for_each(|out| out.push(s.end));
         self.words.fetch_add(words, Ordering::Relaxed);
     }
 
@@ -424,7 +490,19 @@ impl ShadowRows {
         let mut rows: Vec<Vec<Command>> = vec![Vec::new(); self.height as usize];
         rows.par_chunks_mut(BAND).enumerate().for_each(|(b, band)| {
             let j0 = (b * BAND) as u32;
-            self.band(j0, band);
+            let mut made = Vec::new();
+            for k in 0..self.samples.len() {
+                let mut r = 0;
+                while r < band.len() {
+                    let m = self.sample_rows_at_once(k, j0 + r as u32, band.len() - r);
+                    made.resize_with(m.max(made.len()), Vec::new);
+                    self.sample_rows(k, j0 + r as u32, &mut made[..m]);
+                    for (row, more) in band[r..r + m].iter_mut().zip(&made) {
+                        row.extend_from_slice(more);
+                    }
+                    r += m;
+                }
+            }
         });
         ShadowCommands {
             rows,

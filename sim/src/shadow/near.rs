@@ -253,6 +253,21 @@ impl VolumeTris {
             .min(height as i64 - 1);
         (lo <= hi).then_some((lo as u32, hi as u32))
     }
+
+    /// Adds 1 to `steps[first]` and subtracts 1 from `steps[last + 1]` for each triangle's
+    /// rows `first..=last` on the screen (`steps` has one entry per row and one more): the
+    /// running sum of `steps` then counts, per row, the triangles that may send a word on
+    /// it.
+    pub(super) fn count_rows(&self, steps: &mut [i64]) {
+        let rows = steps.len() as i64 - 1;
+        for t in &self.tris {
+            let (a, b) = (t.row_min.max(0), t.row_max.min(rows - 1));
+            if a <= b {
+                steps[a as usize] += 1;
+                steps[b as usize + 1] -= 1;
+            }
+        }
+    }
 }
 
 /// Projects a volume's polygons (clip to the ray box, then the view frustum; snap) and
