@@ -174,26 +174,31 @@ pub fn render_frame(
 pub enum RowExtra<'a> {
     /// One stored list per row (or none at all: an empty slice).
     Stored(&'a [Vec<Command>]),
-    /// The shadow commands of volumes set up beforehand, made a band of rows at a time as
-    /// the rows are drawn ([`ShadowRows::band`]) and never stored.
+    /// The shadow commands of volumes set up beforehand, made a band of rows and a light
+    /// sample at a time as the rows are drawn ([`ShadowRows::sample_rows`]) and never
+    /// stored.
     Shadows(&'a ShadowRows),
 }
 
-/// Rows drawn by one task: a band's shadow commands are made by one walk of its volumes.
+/// Rows drawn by one task: each light sample's shadow commands for the band are made by
+/// one walk of its volumes (or a few, when they would take too much memory).
 const BAND: usize = 16;
 
 thread_local! {
-    /// A band's shadow commands, one list per row, kept on each thread from band to band
-    /// (and frame to frame): with thousands of volumes a row's list is hundreds of KiB, and
-    /// fresh lists per band would be faulted in page by page every time.
+    /// A light sample's shadow commands for a band, one list per row, kept on each thread
+    /// from band to band (and frame to frame): with thousands of volumes a row's list is
+    /// hundreds of KiB, and fresh lists per band would be faulted in page by page every
+    /// time. At most [`crate::shadow::ShadowRows::sample_rows_at_once`]'s budget (59 MB).
     static BAND_SHADOWS: std::cell::Cell<Vec<Vec<Command>>> =
         const { std::cell::Cell::new(Vec::new()) };
 }
 
 /// [`render_frame`], with `readout(row, more)` called on each row's final processor
 /// states (and its shade registers 2.., empty if unused) as the row is read out, while it
-/// is still in cache: where the core's shade unit corrects intensities
-/// ([`crate::shadow::shade_row`]). Rows are drawn in bands of 16, in parallel.
+/// is still in cache (its band's rows are 600 KB at 1080p): where the core's shade unit
+/// corrects intensities ([`crate::shadow::shade_row`]). Rows are drawn in bands of 16,
+/// in parallel: a band's polygon spans first, then each light sample's shadow commands
+/// in turn.
 pub fn render_frame_with<G>(
     src: &SpanSource,
     bg: [u8; 3],

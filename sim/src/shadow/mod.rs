@@ -273,12 +273,13 @@ struct SampleVolumes {
 }
 
 /// The most commands (by [`SampleVolumes::row_bound`]) made at once for one light sample:
-/// about 16 MB of commands per drawing thread.
+/// 2^20 commands of 56 bytes, 59 MB per drawing thread.
 const BAND_BUDGET: u64 = 1 << 20;
 
 /// Some lights' shadow volumes, set up (clipped, snapped, their triangles set up), from
-/// which each row's shadow commands are made when the row is drawn, a band of rows at a
-/// time ([`ShadowRows::band`]): the commands of [`shadow_commands_of`], never stored.
+/// which each row's shadow commands are made when the row is drawn, a band of rows and a
+/// light sample at a time ([`ShadowRows::sample_rows`]): the commands of
+/// [`shadow_commands_of`], never stored.
 /// Per light sample and row: `ClearFlags`, the volumes' spans in volume order (first IF
 /// when the near plane is inside the volume, last EV or a `Check`), then `LatchShadow`
 /// (point light) or `AccumulateShadow` (area-light sample).
@@ -406,10 +407,10 @@ impl ShadowRows {
 
     /// How many rows from `j0` on (at least 1, at most `max`) to make light sample `k`'s
     /// commands for at once ([`ShadowRows::sample_rows`]): as many as keep them within
-    /// about 16 MB, by an upper bound counted at set-up (on each row: two controls, at
+    /// about 59 MB, by an upper bound counted at set-up (on each row: two controls, at
     /// most one word per triangle whose rows include the row, and one more per volume
-    /// that reaches it, two with the near plane inside). A light's volumes on a 1080p
-    /// scene fit a band of 16 rows.
+    /// that reaches it, two with the near plane inside). The benchmark's one-light 1080p
+    /// scenes take whole bands of 16 rows on all but a few of their busiest rows.
     pub fn sample_rows_at_once(&self, k: usize, j0: u32, max: usize) -> usize {
         let mut sum = 0;
         let fit = self.samples[k].row_bound[j0 as usize..]
@@ -433,7 +434,7 @@ impl ShadowRows {
     /// Light sample `k`'s commands on rows `j0 .. j0 + made.len()`, made at once into
     /// `made` (one list per row, cleared first; their allocations are reused):
     /// `ClearFlags`, the words of each volume that reaches the rows
-    /// ([`VolumeTris::band_words`]), each row's ended ([`end_volume_row`]), in volume
+    /// (`VolumeTris::band_words`), each row's ended (`end_volume_row`), in volume
     /// order as a pass over all volumes row by row would append them (a volume with no
     /// span on a row, and the near plane outside it, adds nothing to it), then the
     /// sample's end control. A row's commands are its samples' in sample order; samples
