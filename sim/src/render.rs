@@ -13,6 +13,7 @@ use crate::shadow::ShadowRows;
 use crate::stream::{feed_routed, feed_routed_pairs, TileRouter};
 use pixelproc_formats::{SpanWord, MAX_SCREEN};
 use rayon::prelude::*;
+use std::sync::Mutex;
 
 /// A rendered frame: per-pixel processor state after the last command of its row.
 #[derive(Clone, Debug)]
@@ -184,15 +185,6 @@ pub enum RowExtra<'a> {
 /// one walk of its volumes (or a few, when they would take too much memory).
 const BAND: usize = 16;
 
-thread_local! {
-    /// A light sample's shadow commands for a band, one list per row, kept on each thread
-    /// from band to band (and frame to frame): with thousands of volumes a row's list is
-    /// hundreds of KiB, and fresh lists per band would be faulted in page by page every
-    /// time. At most [`crate::shadow::ShadowRows::sample_rows_at_once`]'s budget (59 MB).
-    static BAND_SHADOWS: std::cell::Cell<Vec<Vec<Command>>> =
-        const { std::cell::Cell::new(Vec::new()) };
-}
-
 /// [`render_frame`], with `readout(row, more)` called on each row's final processor
 /// states (and its shade registers 2.., empty if unused) as the row is read out, while it
 /// is still in cache (its band's rows are 600 KB at 1080p): where the core's shade unit
@@ -226,6 +218,12 @@ where
     let more_stride = if src.max_chan >= 2 { MORE_SHADE } else { 0 };
     let mut more = vec![0u32; (w * h) as usize * more_stride];
     let bands = (h as usize).div_ceil(BAND);
+    // A light sample's shadow commands for a band, one list per row: with thousands of
+    // volumes a row's list is hundreds of KiB, so the lists are reused from band to band
+    // (fresh ones would be faulted in page by page every time), one set per band being
+    // drawn at once, and freed with the frame. A set holds at most the budget of
+    // `ShadowRows::sample_rows_at_once` (59 MB).
+    let lists: Mutex<Vec<Vec<Vec<Command>>>> = Mutex::new(Vec::new());
     let mut more_bands = chunks_or_empty(&mut more, w as usize * more_stride * BAND, bands);
     px.par_chunks_mut(w as usize * BAND)
         .zip(more_bands.par_iter_mut())
@@ -265,7 +263,11 @@ where
                 // for the band's rows made at once, unless that would take too much
                 // memory), applied to the whole rows as the routed tiles would apply them.
                 if let Some(s) = shadows {
-                    let mut made = BAND_SHADOWS.take();
+                    let mut made = lists
+                        .lock()
+                        .ok()
+                        .and_then(|mut l| l.pop())
+                        .unwrap_or_default();
                     for k in 0..s.samples() {
                         let mut r0 = 0;
                         while r0 < n {
@@ -278,7 +280,9 @@ where
                             r0 += m;
                         }
                     }
-                    BAND_SHADOWS.set(made);
+                    if let Ok(mut l) = lists.lock() {
+                        l.push(made);
+                    }
                     for r in 0..n {
                         let m = mrow(mband, r);
                         readout(&mut band[row(r)], &mut mband[m]);
