@@ -16,7 +16,10 @@
 //! of work the method counts (span word, fragment, shadow span word, sub-scanline piece,
 //! sample), and the peak resident memory of one render (Linux: the high-water mark is
 //! reset before each case; elsewhere not measured). Large buffers are fresh mappings in
-//! every render (glibc), so neither times nor peaks depend on the order of the cases.
+//! every render (glibc), so neither times nor peaks depend on the order of the cases; the
+//! one exception, the shadow command lists the renderer keeps from frame to frame (at
+//! most 118 MB, `pixelproc_sim::render::release_shadow_lists`), is released before each
+//! case's warm-up, which measures its peak, and refilled by it.
 
 use std::collections::BTreeMap;
 use std::fmt::Write;
@@ -577,6 +580,8 @@ pub fn run_all_methods(
             .collect::<Result<_, _>>()?;
         let mut first = Vec::new();
         for f in &fx {
+            // A case's peak is its own: no shadow command lists kept from another case.
+            pixelproc_sim::render::release_shadow_lists();
             let measured = reset_peak();
             let o = render(ls, f)?;
             first.push((o, if measured { peak_mib() } else { None }));

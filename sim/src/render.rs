@@ -185,6 +185,54 @@ pub enum RowExtra<'a> {
 /// one walk of its volumes (or a few, when they would take too much memory).
 const BAND: usize = 16;
 
+/// Sets of a light sample's shadow command lists for a band (one list per row), one per
+/// drawing thread (by its index in the thread pool), kept for the thread's next band and
+/// the next frame: with thousands of volumes a row's list is hundreds of KiB, and fresh
+/// lists are faulted in page by page (on `tori`, about 60 MB and 15,000 page faults a
+/// frame, a sixth of its shadow time), and lists another core wrote last are slower to
+/// write again. After each frame only the first [`KEPT_LISTS`] threads' sets are kept
+/// ([`release_shadow_lists`] frees them all).
+static SHADOW_LISTS: Mutex<Vec<Vec<Vec<Command>>>> = Mutex::new(Vec::new());
+
+/// Sets of shadow command lists kept after a frame: each holds at most the budget of
+/// [`ShadowRows::sample_rows_at_once`] (59 MB), so at most 118 MB are kept however many
+/// threads draw.
+const KEPT_LISTS: usize = 2;
+
+/// This thread's set of shadow command lists, kept or new.
+fn take_lists() -> Vec<Vec<Command>> {
+    let t = rayon::current_thread_index().unwrap_or(0);
+    SHADOW_LISTS
+        .lock()
+        .ok()
+        .and_then(|mut l| l.get_mut(t).map(std::mem::take))
+        .unwrap_or_default()
+}
+
+/// Gives this thread's set of lists back for its next band.
+fn give_back_lists(lists: Vec<Vec<Command>>) {
+    let t = rayon::current_thread_index().unwrap_or(0);
+    if let Ok(mut l) = SHADOW_LISTS.lock() {
+        if l.len() <= t {
+            l.resize_with(t + 1, Vec::new);
+        }
+        l[t] = lists;
+    }
+}
+
+/// Frees the sets of lists of threads `n..`.
+fn keep_lists(n: usize) {
+    if let Ok(mut l) = SHADOW_LISTS.lock() {
+        l.truncate(n);
+    }
+}
+
+/// Frees the shadow command lists kept from earlier frames (up to 118 MB after a frame
+/// with many shadow volumes), e.g. before measuring another render's peak memory.
+pub fn release_shadow_lists() {
+    keep_lists(0);
+}
+
 /// [`render_frame`], with `readout(row, more)` called on each row's final processor
 /// states (and its shade registers 2.., empty if unused) as the row is read out, while it
 /// is still in cache (its band's rows are 600 KB at 1080p): where the core's shade unit
@@ -218,12 +266,6 @@ where
     let more_stride = if src.max_chan >= 2 { MORE_SHADE } else { 0 };
     let mut more = vec![0u32; (w * h) as usize * more_stride];
     let bands = (h as usize).div_ceil(BAND);
-    // A light sample's shadow commands for a band, one list per row: with thousands of
-    // volumes a row's list is hundreds of KiB, so the lists are reused from band to band
-    // (fresh ones would be faulted in page by page every time), one set per band being
-    // drawn at once, and freed with the frame. A set holds at most the budget of
-    // `ShadowRows::sample_rows_at_once` (59 MB).
-    let lists: Mutex<Vec<Vec<Vec<Command>>>> = Mutex::new(Vec::new());
     let mut more_bands = chunks_or_empty(&mut more, w as usize * more_stride * BAND, bands);
     px.par_chunks_mut(w as usize * BAND)
         .zip(more_bands.par_iter_mut())
@@ -263,11 +305,7 @@ where
                 // for the band's rows made at once, unless that would take too much
                 // memory), applied to the whole rows as the routed tiles would apply them.
                 if let Some(s) = shadows {
-                    let mut made = lists
-                        .lock()
-                        .ok()
-                        .and_then(|mut l| l.pop())
-                        .unwrap_or_default();
+                    let mut made = take_lists();
                     for k in 0..s.samples() {
                         let mut r0 = 0;
                         while r0 < n {
@@ -280,9 +318,7 @@ where
                             r0 += m;
                         }
                     }
-                    if let Ok(mut l) = lists.lock() {
-                        l.push(made);
-                    }
+                    give_back_lists(made);
                     for r in 0..n {
                         let m = mrow(mband, r);
                         readout(&mut band[row(r)], &mut mband[m]);
@@ -291,6 +327,7 @@ where
             },
         );
     drop(more_bands);
+    keep_lists(KEPT_LISTS);
     Frame {
         width: w,
         height: h,
