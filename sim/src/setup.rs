@@ -183,7 +183,9 @@ impl ExactPlane {
 }
 
 /// A span word as a shadow polygon sends it: attr SP, zero intensities and slopes (the
-/// array's shadow spans test depth only).
+/// array's shadow spans test depth only). [`ShadowTri::shadow_span`] makes them directly;
+/// the tests compare.
+#[cfg(test)]
 pub(crate) fn shadow_word(w: SpanWord) -> SpanWord {
     SpanWord {
         attr: Attr::Sp,
@@ -216,6 +218,29 @@ pub(crate) struct ColumnSteps {
 }
 
 impl ColumnSteps {
+    /// The stepper of a triangle's columns (its wound `edges`) from row `first` on.
+    fn new(edges: &[EdgeFn; 3], first: i64) -> ColumnSteps {
+        let one = SUBPIXEL_ONE as i64;
+        let yc = first * one + one / 2;
+        ColumnSteps {
+            edges: edges.map(|e| {
+                // E at column i of row j is 256·A·i + k(j), k(j + 1) = k(j) + 256·B.
+                let (k, dk) = (e.b * yc + e.c + e.a * (one / 2), e.b * one);
+                match e.a.cmp(&0) {
+                    std::cmp::Ordering::Greater => {
+                        (EdgeBound::Left, FloorSteps::new(k, dk, one * e.a))
+                    }
+                    std::cmp::Ordering::Less => {
+                        (EdgeBound::Right, FloorSteps::new(-k, -dk, -one * e.a))
+                    }
+                    std::cmp::Ordering::Equal => {
+                        (EdgeBound::Flat(e.top_left), FloorSteps::new(k, dk, 1))
+                    }
+                }
+            }),
+        }
+    }
+
     /// The current row's inclusive columns, clamped to `0..width`, or `None` (what
     /// [`TriSetup::columns`] gives on that row, if it lies in `row_min..=row_max`).
     #[inline]
@@ -338,25 +363,7 @@ impl TriSetup {
     /// gives row `first`'s columns, and each [`ColumnSteps::advance`] moves one row down.
     /// (Rows outside `row_min..=row_max` are the caller's to skip, as `columns` does.)
     pub(crate) fn column_rows(&self, first: i64) -> ColumnSteps {
-        let one = SUBPIXEL_ONE as i64;
-        let yc = first * one + one / 2;
-        ColumnSteps {
-            edges: self.edges.map(|e| {
-                // E at column i of row j is 256·A·i + k(j), k(j + 1) = k(j) + 256·B.
-                let (k, dk) = (e.b * yc + e.c + e.a * (one / 2), e.b * one);
-                match e.a.cmp(&0) {
-                    std::cmp::Ordering::Greater => {
-                        (EdgeBound::Left, FloorSteps::new(k, dk, one * e.a))
-                    }
-                    std::cmp::Ordering::Less => {
-                        (EdgeBound::Right, FloorSteps::new(-k, -dk, -one * e.a))
-                    }
-                    std::cmp::Ordering::Equal => {
-                        (EdgeBound::Flat(e.top_left), FloorSteps::new(k, dk, 1))
-                    }
-                }
-            }),
-        }
+        ColumnSteps::new(&self.edges, first)
     }
 
     /// The OP span word of row `j`, or `None` if the row covers no pixel centre.
@@ -456,30 +463,6 @@ impl TriSetup {
         (a.v, a.z, a.host) == (b.v, b.z, b.host)
     }
 
-    /// The depth plane's exact row stepper from row `first` on, at the centre of column 0
-    /// (as [`TriSetup::for_each_span_in`] steps it), for [`TriSetup::shadow_span`].
-    pub(crate) fn depth_rows(&self, first: i64) -> RoundDivSteps {
-        self.z.rows((SUBPIXEL_ONE / 2) as i64, first, Z_FRAC)
-    }
-
-    /// Row `j`'s word as a shadow polygon sends it: [`TriSetup::span`] with attr SP and
-    /// zero intensities, its columns from `cols` and its depth origin from `z`, the
-    /// [`TriSetup::column_rows`] and [`TriSetup::depth_rows`] steppers standing at row `j`.
-    /// `None` if the row covers no pixel centre.
-    pub(crate) fn shadow_span(
-        &self,
-        j: i64,
-        width: u32,
-        cols: &ColumnSteps,
-        z: &impl PlaneStepper,
-    ) -> Option<SpanWord> {
-        let (xl, xr) = cols.columns(width)?;
-        debug_assert_eq!(Some((xl, xr)), self.columns(j, width));
-        let w = shadow_word(self.word(xl, xr, z.value() as i64, [0; 3]));
-        debug_assert_eq!(Some(w), self.span(j, width).map(shadow_word));
-        Some(w)
-    }
-
     /// Builds the word from the row origins `Z0` (Q24.12) and `C0` (Q8.12) at the centre of
     /// column 0: `ZL = Z0 + XL·dZ`, `IL = C0 + XL·dI`. Every span of one plane on one row
     /// thus gives the same value at the same pixel, whatever its XL (a pattern ties exactly
@@ -519,6 +502,91 @@ impl TriSetup {
     pub fn z_q12_at_centre(&self, i: i64, j: i64) -> i64 {
         let one = SUBPIXEL_ONE as i64;
         self.z.at(i * one + one / 2, j * one + one / 2, Z_FRAC)
+    }
+}
+
+/// A shadow polygon's triangle, set up for its SP span words (seed 001 §4: a shadow span
+/// tests depth only): the edges, the depth plane and the rows of [`TriSetup`], without
+/// its three colour planes and slopes (a shadow word's intensities are zero). A third of a
+/// `TriSetup`'s size, for the tens of thousands a light's volumes may have. Its words are
+/// [`TriSetup::span`]'s of the same triangle with attr SP and zero intensities and slopes.
+#[derive(Clone, Debug)]
+pub(crate) struct ShadowTri {
+    edges: [EdgeFn; 3],
+    z: ExactPlane,
+    /// First and last scanline whose centre may be covered (unclamped).
+    pub(crate) row_min: i64,
+    pub(crate) row_max: i64,
+    /// dZ, Q26.12 per pixel.
+    dz: i64,
+    tag: u16,
+    nclass: u8,
+    chan: u8,
+}
+
+impl ShadowTri {
+    /// Prepares a triangle without a decal host ([`TriSetup::new`]'s checks and its
+    /// `None` for a degenerate triangle).
+    pub(crate) fn new(t: &SnappedTri) -> Result<Option<ShadowTri>, SetupError> {
+        debug_assert!(t.host.is_none(), "a shadow polygon has no decal host");
+        TriSetup::check(t)?;
+        let Some(order) = winding(t.v) else {
+            return Ok(None);
+        };
+        let (v, z) = (rewind(order, t.v), rewind(order, t.z));
+        let Some(zp) = ExactPlane::new(v, z.map(|x| x as i64)) else {
+            return Ok(None);
+        };
+        let ymin = v.iter().map(|p| p[1]).min().unwrap_or(0) as i64;
+        let ymax = v.iter().map(|p| p[1]).max().unwrap_or(0) as i64;
+        let (row_min, row_max) = centre_rows(ymin, ymax);
+        Ok(Some(ShadowTri {
+            edges: EdgeFn::of_triangle(v),
+            dz: zp.ddx_per_px(Z_FRAC),
+            z: zp,
+            row_min,
+            row_max,
+            tag: t.tag,
+            nclass: t.nclass,
+            chan: t.chan,
+        }))
+    }
+
+    /// The column stepper from row `first` on ([`TriSetup::column_rows`]).
+    pub(crate) fn column_rows(&self, first: i64) -> ColumnSteps {
+        ColumnSteps::new(&self.edges, first)
+    }
+
+    /// The depth plane's row stepper from row `first` on ([`TriSetup::depth_rows`]).
+    pub(crate) fn depth_rows(&self, first: i64) -> RoundDivSteps {
+        self.z.rows((SUBPIXEL_ONE / 2) as i64, first, Z_FRAC)
+    }
+
+    /// The SP word of the row the steppers `cols` and `z` stand at, or `None` if the row
+    /// covers no pixel centre: `ZL = Z0 + XL·dZ` (clamped at 0 as [`TriSetup`]'s words
+    /// are), dZ zero for a one-pixel span, zero intensities and slopes.
+    #[inline]
+    pub(crate) fn shadow_span(
+        &self,
+        width: u32,
+        cols: &ColumnSteps,
+        z: &impl PlaneStepper,
+    ) -> Option<SpanWord> {
+        let (xl, xr) = cols.columns(width)?;
+        let single = xl == xr;
+        Some(SpanWord {
+            attr: Attr::Sp,
+            xl: xl as u16,
+            xr: xr as u16,
+            zl: (z.value() as i64 + xl * self.dz).max(0) as u64,
+            dz: if single { 0 } else { self.dz },
+            il: [0; 3],
+            di: [0; 3],
+            tag: self.tag,
+            nclass: self.nclass,
+            decal: false,
+            chan: self.chan,
+        })
     }
 }
 

@@ -63,7 +63,7 @@ use crate::frontend::{class_normal, Projector, GUARD};
 use crate::pixel_array::MORE_SHADE;
 use crate::pixel_array::{Command, ProcState};
 use crate::scene::LoadedScene;
-use crate::setup::{SetupError, SnappedTri, TriSetup};
+use crate::setup::{SetupError, SnappedTri};
 use glam::{DVec3, DVec4};
 use pixelproc_formats::core_stream::shade_rgb;
 use pixelproc_formats::{Attr, SpanWord, Z_FAR};

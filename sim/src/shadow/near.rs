@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::raster::PlaneStepper;
+use crate::setup::ShadowTri;
 
 /// Where the camera's near plane (its part inside the guard band) lies relative to a
 /// volume.
@@ -85,16 +86,20 @@ pub(super) fn snap_clip(pj: &Projector, p: DVec4) -> Result<([i32; 2], u32), Set
     ))
 }
 
-/// Sets up a snapped polygon as a fan from its first vertex, pushing the non-degenerate
-/// triangles in fan order.
-pub(super) fn fan_tris(sv: &[([i32; 2], u32)], out: &mut Vec<TriSetup>) -> Result<(), SetupError> {
-    for i in 1..sv.len().saturating_sub(1) {
-        let t = SnappedTri {
-            v: [sv[0].0, sv[i].0, sv[i + 1].0],
-            z: [sv[0].1, sv[i].1, sv[i + 1].1],
-            ..Default::default()
-        };
-        if let Some(s) = TriSetup::new(&t)? {
+/// A snapped polygon as a fan of triangles from its first vertex, in fan order.
+pub(super) fn fan(sv: &[([i32; 2], u32)]) -> impl Iterator<Item = SnappedTri> + '_ {
+    (1..sv.len().saturating_sub(1)).map(|i| SnappedTri {
+        v: [sv[0].0, sv[i].0, sv[i + 1].0],
+        z: [sv[0].1, sv[i].1, sv[i + 1].1],
+        ..Default::default()
+    })
+}
+
+/// Sets up a snapped polygon as a fan from its first vertex ([`fan`]), pushing the
+/// non-degenerate triangles in fan order.
+pub(super) fn fan_tris(sv: &[([i32; 2], u32)], out: &mut Vec<ShadowTri>) -> Result<(), SetupError> {
+    for t in fan(sv) {
+        if let Some(s) = ShadowTri::new(&t)? {
             out.push(s);
         }
     }
@@ -194,14 +199,14 @@ pub(super) fn near_cap(
 /// words come in this order.
 #[derive(Clone, Debug, Default)]
 pub(super) struct VolumeTris {
-    tris: Vec<TriSetup>,
+    tris: Vec<ShadowTri>,
 }
 
 impl VolumeTris {
     /// Gives the SP words of rows `j0..=j1` to `push(row, word)`, triangle after triangle,
     /// each triangle's rows top to bottom: on every row, the words come in triangle order.
     /// Each triangle's columns and depth plane are stepped exactly
-    /// ([`TriSetup::column_rows`], [`TriSetup::depth_rows`]) from the first of those rows
+    /// ([`ShadowTri::column_rows`], [`ShadowTri::depth_rows`]) from the first of those rows
     /// it covers, so its set-up is read once per band rather than once per row.
     pub(super) fn band_words(
         &self,
@@ -213,7 +218,7 @@ impl VolumeTris {
         /// One triangle's rows `first..=last`, `z` standing at `first`.
         #[inline(always)]
         fn rows(
-            t: &TriSetup,
+            t: &ShadowTri,
             (first, last): (i64, i64),
             width: u32,
             mut z: impl PlaneStepper,
@@ -221,7 +226,7 @@ impl VolumeTris {
         ) {
             let mut cols = t.column_rows(first);
             for j in first..=last {
-                if let Some(w) = t.shadow_span(j, width, &cols, &z) {
+                if let Some(w) = t.shadow_span(width, &cols, &z) {
                     push(j, w);
                 }
                 cols.advance();
@@ -318,6 +323,7 @@ pub(super) fn volume_tris(
 mod tests {
     use super::*;
     use crate::rng::XorShift64Star;
+    use crate::setup::TriSetup;
 
     /// A band's words give, on every row, each volume's SP words in triangle order, each
     /// equal to the triangle's span computed directly on that row (`TriSetup::span`,
@@ -349,18 +355,22 @@ mod tests {
                     .collect();
                 let mut tris = Vec::new();
                 fan_tris(&sv, &mut tris).unwrap();
-                vols.push(VolumeTris { tris });
+                // The same triangles set up in full, for their spans by division.
+                let full: Vec<TriSetup> = fan(&sv)
+                    .filter_map(|t| TriSetup::new(&t).unwrap())
+                    .collect();
+                assert_eq!(full.len(), tris.len());
+                vols.push((VolumeTris { tris }, full));
             }
             for band in [1i64, 5, 16] {
                 let mut j0 = 0;
                 while j0 < h {
                     let j1 = (j0 + band - 1).min(h - 1);
-                    for (i, v) in vols.iter().enumerate() {
+                    for (i, (v, full)) in vols.iter().enumerate() {
                         let mut rows = vec![Vec::new(); (j1 - j0 + 1) as usize];
                         v.band_words(j0, j1, w, |j, s| rows[(j - j0) as usize].push(s));
                         for (j, got) in (j0..).zip(rows) {
-                            let want: Vec<SpanWord> = v
-                                .tris
+                            let want: Vec<SpanWord> = full
                                 .iter()
                                 .filter_map(|t| t.span(j, w))
                                 .map(crate::setup::shadow_word)
