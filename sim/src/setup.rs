@@ -195,6 +195,24 @@ pub(crate) fn shadow_word(w: SpanWord) -> SpanWord {
     }
 }
 
+/// The first and last scanline whose centre a triangle with vertices `v` (Q.8) may cover
+/// (unclamped).
+fn rows_of(v: &[[i32; 2]; 3]) -> (i64, i64) {
+    let ys = v.map(|p| p[1] as i64);
+    centre_rows(
+        ys.into_iter().min().unwrap_or(0),
+        ys.into_iter().max().unwrap_or(0),
+    )
+}
+
+/// A span's `ZL` and `dZ` from its row origin `Z0` (Q24.12, at the centre of column 0)
+/// and the plane's slope: `ZL = Z0 + XL·dZ`, clamped at 0, and `dZ` zero for a one-pixel
+/// span. Polygon and shadow words both take them from here, so they tie exactly.
+#[inline]
+fn depth_fields(z0: i64, xl: i64, xr: i64, dz: i64) -> (u64, i64) {
+    ((z0 + xl * dz).max(0) as u64, if xl == xr { 0 } else { dz })
+}
+
 /// Which column bound an edge sets on a scanline (the three cases of
 /// [`TriSetup::columns`]).
 #[derive(Clone, Copy, Debug)]
@@ -314,9 +332,7 @@ impl TriSetup {
         let zp = zp?;
         let cp = |k: usize| ExactPlane::new(v, [c[0][k] as i64, c[1][k] as i64, c[2][k] as i64]);
         let (c0, c1, c2) = (cp(0)?, cp(1)?, cp(2)?);
-        let ymin = v.iter().map(|p| p[1]).min().unwrap() as i64;
-        let ymax = v.iter().map(|p| p[1]).max().unwrap() as i64;
-        let (row_min, row_max) = centre_rows(ymin, ymax);
+        let (row_min, row_max) = rows_of(&v);
         Some(TriSetup {
             edges,
             dz: zp.ddx_per_px(Z_FRAC),
@@ -470,7 +486,7 @@ impl TriSetup {
     #[inline]
     fn word(&self, xl: i64, xr: i64, z0: i64, c0: [i64; 3]) -> SpanWord {
         let single = xl == xr;
-        let zl = z0 + xl * self.dz;
+        let (zl, dz) = depth_fields(z0, xl, xr, self.dz);
         let il = [0, 1, 2].map(|k| (c0[k] + xl * self.di[k]).clamp(0, (1 << IL_BITS) - 1) as u32);
         let di = if single {
             [0; 3]
@@ -481,8 +497,8 @@ impl TriSetup {
             attr: Attr::Op,
             xl: xl as u16,
             xr: xr as u16,
-            zl: zl.max(0) as u64,
-            dz: if single { 0 } else { self.dz },
+            zl,
+            dz,
             il,
             di,
             tag: self.tag,
@@ -537,9 +553,7 @@ impl ShadowTri {
         let Some(zp) = ExactPlane::new(v, z.map(|x| x as i64)) else {
             return Ok(None);
         };
-        let ymin = v.iter().map(|p| p[1]).min().unwrap_or(0) as i64;
-        let ymax = v.iter().map(|p| p[1]).max().unwrap_or(0) as i64;
-        let (row_min, row_max) = centre_rows(ymin, ymax);
+        let (row_min, row_max) = rows_of(&v);
         Ok(Some(ShadowTri {
             edges: EdgeFn::of_triangle(v),
             dz: zp.ddx_per_px(Z_FRAC),
@@ -573,13 +587,13 @@ impl ShadowTri {
         z: &impl PlaneStepper,
     ) -> Option<SpanWord> {
         let (xl, xr) = cols.columns(width)?;
-        let single = xl == xr;
+        let (zl, dz) = depth_fields(z.value() as i64, xl, xr, self.dz);
         Some(SpanWord {
             attr: Attr::Sp,
             xl: xl as u16,
             xr: xr as u16,
-            zl: (z.value() as i64 + xl * self.dz).max(0) as u64,
-            dz: if single { 0 } else { self.dz },
+            zl,
+            dz,
             il: [0; 3],
             di: [0; 3],
             tag: self.tag,
