@@ -115,3 +115,38 @@ fn mismatch_is_reported_with_trace() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The A-buffer cost model (`pixelproc_sim::hwcost::abuffer`) counts the clocks the RTL
+/// takes: for searches back to back, the clocks from the one whose edge accepts the first
+/// search to the one whose edge shows the last result equal the model's `search_cycles`.
+/// The schedule is the one the RustHDL unit matches clock for clock (checked here first):
+/// per clock, the inputs sampled at its edge and the outputs shown after it.
+#[test]
+fn the_cost_model_counts_the_units_clocks() {
+    use pixelproc_sim::hwcost::abuffer::{lines, search_cycles, SearchKind};
+    use pixelproc_sim::mask_search::{SearchTables, SearchUnit};
+    use pixelproc_testbench::mask_search_tb::schedule;
+    for size in [MaskSize::S4X4, MaskSize::S8X8] {
+        // Fewer jobs than the pipelined schedule's bubble period (97): back to back.
+        let jobs = random_jobs(size, 60, 5);
+        let tables = SearchTables::new(size, SearchFamily::DIAGONAL);
+        let mut unit = SearchUnit::new(&tables);
+        let steps: Vec<u32> = jobs
+            .iter()
+            .map(|j| unit.run(j.mask, j.corner).steps)
+            .collect();
+        for (v, kind) in [
+            (Variant::Iterative, SearchKind::Iterative),
+            (Variant::Pipelined, SearchKind::Pipelined),
+        ] {
+            run(v, size, &jobs);
+            let s = schedule(v, size, &jobs);
+            let first = s.inputs.iter().position(|i| i.valid).unwrap();
+            let last = s.expect.iter().rposition(|o| o.result.valid).unwrap();
+            let results = s.expect.iter().filter(|o| o.result.valid).count();
+            assert_eq!(results, jobs.len());
+            let model = search_cycles(kind, steps.iter().copied(), lines(size));
+            assert_eq!((last - first + 1) as u64, model, "{v:?} {size}");
+        }
+    }
+}

@@ -9,7 +9,7 @@ use rust_hdl::prelude::*;
 search_block! {
     /// The shared back end: a search result (sampled every clock into the input registers)
     /// goes through the offset ROM and the depth calculator; the result ports show it
-    /// [`BACK_LATENCY`] = 11 clocks later (1 input register, 4 ROM, 6 depth).
+    /// [`BACK_LATENCY`] = 12 clocks later (1 input register, 5 ROM, 6 depth).
     ///
     /// On `i_hit = 0` (empty mask) `i_and` is 0, the ROM reads 0 (offsets (0, 0), no pair) and
     /// every depth is `zc`, the golden fallback for a fragment without a hit.
@@ -52,7 +52,7 @@ impl<const B: usize> SearchBackEnd<B> {
     pub fn new(size: MaskSize) -> Self {
         // The kernel reads the last registers by literal index.
         const _: () = assert!(
-            IN_LATENCY == 1 && ROM_LATENCY == 4 && DEPTH_LATENCY == 6 && BACK_LATENCY == 11
+            IN_LATENCY == 1 && ROM_LATENCY == 5 && DEPTH_LATENCY == 6 && BACK_LATENCY == 12
         );
         search_block_new!(SearchBackEnd {
             i_valid: Default::default(),
@@ -133,13 +133,13 @@ impl<const B: usize> Logic for SearchBackEnd<B> {
         // (no default-then-override): an intermediate value on a port that feeds back
         // into the writer's inputs makes event-driven simulators (Icarus) loop at zero
         // delay. Hence literal indices of the last registers (checked in `new`).
-        self.depth.zc.next = self.zc_d[4].q.val();
-        self.depth.sx.next = self.sx_d[4].q.val();
-        self.depth.sy.next = self.sy_d[4].q.val();
-        self.out_valid.next = self.valid_d[10].q.val();
-        self.out_hit.next = self.hit_d[10].q.val();
-        self.out_steps.next = self.steps_d[10].q.val();
-        self.out_and.next = self.and_d[10].q.val();
+        self.depth.zc.next = self.zc_d[5].q.val();
+        self.depth.sx.next = self.sx_d[5].q.val();
+        self.depth.sy.next = self.sy_d[5].q.val();
+        self.out_valid.next = self.valid_d[11].q.val();
+        self.out_hit.next = self.hit_d[11].q.val();
+        self.out_steps.next = self.steps_d[11].q.val();
+        self.out_and.next = self.and_d[11].q.val();
         self.out_rom.next = self.word_d[5].q.val();
         self.out_z1.next = self.depth.z1.val();
         self.out_z2.next = self.depth.z2.val();

@@ -18,7 +18,7 @@ search_unit! {
     /// `SearchUnit::step` output of that clock (all zero when idle).
     ///
     /// **Result ports**: the clock that shows `done` is sampled into the back end; `out_*`
-    /// show the result [`BACK_LATENCY`](super::BACK_LATENCY) = 11 clocks later (after edge `t + 11` for a `done`
+    /// show the result [`BACK_LATENCY`](super::BACK_LATENCY) = 12 clocks later (after edge `t + 12` for a `done`
     /// shown after edge `t`), `out_valid` for one clock. Result fields are meaningful only
     /// with `out_valid`.
     pub struct MaskSearchIter {

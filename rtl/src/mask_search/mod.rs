@@ -409,7 +409,7 @@ mod tests {
             Err(MaskSearchError::TooManyLines { .. })
         ));
         let p = MaskSearchPipe::<64>::new(MaskSize::S8X8, SearchFamily::DIAGONAL).unwrap();
-        assert_eq!(p.latency(), 15 + 11);
+        assert_eq!(p.latency(), 15 + 12);
         assert!(mask_search_verilog(Variant::Pipelined, MaskSize::new(4, 2).unwrap()).is_err());
     }
 }

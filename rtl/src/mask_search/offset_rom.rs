@@ -15,16 +15,19 @@
 //! 2. the `n·m`-entry table of 8-bit [`SubOffset`] words, read at both one-hot
 //!    addresses as an AND-OR per output bit (bit `b` of the word is set iff the selected
 //!    entry has bit `b`: one constant column mask per bit), and `pair = (msb ≠ lsb)`;
-//!    again in two levels: R3 ORs inside each group, R4 across the groups.
+//!    in three levels: R3 ORs inside each group, R4 across each quad of four groups
+//!    (one LUT4 per word bit and quad), R5 across the quads (two for 8×8, one for 4×4).
 //!
 //! The output is the golden [`RomWord`] packing, 17 bits: `[7:0]` end 1 (most significant
 //! set bit), `[15:8]` end 2 (least significant), `[16]` pair. An all-zero input reads 0
 //! (both ends (0, 0), no pair); the search unit only uses the ROM after a hit.
 //!
-//! Timing: four register stages, each at most a few LUT levels deep. `and_in` is sampled
-//! at rising edge `E` into the R1 registers, R2 at `E + 1`, R3 at `E + 2`, the word
-//! register at `E + 3`; the word shows after it ([`ROM_LATENCY`] = 4). `rst`
-//! (synchronous) clears every stage.
+//! Timing: five register stages, each at most a few LUT levels deep. `and_in` is sampled
+//! at rising edge `E` into the R1 registers, R2 at `E + 1`, R3 at `E + 2`, R4 at `E + 3`,
+//! the word register at `E + 4`; the word shows after it ([`ROM_LATENCY`] = 5). R4 splits
+//! what was one stage of two LUT levels (the OR of eight group reads at 8×8), whose
+//! registers the placer could spread across the die. `rst` (synchronous) clears every
+//! stage.
 //!
 //! [`SubOffset`]: pixelproc_formats::abuffer::SubOffset
 //! [`RomWord`]: pixelproc_formats::abuffer::RomWord
@@ -33,7 +36,7 @@ use pixelproc_formats::abuffer::{offset_rom_table, MaskSize, ROM_WORD_BITS};
 use rust_hdl::prelude::*;
 
 /// Clocks from `and_in` to `word`.
-pub const ROM_LATENCY: usize = 4;
+pub const ROM_LATENCY: usize = 5;
 
 /// Width of the ROM word (the golden `RomWord`).
 pub const WORD_BITS: usize = ROM_WORD_BITS as usize;
@@ -62,6 +65,11 @@ pub struct OffsetRom<const B: usize> {
     p1: Vec<DFF<Bits<B>>>,
     p2: Vec<DFF<Bits<B>>>,
     px_r: DFF<Bits<B>>,
+    /// R4: the same, ORed over each quad of groups and gathered at the quad's first bit
+    /// (bit `q·4g`).
+    q1: Vec<DFF<Bits<B>>>,
+    q2: Vec<DFF<Bits<B>>>,
+    qx_r: DFF<Bits<B>>,
     word_r: DFF<Bits<WORD_BITS>>,
     /// Column masks: entry `b` holds the bit indices whose ROM word has bit `b` set.
     k_col: Vec<Constant<Bits<B>>>,
@@ -73,6 +81,10 @@ pub struct OffsetRom<const B: usize> {
     k_keep_dn: Vec<Constant<Bits<B>>>,
     /// Shift distances between groups: g, 2g, ... below `B`.
     k_sh_grp: Vec<Constant<Bits<8>>>,
+    /// Shift distances inside a quad of groups: g, 2g, 3g (those below `B`).
+    k_sh_quad: Vec<Constant<Bits<8>>>,
+    /// The first bit of every quad of groups.
+    k_qfirst: Constant<Bits<B>>,
     /// One-hot word bits `1 << i`, `i = 0..8`.
     k_bit1: Vec<Constant<Bits<WORD_BITS>>>,
     /// One-hot word bits `1 << (i + 8)`, `i = 0..8`.
@@ -130,6 +142,9 @@ impl<const B: usize> OffsetRom<B> {
         let k_sh_grp = (1..B / g)
             .map(|t| Constant::new(((t * g) as u64).to_bits()))
             .collect();
+        let k_sh_quad = (1..4.min(B / g))
+            .map(|t| Constant::new(((t * g) as u64).to_bits()))
+            .collect();
         OffsetRom {
             clock: Default::default(),
             rst: Default::default(),
@@ -143,12 +158,17 @@ impl<const B: usize> OffsetRom<B> {
             p1: super::dff_line(8),
             p2: super::dff_line(8),
             px_r: Default::default(),
+            q1: super::dff_line(8),
+            q2: super::dff_line(8),
+            qx_r: Default::default(),
             word_r: Default::default(),
             k_col,
             k_sh_in,
             k_keep_up,
             k_keep_dn,
             k_sh_grp,
+            k_sh_quad,
+            k_qfirst: Constant::new(ones(&|j| j % (4 * g) == 0).to_bits()),
             k_bit1: (0..8)
                 .map(|i| Constant::new((1u64 << i).to_bits()))
                 .collect(),
@@ -172,12 +192,16 @@ impl<const B: usize> OffsetRom<B> {
 impl<const B: usize> Logic for OffsetRom<B> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, gmsb_r, glsb_r, grp_r, hi_r, lo_r, px_r, word_r);
+        dff_setup!(self, clock, gmsb_r, glsb_r, grp_r, hi_r, lo_r, px_r, qx_r, word_r);
         for b in 0..self.p1.len() {
             self.p1[b].clock.next = self.clock.val();
             self.p2[b].clock.next = self.clock.val();
             self.p1[b].d.next = self.p1[b].q.val();
             self.p2[b].d.next = self.p2[b].q.val();
+            self.q1[b].clock.next = self.clock.val();
+            self.q2[b].clock.next = self.clock.val();
+            self.q1[b].d.next = self.q1[b].q.val();
+            self.q2[b].d.next = self.q2[b].q.val();
         }
         // R1: inside each group, above[j] = OR of the group's bits above j, below[j] of
         // those below.
@@ -227,17 +251,35 @@ impl<const B: usize> Logic for OffsetRom<B> {
                 | ((self.t1.val() >> self.k_sh_in[i].val()) & self.k_keep_up[i].val());
         }
         self.px_r.d.next = self.red.val() & self.k_first.val();
-        // R4: then across the groups.
+        // R4: across each quad of groups (bits i·g of a quad gathered at its first bit).
+        for b in 0..self.p1.len() {
+            self.red.next = self.p1[b].q.val();
+            for i in 0..self.k_sh_quad.len() {
+                self.red.next = self.red.val() | (self.p1[b].q.val() >> self.k_sh_quad[i].val());
+            }
+            self.q1[b].d.next = self.red.val() & self.k_qfirst.val();
+            self.red.next = self.p2[b].q.val();
+            for i in 0..self.k_sh_quad.len() {
+                self.red.next = self.red.val() | (self.p2[b].q.val() >> self.k_sh_quad[i].val());
+            }
+            self.q2[b].d.next = self.red.val() & self.k_qfirst.val();
+        }
+        self.red.next = self.px_r.q.val();
+        for i in 0..self.k_sh_quad.len() {
+            self.red.next = self.red.val() | (self.px_r.q.val() >> self.k_sh_quad[i].val());
+        }
+        self.qx_r.d.next = self.red.val() & self.k_qfirst.val();
+        // R5: then across the quads.
         self.w.next = self.k_zero_w.val();
         for b in 0..self.k_bit1.len() {
-            if self.p1[b].q.val() != self.k_zero_b.val() {
+            if self.q1[b].q.val() != self.k_zero_b.val() {
                 self.w.next = self.w.val() | self.k_bit1[b].val();
             }
-            if self.p2[b].q.val() != self.k_zero_b.val() {
+            if self.q2[b].q.val() != self.k_zero_b.val() {
                 self.w.next = self.w.val() | self.k_bit2[b].val();
             }
         }
-        if self.px_r.q.val() != self.k_zero_b.val() {
+        if self.qx_r.q.val() != self.k_zero_b.val() {
             self.w.next = self.w.val() | self.k_pair.val();
         }
         self.word_r.d.next = self.w.val();
@@ -248,9 +290,12 @@ impl<const B: usize> Logic for OffsetRom<B> {
             self.hi_r.d.next = self.k_zero_b.val();
             self.lo_r.d.next = self.k_zero_b.val();
             self.px_r.d.next = self.k_zero_b.val();
+            self.qx_r.d.next = self.k_zero_b.val();
             for b in 0..self.p1.len() {
                 self.p1[b].d.next = self.k_zero_b.val();
                 self.p2[b].d.next = self.k_zero_b.val();
+                self.q1[b].d.next = self.k_zero_b.val();
+                self.q2[b].d.next = self.k_zero_b.val();
             }
             self.word_r.d.next = self.k_zero_w.val();
         }
@@ -262,7 +307,7 @@ impl<const B: usize> Logic for OffsetRom<B> {
 mod tests {
     use super::*;
 
-    /// Drives one value through the two stages and returns the word.
+    /// Drives one value through the stages and returns the word.
     fn read<const B: usize>(rom: &mut OffsetRom<B>, x: u64) -> u32 {
         for _ in 0..ROM_LATENCY {
             rom.and_in.next = x.to_bits();

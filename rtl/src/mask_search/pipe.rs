@@ -14,7 +14,8 @@ search_unit! {
     /// (`k = 0 .. lines`) holds the mask `k` edges after it was sampled and tests line `k`
     /// unless an earlier line hit; the last stage's outcome enters the back end at the next
     /// edge. A mask sampled at edge `E` shows its result on `out_*` after edge
-    /// `E + latency()`, `latency() = lines + 11` (18 for 4×4, 26 for 8×8; `BACK_LATENCY` = 11), with `out_valid`.
+    /// `E + latency() − 1`, `latency() = lines + 12` (19 for 4×4, 27 for 8×8; `BACK_LATENCY`
+    /// = 12): on the `latency()`-th clock counting `E`'s, with `out_valid`.
     /// Result fields are meaningful only with `out_valid`.
     pub struct MaskSearchPipe {
     }

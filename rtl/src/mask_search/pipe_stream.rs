@@ -25,7 +25,7 @@ pub const fn pipe_fifo_depth(lines: usize) -> usize {
 /// **Master (output).** `m_tdata` as on the iterative stream unit, handed over with
 /// `m_tvalid && m_tready`, stable while `m_tvalid && !m_tready`, in input order, none lost
 /// or repeated. With `m_tready` held high a search accepted at edge `E` is offered from
-/// edge `E + latency + 1` (`latency` = 18 for 4×4, 26 for 8×8) and one search is taken
+/// edge `E + latency + 1` (`latency` = 19 for 4×4, 27 for 8×8) and one search is taken
 /// per clock.
 #[derive(LogicBlock)]
 pub struct MaskSearchPipeStream<const B: usize, const IW: usize, const OW: usize> {

@@ -6,10 +6,11 @@
 //! up to and including the first hit ([`diagonal_steps`]: the seed's claim 1, steps 3–5,
 //! for the diagonal family; the test `hwcost_abuffer` checks it against
 //! [`crate::mask_search::SearchUnit`] on every 4×4 mask and corner), one search after
-//! another without gaps, the last result `11` clocks after its last step
-//! (`BACK_LATENCY`); the pipelined unit takes one search per clock and returns each
-//! `lines + 12` clocks after it was accepted (19 for 4×4, 27 for 8×8, the stream units'
-//! table). The frame's searches and their steps are the renderer's own
+//! another without gaps, the last result `12` clocks after its last step
+//! (`BACK_LATENCY`); the pipelined unit takes one search per clock and shows each
+//! result on the `lines + 12`-th clock counting the one that accepted it (19 for 4×4, 27
+//! for 8×8). Both counts are the bare unit's, without the stream wrappers' FIFO (the test
+//! `mask_search_rusthdl` checks them against the RTL's clock-by-clock schedule). The frame's searches and their steps are the renderer's own
 //! ([`crate::abuffer::AbufferStats`]: `sorted_fragments` searches per direction,
 //! `search_steps` the golden `SearchUnit`'s step count).
 //!
@@ -27,8 +28,8 @@ use crate::mask_search::DepthSelect;
 use pixelproc_formats::abuffer::{Corner, MaskSize};
 
 /// Clocks from a search's last step to its result (`BACK_LATENCY`, `docs/rtl_mask_search.md`:
-/// 1 input register + 4 ROM + 6 depth).
-pub const BACK_LATENCY: u64 = 11;
+/// 1 input register + 5 ROM + 6 depth).
+pub const BACK_LATENCY: u64 = 12;
 
 /// Which search unit (`docs/rtl_mask_search.md`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -63,7 +64,8 @@ pub fn diagonal_steps(size: MaskSize, mask: u64, corner: Corner) -> u32 {
     best
 }
 
-/// Clocks from the first search accepted to the last result out, for searches of `steps`
+/// Clocks from the one that accepts the first search to the one that shows the last
+/// result, both counted, for searches of `steps`
 /// clocks each (their order does not matter), on `kind` with `lines` search lines.
 pub fn search_cycles(kind: SearchKind, steps: impl IntoIterator<Item = u32>, lines: u32) -> u64 {
     match kind {
@@ -79,7 +81,7 @@ pub fn search_cycles(kind: SearchKind, steps: impl IntoIterator<Item = u32>, lin
             if m == 0 {
                 0
             } else {
-                m - 1 + lines as u64 + BACK_LATENCY + 1
+                m - 1 + lines as u64 + BACK_LATENCY
             }
         }
     }
@@ -98,7 +100,7 @@ pub fn search_cycles_of_totals(
     }
     match kind {
         SearchKind::Iterative => total_steps + BACK_LATENCY,
-        SearchKind::Pipelined => searches - 1 + lines as u64 + BACK_LATENCY + 1,
+        SearchKind::Pipelined => searches - 1 + lines as u64 + BACK_LATENCY,
     }
 }
 
