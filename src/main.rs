@@ -16,9 +16,14 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Duration;
 
+mod alloc;
 mod args;
 
 use args::*;
+
+/// Large blocks in huge pages where the system offers them (`alloc.rs`).
+#[global_allocator]
+static GLOBAL: alloc::HugePageAlloc = alloc::HugePageAlloc;
 use pixelproc_output::OutputSet;
 
 /// `println!` that ignores a closed stdout (e.g. piped into `head`) instead of panicking.

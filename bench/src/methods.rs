@@ -549,7 +549,9 @@ fn peak_mib() -> Option<f64> {
 /// large buffer, and later cases reuse that heap memory without page faults: a case's time
 /// would depend on which cases ran before it (the plain frame of the `large` scene
 /// measured 23–41 ms in interleaved runs of one binary). With it, every timed render
-/// pays for its memory as a one-render process does. Elsewhere a no-op.
+/// pays for its memory as a one-render process does. Elsewhere a no-op. (The `pixelproc`
+/// program maps blocks of 4 MiB and more itself, fresh every time, in huge pages where
+/// the system offers them: its `alloc.rs`; this setting covers the smaller ones.)
 fn fresh_allocations() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     // SAFETY: `mallopt` only changes a malloc tuning parameter; it is called before the
