@@ -27,8 +27,6 @@ mod map {
     use std::alloc::Layout;
     use std::ptr::null_mut;
 
-    /// A huge page on x86-64 and aarch64 with 4 KiB pages.
-    const HUGE: usize = 2 << 20;
     /// `mmap` returns page-aligned memory; larger alignments go to the system allocator.
     const PAGE: usize = 4096;
 
@@ -37,16 +35,14 @@ mod map {
         l.size() >= LARGE && l.align() <= PAGE
     }
 
-    /// Asks for huge pages on the whole 2 MiB pages inside `[p, p + size)`.
+    /// Asks for huge pages on the whole mapping `[p, p + size)`; the kernel uses them on
+    /// the aligned 2 MiB pages inside it. (Advice on part of a mapping would split it, and
+    /// `mremap` cannot resize a range that spans two.)
     fn advise(p: *mut u8, size: usize) {
-        let start = (p as usize).next_multiple_of(HUGE);
-        let end = (p as usize + size) & !(HUGE - 1);
-        if end > start {
-            // SAFETY: the range lies inside a mapping this module made; `madvise` with
-            // MADV_HUGEPAGE changes no contents and fails harmlessly where unsupported.
-            unsafe {
-                libc::madvise(start as *mut libc::c_void, end - start, libc::MADV_HUGEPAGE);
-            }
+        // SAFETY: the range is a mapping this module made; `madvise` with MADV_HUGEPAGE
+        // changes no contents and fails harmlessly where unsupported.
+        unsafe {
+            libc::madvise(p.cast(), size, libc::MADV_HUGEPAGE);
         }
     }
 
@@ -130,17 +126,33 @@ unsafe impl GlobalAlloc for HugePageAlloc {
         let nl = Layout::from_size_align_unchecked(new, l.align());
         match (map::is_large(&l), map::is_large(&nl)) {
             (false, false) => System.realloc(p, l, new),
-            (true, true) => map::remap(p, l.size(), new),
-            _ => {
-                let q = self.alloc(nl);
-                if !q.is_null() {
-                    std::ptr::copy_nonoverlapping(p, q, l.size().min(new));
-                    self.dealloc(p, l);
+            (true, true) => {
+                let q = map::remap(p, l.size(), new);
+                if q.is_null() {
+                    // The kernel could not resize it: a new block and a copy.
+                    moved(self, p, l, nl)
+                } else {
+                    q
                 }
-                q
             }
+            _ => moved(self, p, l, nl),
         }
     }
+}
+
+/// `realloc` by a new block of layout `nl`, a copy and freeing the old one; null (the old
+/// block kept) when no new block can be had.
+///
+/// # Safety
+/// `p` is a live block of `a` with layout `l`.
+#[cfg(target_os = "linux")]
+unsafe fn moved(a: &HugePageAlloc, p: *mut u8, l: Layout, nl: Layout) -> *mut u8 {
+    let q = a.alloc(nl);
+    if !q.is_null() {
+        std::ptr::copy_nonoverlapping(p, q, l.size().min(nl.size()));
+        a.dealloc(p, l);
+    }
+    q
 }
 
 // SAFETY: the system allocator, unchanged.
@@ -216,6 +228,38 @@ mod tests {
                 assert!((0..l.size()).step_by(997).all(|i| *p.add(i) == 0));
                 std::ptr::write_bytes(p, 0xA5, l.size());
                 a.dealloc(p, l);
+            }
+        }
+    }
+
+    /// Blocks of sizes that are not whole huge pages, grown one after another beside other
+    /// mappings (the growth of a `Vec` collected from an iterator): each growth keeps the
+    /// contents. (Advice on part of a mapping splits it, and a mapping split in two
+    /// cannot be resized as one: the first version failed here.)
+    #[test]
+    fn odd_sized_blocks_grow_in_place_or_moved() {
+        let a = HugePageAlloc;
+        let mut v: Vec<(u32, u32)> = Vec::new();
+        for i in 0..3_000_000u32 {
+            v.push((i, i ^ 0x5555));
+        }
+        assert!((0..v.len())
+            .step_by(4099)
+            .all(|i| v[i] == (i as u32, i as u32 ^ 0x5555)));
+        unsafe {
+            let mut blocks = Vec::new();
+            for &size in &[6_946_816usize, 4_200_001, 5 * LARGE / 2 + 4096] {
+                let l = Layout::from_size_align(size, 8).unwrap();
+                let p = a.alloc(l);
+                assert!(!p.is_null());
+                std::ptr::write_bytes(p, 7, size);
+                let q = a.realloc(p, l, 2 * size);
+                assert!(!q.is_null(), "growing {size}");
+                assert!((0..size).step_by(1021).all(|i| *q.add(i) == 7));
+                blocks.push((q, Layout::from_size_align(2 * size, 8).unwrap()));
+            }
+            for (q, l) in blocks {
+                a.dealloc(q, l);
             }
         }
     }
