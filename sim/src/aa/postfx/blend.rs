@@ -2,7 +2,7 @@
 //! loop 1 on crease edges, loop 2's run state machine and trapezoid blending (see the
 //! module header of [`super`]).
 
-use super::Edges;
+use super::{Edges, SecondDiffs};
 use rayon::prelude::*;
 
 /// One blend of loop 1: the pixel written and its new colour.
@@ -245,8 +245,8 @@ pub(super) fn run_pass(bufs: &mut PassBufs, e: &Edges, transpose: bool, window: 
 ///
 /// For an edge between pixel `sz2` (the pixel of interest) and its neighbour `sz3` on the
 /// 1×5 line `sz1 sz2 | sz3 sz4` of the cross: `s = (sz3 + sz1 − 2·sz2)/(sz4 − sz3 − sz2 +
-/// sz1)`. The numerator is the second difference at `sz2` (read from the second-difference
-/// buffer), the denominator the change of slope; `s` is the distance from the centre of
+/// sz1)`. The numerator is the second difference at `sz2` (`d2`: the buffer kept during
+/// drawing, or the final z-buffer's), the denominator the change of slope; `s` is the distance from the centre of
 /// `sz3` back to the line where the two planes (through `sz1, sz2` and `sz3, sz4`) meet.
 /// The pixel the crease does not reach the centre of takes `|s − ½|` of its neighbour.
 #[allow(clippy::too_many_arguments)]
@@ -254,8 +254,7 @@ pub(super) fn crease_pass(
     src: &[[u8; 3]],
     dst: &mut [[u8; 3]],
     z: &[u32],
-    d2x: &[i32],
-    d2y: &[i32],
+    d2: SecondDiffs<'_>,
     e: &Edges,
     reads: &mut u64,
 ) -> Vec<bool> {
@@ -272,10 +271,16 @@ pub(super) fn crease_pass(
             let mut writes = Vec::new();
             for x in 0..w as i64 {
                 let k = y as usize * w + x as usize;
-                for (dx, dy, bit, d2) in [(1i64, 0i64, e.ex[k], d2x[k]), (0, 1, e.ey[k], d2y[k])] {
+                for (dx, dy, bit) in [(1i64, 0i64, e.ex[k]), (0, 1, e.ey[k])] {
                     if bit != 1 {
                         continue;
                     }
+                    let (xu, yu) = (x as usize, y as usize);
+                    let d2 = if dx == 1 {
+                        d2.dx(z, w, xu, yu)
+                    } else {
+                        d2.dy(z, w, h, xu, yu)
+                    };
                     let sz1 = at(x - dx, y - dy);
                     let sz2 = at(x, y);
                     let sz3 = at(x + dx, y + dy);

@@ -28,6 +28,43 @@ pub fn second_differences(z: &[u32], w: usize, h: usize) -> (Vec<i32>, Vec<i32>)
     (dx, dy)
 }
 
+/// The second differences the edge test and the crease pass read (seed eq. 7): the
+/// buffers kept during drawing, or the final z-buffer's, computed where they are read
+/// (the values of [`second_differences`], without its two frame-sized buffers).
+#[derive(Clone, Copy, Debug)]
+pub enum SecondDiffs<'a> {
+    /// `(d2x, d2y)` buffers, row-major.
+    Kept(&'a [i32], &'a [i32]),
+    /// From the `w × h` z-buffer the reader passes, borders replicated.
+    FinalZ,
+}
+
+impl SecondDiffs<'_> {
+    /// `d2x` at pixel `(x, y)` of the `w`-wide z-buffer `z`.
+    #[inline]
+    pub fn dx(&self, z: &[u32], w: usize, x: usize, y: usize) -> i32 {
+        match self {
+            SecondDiffs::Kept(d, _) => d[y * w + x],
+            SecondDiffs::FinalZ => {
+                let r = &z[y * w..(y + 1) * w];
+                r[(x + 1).min(w - 1)] as i32 + r[x.saturating_sub(1)] as i32 - 2 * r[x] as i32
+            }
+        }
+    }
+
+    /// `d2y` at pixel `(x, y)` of the `w × h` z-buffer `z`.
+    #[inline]
+    pub fn dy(&self, z: &[u32], w: usize, h: usize, x: usize, y: usize) -> i32 {
+        match self {
+            SecondDiffs::Kept(_, d) => d[y * w + x],
+            SecondDiffs::FinalZ => {
+                let at = |y: usize| z[y * w + x] as i32;
+                at((y + 1).min(h - 1)) + at(y.saturating_sub(1)) - 2 * at(y)
+            }
+        }
+    }
+}
+
 /// Edge bits between pixels and their class.
 pub struct Edges {
     /// Width.
@@ -44,8 +81,7 @@ pub struct Edges {
 /// reconstructed normals (see the module header). Equivalent to [`detect_edges_from`]
 /// with the buffers of [`second_differences`] and no stored normals.
 pub fn detect_edges(z: &[u32], w: usize, h: usize, p: &PostFxParams) -> Edges {
-    let (dx, dy) = second_differences(z, w, h);
-    detect_edges_from(z, &dx, &dy, None, w, h, p)
+    detect_edges_with(z, SecondDiffs::FinalZ, None, w, h, p)
 }
 
 /// Computes the edge bits from a z-buffer, its second differences (from the final z or
@@ -56,6 +92,19 @@ pub fn detect_edges_from(
     z: &[u32],
     d2x: &[i32],
     d2y: &[i32],
+    stored: Option<&[StoredNormal]>,
+    w: usize,
+    h: usize,
+    p: &PostFxParams,
+) -> Edges {
+    detect_edges_with(z, SecondDiffs::Kept(d2x, d2y), stored, w, h, p)
+}
+
+/// [`detect_edges_from`] with the second differences `d2` (kept buffers, or computed
+/// from `z` where read).
+pub fn detect_edges_with(
+    z: &[u32],
+    d2: SecondDiffs<'_>,
     stored: Option<&[StoredNormal]>,
     w: usize,
     h: usize,
@@ -84,17 +133,16 @@ pub fn detect_edges_from(
         .enumerate()
         .for_each(|(y, (exr, eyr))| {
             for x in 0..w {
-                let k = y * w + x;
                 let (xi, yi) = (x as i64, y as i64);
                 if x + 1 < w
-                    && ((over(d2x[k]) && forward(xi, yi, 1, 0))
-                        || (over(d2x[k + 1]) && !forward(xi + 1, yi, 1, 0)))
+                    && ((over(d2.dx(z, w, x, y)) && forward(xi, yi, 1, 0))
+                        || (over(d2.dx(z, w, x + 1, y)) && !forward(xi + 1, yi, 1, 0)))
                 {
                     exr[x] = class(at(xi, yi), at(xi + 1, yi));
                 }
                 if y + 1 < h
-                    && ((over(d2y[k]) && forward(xi, yi, 0, 1))
-                        || (over(d2y[k + w]) && !forward(xi, yi + 1, 0, 1)))
+                    && ((over(d2.dy(z, w, h, x, y)) && forward(xi, yi, 0, 1))
+                        || (over(d2.dy(z, w, h, x, y + 1)) && !forward(xi, yi + 1, 0, 1)))
                 {
                     eyr[x] = class(at(xi, yi), at(xi, yi + 1));
                 }
