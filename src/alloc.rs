@@ -16,6 +16,7 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 
 /// Smallest block mapped on its own (4 MiB): two huge pages.
+#[cfg_attr(not(target_os = "linux"), allow(dead_code))]
 pub const LARGE: usize = 4 << 20;
 
 /// The allocator (`#[global_allocator]` in `main.rs`).
