@@ -10,7 +10,8 @@
 //! (`BACK_LATENCY`); the pipelined unit takes one search per clock and shows each
 //! result on the `lines + 12`-th clock counting the one that accepted it (19 for 4×4, 27
 //! for 8×8). Both counts are the bare unit's, without the stream wrappers' FIFO (the test
-//! `mask_search_rusthdl` checks them against the RTL's clock-by-clock schedule). The frame's searches and their steps are the renderer's own
+//! `mask_search_rusthdl` checks them against the RTL's clock-by-clock schedule). The
+//! frame's searches and their steps are the renderer's own
 //! ([`crate::abuffer::AbufferStats`]: `sorted_fragments` searches per direction,
 //! `search_steps` the golden `SearchUnit`'s step count).
 //!
@@ -65,8 +66,8 @@ pub fn diagonal_steps(size: MaskSize, mask: u64, corner: Corner) -> u32 {
 }
 
 /// Clocks from the one that accepts the first search to the one that shows the last
-/// result, both counted, for searches of `steps`
-/// clocks each (their order does not matter), on `kind` with `lines` search lines.
+/// result, both counted, for searches of `steps` clocks each (their order does not
+/// matter), on `kind` with `lines` search lines.
 pub fn search_cycles(kind: SearchKind, steps: impl IntoIterator<Item = u32>, lines: u32) -> u64 {
     match kind {
         SearchKind::Iterative => {
