@@ -105,19 +105,21 @@ pub fn search_cycles_of_totals(
     }
 }
 
-/// ECP5 LUT4/FF of the routed pipelined search unit (`docs/rtl_mask_search.md`, ECP5
-/// table, "after" rows); the iterative unit was synthesized but not routed.
+/// ECP5 LUT4/FF of the pipelined search unit as placed and routed over eight seeds
+/// (`docs/rtl_mask_search.md`, "The current netlists over eight placement seeds": the
+/// netlists with the offset ROM's fifth register stage); the iterative unit was
+/// synthesized but not routed.
 pub fn search_resources(size: MaskSize, kind: SearchKind) -> Option<Resources> {
     match (kind, size.n()) {
         (SearchKind::Pipelined, 4) => Some(Resources {
-            lut4: 2951,
-            ff: 3756,
+            lut4: 2940,
+            ff: 3932,
             measured: true,
             source: "mask_search_pipe_4x4, routed ECP5 (docs/rtl_mask_search.md); search unit only",
         }),
         (SearchKind::Pipelined, 8) => Some(Resources {
-            lut4: 3206,
-            ff: 7110,
+            lut4: 3111,
+            ff: 7350,
             measured: true,
             source: "mask_search_pipe_8x8, routed ECP5 (docs/rtl_mask_search.md); search unit only",
         }),
