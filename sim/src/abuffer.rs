@@ -51,7 +51,7 @@ mod pixel;
 mod scratch;
 mod search_stream;
 use crate::mask::RowMasks;
-use fragment::{frag_setups, BandMasks, RowFrags};
+use fragment::{frag_setups, BandMasks, Hidden, RowFrags};
 pub use fragment::{FragSetup, Fragment};
 pub use pixel::{
     coplanar_common_depth, merge, pack, process_pixel, resolve, Group, Packed, PixelOut,
@@ -268,9 +268,29 @@ pub fn render_abuffer_with(
     params: &AbufferParams,
     aovs: AbufferAovs,
 ) -> Result<AbufferFrame, AbufferError> {
+    render_frame(tris, width, height, bg, params, aovs, true)
+}
+
+/// [`render_abuffer_with`]; `leave_out_hidden` lets rows leave hidden fragments out
+/// ([`RowFrags`]), which changes no output. They are all made when the frame compares
+/// variants or has interpenetrating surfaces.
+fn render_frame(
+    tris: &[SnappedTri],
+    width: u32,
+    height: u32,
+    bg: [u8; 3],
+    params: &AbufferParams,
+    aovs: AbufferAovs,
+    leave_out_hidden: bool,
+) -> Result<AbufferFrame, AbufferError> {
     let size = params.size;
     let (setups, bands) = frag_setups(tris, width, height, size)?;
     let sel = DepthSelector::new(size);
+    let hidden = (leave_out_hidden && !params.interpenetrating && !params.compare_variants)
+        .then_some(Hidden {
+            sel: &sel,
+            variant: params.depth,
+        });
     let (w, h) = (width as usize, height as usize);
     let len = |want: bool| if want { w * h } else { 0 };
     let mut rgb = vec![0u8; w * h * 3];
@@ -301,7 +321,7 @@ pub fn render_abuffer_with(
                     j,
                     width,
                     (&setups, sc.band.row(j)),
-                    &sel,
+                    (&sel, hidden),
                     params,
                     bg,
                     rgb_row,
@@ -358,7 +378,7 @@ fn render_row(
     j: i64,
     width: u32,
     (setups, masks): (&[FragSetup], &[(u32, RowMasks)]),
-    sel: &DepthSelector,
+    (sel, hidden): (&DepthSelector, Option<Hidden<'_>>),
     params: &AbufferParams,
     bg: [u8; 3],
     rgb_row: &mut [u8],
@@ -371,23 +391,27 @@ fn render_row(
     let size = params.size;
     let full = size.full();
     let mut st = AbufferStats::default();
-    rows.build_from(j, width, setups, masks, size);
+    rows.build_from(j, width, setups, masks, size, hidden);
+    (st.depth_evals, st.search_steps) = rows.hidden_counts();
     for px in rgb_row.chunks_exact_mut(3) {
         let [r, g, b] = bg;
         px[0] = r;
         px[1] = g;
         px[2] = b;
     }
+    let hidden_row = rows.hidden_row();
     for iu in 0..width as usize {
         let frags = rows.pixel(iu);
-        if frags.is_empty() {
+        // The pixel's fragments: those made and the hidden ones left out.
+        let n = frags.len() + hidden_row.get(iu).map_or(0, |&h| h as usize);
+        if n == 0 {
             continue;
         }
-        st.fragments += frags.len() as u64;
+        st.fragments += n as u64;
         if let Some(f) = frag_row.get_mut(iu) {
-            *f = frags.len() as u16;
+            *f = n as u16;
         }
-        if frags.len() == 1 && frags[0].mask == full {
+        if n == 1 && frags[0].mask == full {
             // Fast path: one triangle covers the whole pixel.
             let f = &frags[0];
             rgb_row[3 * iu..3 * iu + 3].copy_from_slice(&pixel::resolve_bits(
@@ -406,7 +430,11 @@ fn render_row(
             st.fast_pixels += 1;
             continue;
         }
-        let out = pixel.process(frags, sel, params.depth, params.interpenetrating, bg, size);
+        let out = if frags.len() == n {
+            pixel.process(frags, sel, params.depth, params.interpenetrating, bg, size)
+        } else {
+            pixel.process_without_hidden(frags, sel, params.depth, bg, size)
+        };
         rgb_row[3 * iu..3 * iu + 3].copy_from_slice(&out.rgb);
         if let Some(c) = cov_row.get_mut(iu) {
             *c = out.covered.count_ones() as u16;
@@ -417,9 +445,9 @@ fn render_row(
         st.merges += out.merges as u64;
         st.depth_evals += out.evals as u64;
         st.search_steps += out.steps as u64;
-        if frags.len() >= 2 {
+        if n >= 2 {
             st.multi_pixels += 1;
-            st.sorted_fragments += frags.len() as u64;
+            st.sorted_fragments += n as u64;
             if params.compare_variants {
                 compare_variants(frags, sel, params.interpenetrating, bg, size, &mut st);
             }
@@ -550,6 +578,161 @@ mod tests {
             ..AbufferAovs::NONE
         });
         assert_eq!((&vis.visible, &vis.stats), (&all.visible, &all.stats));
+    }
+
+    /// A scene of walls one behind another, as `closeup` and the city are: quads (two
+    /// triangles on one plane, one tag) at random depths and slants (every fifth level, at
+    /// one of three depths, so that depths tie), some of them the front and back of a thin
+    /// slab (one tag, a gap that is sometimes under a pixel's depth range, so their ranges
+    /// overlap), a few triangles of any shape, tags shared between walls, flat and shaded
+    /// colours, and with `decals` a decal on some walls.
+    fn layered_scene(rng: &mut crate::rng::Lcg64, decals: bool) -> Vec<SnappedTri> {
+        use pixelproc_formats::{Z_GEOM_MAX, Z_GEOM_MIN};
+        let mut tris = Vec::new();
+        let span = (Z_GEOM_MAX - Z_GEOM_MIN) as f64;
+        let colour = |rng: &mut crate::rng::Lcg64| {
+            let c = [0; 3].map(|_| (rng.unit() * 255.0 * 4096.0) as u32);
+            if rng.step().is_multiple_of(2) {
+                [c; 3]
+            } else {
+                [c, [0; 3].map(|_| (rng.unit() * 255.0 * 4096.0) as u32), c]
+            }
+        };
+        for w in 0..30 {
+            let tag = (rng.step() % 12) as u16;
+            let (x0, y0) = (
+                (rng.unit() * 40.0 - 10.0) * 256.0,
+                (rng.unit() * 30.0 - 8.0) * 256.0,
+            );
+            let (x1, y1) = (
+                x0 + (16.0 + rng.unit() * 40.0) * 256.0,
+                y0 + (6.0 + rng.unit() * 30.0) * 256.0,
+            );
+            let z0 = Z_GEOM_MIN as f64 + span * (0.05 + 0.8 * rng.unit());
+            let (gx, gy) = (
+                (rng.unit() - 0.5) * 2e-4 * span,
+                (rng.unit() - 0.5) * 2e-4 * span,
+            );
+            // Every fifth wall level, at one of three depths: walls exactly as deep as
+            // each other, and as another wall's nearest depth, tie.
+            let (z0, gx, gy) = if w % 5 == 2 {
+                let level = Z_GEOM_MIN as f64 + span * [0.3, 0.5, 0.7][(rng.step() % 3) as usize];
+                (level, 0.0, 0.0)
+            } else {
+                (z0, gx, gy)
+            };
+            let slabs = if rng.step().is_multiple_of(3) { 2 } else { 1 };
+            let gap = span * [0.0, 1e-6, 1e-5, 1e-4, 1e-3][(rng.step() % 5) as usize];
+            for s in 0..slabs {
+                let z = |x: f64, y: f64| {
+                    (z0 + s as f64 * gap + gx * (x - x0) / 256.0 + gy * (y - y0) / 256.0)
+                        .clamp(Z_GEOM_MIN as f64, Z_GEOM_MAX as f64) as u32
+                };
+                let v = [[x0, y0], [x1, y0], [x1, y1], [x0, y1]]
+                    .map(|[x, y]| ([x as i32, y as i32], z(x, y)));
+                let c = colour(rng);
+                for [a, b, d] in [[0, 1, 2], [0, 2, 3]] {
+                    tris.push(SnappedTri {
+                        v: [v[a].0, v[b].0, v[d].0],
+                        z: [v[a].1, v[b].1, v[d].1],
+                        c,
+                        tag,
+                        ..Default::default()
+                    });
+                }
+                if decals && s == 0 && w % 4 == 1 {
+                    // A decal on the wall's first triangle: a smaller triangle inside it.
+                    let host = tris[tris.len() - 2];
+                    let m = |p: usize, q: usize| {
+                        [
+                            (host.v[p][0] + host.v[q][0]) / 2,
+                            (host.v[p][1] + host.v[q][1]) / 2,
+                        ]
+                    };
+                    tris.push(SnappedTri {
+                        v: [m(0, 1), m(1, 2), m(2, 0)],
+                        z: [host.z[0]; 3],
+                        c: colour(rng),
+                        tag,
+                        host: Some(crate::setup::HostPlane {
+                            v: host.v,
+                            z: host.z,
+                        }),
+                        ..Default::default()
+                    });
+                }
+            }
+            if w % 3 == 0 {
+                let p = |rng: &mut crate::rng::Lcg64| {
+                    [
+                        (rng.unit() * 52.0 - 6.0) * 256.0,
+                        (rng.unit() * 40.0 - 4.0) * 256.0,
+                    ]
+                    .map(|c| c as i32)
+                };
+                let zt = |rng: &mut crate::rng::Lcg64| {
+                    (Z_GEOM_MIN as f64 + span * (0.05 + 0.9 * rng.unit())) as u32
+                };
+                let (v, z) = ([p(rng), p(rng), p(rng)], [zt(rng), zt(rng), zt(rng)]);
+                tris.push(SnappedTri {
+                    v,
+                    z,
+                    c: colour(rng),
+                    tag,
+                    ..Default::default()
+                });
+            }
+        }
+        tris
+    }
+
+    /// Leaving hidden fragments out changes no output: on layered scenes (with and
+    /// without decals, on both grids and every variant) the image, every AOV and every
+    /// counter are those of the frame with every fragment made, and many fragments are
+    /// left out.
+    #[test]
+    fn leaving_hidden_fragments_out_changes_no_output() {
+        let mut rng = crate::rng::Lcg64(0x1dde_7f00);
+        let (w, h) = (40u32, 30u32);
+        let (mut made, mut left_out) = (0u64, 0u64);
+        for case in 0..48 {
+            let tris = layered_scene(&mut rng, case % 4 == 3);
+            let p = AbufferParams {
+                size: [MaskSize::S4X4, MaskSize::S8X8][case % 2],
+                depth: DepthSelect::ALL[(case / 2) % 4],
+                ..AbufferParams::default()
+            };
+            let all = render_frame(&tris, w, h, [9, 99, 199], &p, AbufferAovs::ALL, false);
+            let got = render_frame(&tris, w, h, [9, 99, 199], &p, AbufferAovs::ALL, true);
+            let (all, got) = (all.unwrap(), got.unwrap());
+            assert_eq!(got.rgb, all.rgb, "case {case}");
+            assert_eq!(got.coverage, all.coverage, "case {case}");
+            assert_eq!(got.fragments, all.fragments, "case {case}");
+            assert_eq!(got.visible, all.visible, "case {case}");
+            assert_eq!(got.stats, all.stats, "case {case}");
+            // How many the rows left out.
+            let sel = DepthSelector::new(p.size);
+            let hidden = Hidden {
+                sel: &sel,
+                variant: p.depth,
+            };
+            let (setups, bands) = frag_setups(&tris, w, h, p.size).unwrap();
+            let mut rf = RowFrags::default();
+            let mut band = BandMasks::default();
+            for b in 0..bands.len() {
+                let (j0, j1) = bands.rows(b);
+                band.fill((j0, j1), w, &setups, bands.members(b));
+                for j in j0..=j1 {
+                    rf.build_from(j, w, &setups, band.row(j), p.size, Some(hidden));
+                    left_out += (0..w as usize).map(|i| rf.hidden_at(i) as u64).sum::<u64>();
+                }
+            }
+            made += all.stats.fragments;
+        }
+        assert!(
+            left_out * 6 > made,
+            "{left_out} of {made} fragments left out"
+        );
     }
 
     #[test]

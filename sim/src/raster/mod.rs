@@ -164,6 +164,17 @@ impl RoundDivSteps {
 }
 
 impl RoundDivSteps {
+    /// Bounds of the values after `k0..=k1` advances from here: an advance adds `dq` or
+    /// `dq + 1` (the remainder carries at most once), so after `k` advances the value lies
+    /// in `[q + k·dq, q + k·(dq + 1)]`, whose ends are linear in `k`.
+    #[inline]
+    pub(crate) fn bounds(&self, k0: u64, k1: u64) -> (i128, i128) {
+        let (k0, k1) = (k0 as i128, k1 as i128);
+        let lo = (k0 * self.dq).min(k1 * self.dq);
+        let hi = (k0 * (self.dq + 1)).max(k1 * (self.dq + 1));
+        (self.q + lo, self.q + hi)
+    }
+
     /// The same stepper in 64-bit arithmetic, if `steps` advances from here cannot leave
     /// it: the remainder and its step stay below the denominator (`< 2^62`, so their sum
     /// fits), and the quotient moves by at most `|dq| + 1` per advance.
@@ -598,6 +609,33 @@ mod tests {
     fn round_div_wide(n: i128, d: i128) -> i128 {
         let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
         (2 * n + d).div_euclid(2 * d)
+    }
+
+    /// [`RoundDivSteps::bounds`] holds every value the stepper takes over its range of
+    /// advances, on random steppers of either sign and ranges starting anywhere in the
+    /// first 30 advances.
+    #[test]
+    fn bounds_hold_every_value() {
+        let mut rng = crate::rng::Lcg64(0x0b0d_5e7a);
+        for _ in 0..20_000 {
+            let mut draw = |m: i64| (rng.step() % (2 * m as u64 + 1)) as i64 - m;
+            let d = draw(1 << 20) as i128;
+            let d = if d == 0 { 7 } else { d };
+            let st = RoundDivSteps::new(draw(1 << 40) as i128, draw(1 << 24) as i128, d);
+            let (k0, k1) = (draw(30).unsigned_abs(), draw(30).unsigned_abs());
+            let (k0, k1) = (k0.min(k1), k0.max(k1) + 1);
+            let (lo, hi) = st.bounds(k0, k1);
+            let mut s = st;
+            for k in 0..=k1 {
+                if k >= k0 {
+                    assert!(
+                        lo <= s.value() && s.value() <= hi,
+                        "{st:?} {k0}..={k1} at {k}"
+                    );
+                }
+                s.advance();
+            }
+        }
     }
 
     /// `stays_within` is never wrong when it says yes: on random steppers (slopes of
