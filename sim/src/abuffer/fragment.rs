@@ -6,7 +6,6 @@
 
 use super::AbufferError;
 use crate::mask::{MaskEdges, RowMasks};
-use crate::mask_search::{DepthSelect, DepthSelector};
 use crate::raster::edge::check_depths;
 use crate::raster::rows::Bands;
 use crate::raster::{round_div, PlaneStepper, RoundDivStep, RoundDivSteps, RoundDivSteps64};
@@ -14,6 +13,10 @@ use crate::setup::{ExactPlane, SetupError, SnappedTri};
 use pixelproc_formats::abuffer::{saturate_plane, FragPlane, MaskSize, PLANE_FRAC};
 use pixelproc_formats::{I_FRAC, MAX_SCREEN, SUBPIXEL_ONE};
 use rayon::prelude::*;
+
+mod hidden;
+pub(super) use hidden::Hidden;
+use hidden::{HiddenRow, Hiding, NoHiding, Row};
 
 /// One fragment: a triangle's share of one pixel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -229,30 +232,8 @@ pub(super) fn frag_setups(
 /// Each pixel gets a run of slots as long as the number of triangles whose touched range
 /// ([`crate::mask::RowCoverage`]) contains it (a difference array over the ranges, summed),
 /// and every fragment is written straight into its pixel's run; a touched pixel whose
-/// mask is empty leaves its slot unused.
-///
-/// **Hidden fragments** ([`Hidden`]): a fragment that cannot change its pixel's outcome
-/// need not be made; it is counted instead ([`RowFrags::hidden_row`], and its depth
-/// pick's evaluations and steps in [`RowFrags::hidden_counts`]). Without decals and
-/// interpenetration, a fragment with range `[lo, hi]` (`zc ±` [`FragSetup::half_range`])
-/// is such a fragment when
-/// - its mask is full: its depth pick's counts then depend on the triangle's slopes alone,
-///   not on the pixel;
-/// - `lo` is beyond the nearest far end `front` of a full-mask fragment's range in the
-///   pixel: its ordering depth is at least `lo`, that full-mask fragment's group has one
-///   at most `front`, so packing takes that group first, which leaves no bit free, and
-///   the fragment's visible bits are none (the fragment whose range ends at `front` is
-///   never left out);
-/// - no fragment with its tag in the pixel has a range that overlaps its own: it merges
-///   with nothing, so it is a group of its own that no other group depends on, and the
-///   merges are the same (one fragment and one group fewer). This is tested per row and
-///   triangle, conservatively ([`TagTest`]): every other triangle with the tag that
-///   touches the triangle's fully covered pixels must have depths there whose range stays
-///   clear of the triangle's ([`apart`]).
-///
-/// The other fragments' groups, their order (keys compare first member indices, which
-/// keep their order) and the resolve are then those of the full pixel. A row looks for
-/// hidden fragments only where surfaces lie [`LAYERS_MIN`] deep.
+/// mask is empty leaves its slot unused. With [`Hidden`], fragments that cannot change
+/// their pixel are counted instead of made ([`hidden`]).
 #[derive(Default)]
 pub(super) struct RowFrags {
     /// The row's masks of the triangles that touch it: (setup index, masks), scene order.
@@ -265,35 +246,8 @@ pub(super) struct RowFrags {
     start: Vec<u32>,
     /// One past the last fragment written for each pixel.
     end: Vec<u32>,
-    /// Hidden fragments left out per pixel (`width` entries while [`Hidden`] is on).
-    hidden: Vec<u32>,
-    /// The depth pick's evaluations and steps of the row's hidden fragments.
-    hidden_counts: (u64, u64),
-    /// Per pixel, the nearest far end of a full-mask fragment's depth range.
-    front: Vec<i64>,
-    /// Each triangle's depth stepper from its first touched pixel, in `masks` order.
-    zs: Vec<RoundDivSteps>,
-    /// Each triangle's place in `by_tag`, in `masks` order.
-    pos: Vec<u32>,
-    /// (tag, touched range, index into `masks`), sorted: the tag test's order.
-    by_tag: Vec<(u16, i64, i64, u32)>,
-    /// Per `by_tag` entry, the farthest touched pixel of its tag's entries up to it.
-    reach: Vec<i64>,
-}
-
-/// Fully covered pixels a row needs, in rows' widths, before it looks for hidden
-/// fragments: where surfaces lie fewer layers deep, the tests cost more than the
-/// fragments they leave out.
-const LAYERS_MIN: i64 = 5;
-
-/// Leaving hidden fragments out of a row ([`RowFrags`]): the depth selection whose
-/// evaluations and steps they count.
-#[derive(Clone, Copy)]
-pub(super) struct Hidden<'a> {
-    /// The depth selector of the frame.
-    pub sel: &'a DepthSelector,
-    /// The depth-selection variant.
-    pub variant: DepthSelect,
+    /// The hidden fragments left out of the row, and the tests' buffers.
+    hidden: HiddenRow,
 }
 
 impl RowFrags {
@@ -354,143 +308,47 @@ impl RowFrags {
         }
         let full = size.full();
         self.hidden.clear();
-        self.hidden_counts = (0, 0);
-        let hidden = hidden.filter(|_| {
-            let covered: i64 = masks
-                .iter()
-                .filter_map(|(_, rm)| rm.cov.full.map(|(a, b)| b - a + 1))
-                .sum();
-            covered >= LAYERS_MIN * w as i64
-                && !masks.iter().any(|(k, _)| setups[*k as usize].decal)
-        });
+        let row = Row {
+            setups,
+            masks,
+            j,
+            size,
+        };
+        let hidden = hidden.filter(|_| HiddenRow::worth(&row, w));
         if hidden.is_some() {
-            self.prepare_hidden(j, w, setups, masks, size);
+            self.hidden.prepare(&row, w);
         }
         for (x, (k, rm)) in masks.iter().enumerate() {
-            let t = &setups[*k as usize];
-            let (a, _) = rm.cov.touched;
-            let (frags, end) = (&mut self.frags, &mut self.end);
+            let mut slots = Slots {
+                frags: &mut self.frags,
+                end: &mut self.end,
+            };
             match hidden {
-                Some(h) if rm.cov.full.is_some() => {
-                    let test = TagTest {
-                        by_tag: &self.by_tag,
-                        reach: &self.reach,
-                        zs: &self.zs,
-                        masks,
-                        setups,
-                        j,
-                        size,
-                    };
-                    let mut behind = Behind {
-                        front: &self.front,
-                        hidden: &mut self.hidden,
-                        half: t.half_range(size),
-                        count: 0,
-                        alone: None,
-                        test: || test.alone(self.pos[x] as usize),
-                    };
-                    emit_triangle(frags, end, t, rm, self.zs[x], j, full, &mut behind);
-                    if behind.count > 0 {
-                        // A full mask's pick counts depend on the slopes alone.
-                        let plane = FragPlane {
-                            zc: 0,
-                            sx: t.sx,
-                            sy: t.sy,
-                        };
-                        let p = h.sel.select_nearest(h.variant, full, &plane);
-                        self.hidden_counts.0 += behind.count * p.evals as u64;
-                        self.hidden_counts.1 += behind.count * p.steps as u64;
-                    }
+                Some(h) => self.hidden.emit(h, x, &mut slots, &row),
+                None => {
+                    let t = &setups[*k as usize];
+                    let z = t.depth_steps(rm.cov.touched.0, j);
+                    emit_triangle(&mut slots, t, rm, z, j, full, &mut NoHiding);
                 }
-                Some(_) => emit_triangle(frags, end, t, rm, self.zs[x], j, full, &mut NoHiding),
-                None => emit_triangle(
-                    frags,
-                    end,
-                    t,
-                    rm,
-                    t.depth_steps(a, j),
-                    j,
-                    full,
-                    &mut NoHiding,
-                ),
             }
-        }
-    }
-
-    /// The buffers of the hidden-fragment tests of row `j` ([`RowFrags`]): every
-    /// triangle's depth stepper, each pixel's `front`, and which triangles pass the tag
-    /// test.
-    fn prepare_hidden(
-        &mut self,
-        j: i64,
-        w: usize,
-        setups: &[FragSetup],
-        masks: &[(u32, RowMasks)],
-        size: MaskSize,
-    ) {
-        self.hidden.resize(w, 0);
-        self.front.clear();
-        self.front.resize(w, i64::MAX);
-        self.zs.clear();
-        self.zs.extend(
-            masks
-                .iter()
-                .map(|(k, rm)| setups[*k as usize].depth_steps(rm.cov.touched.0, j)),
-        );
-        for ((k, rm), z) in masks.iter().zip(&self.zs) {
-            let Some(run) = rm.cov.full else { continue };
-            let (t, a) = (&setups[*k as usize], rm.cov.touched.0);
-            let half = t.half_range(size);
-            match z.narrow((run.1 - a + 1) as u64) {
-                Some(z) => front_run(&mut self.front, z, a, run, half),
-                None => front_run(&mut self.front, *z, a, run, half),
-            }
-        }
-        // The tag test's order ([`TagTest`]).
-        self.by_tag.clear();
-        self.by_tag
-            .extend(masks.iter().enumerate().map(|(x, (k, rm))| {
-                (
-                    setups[*k as usize].tag,
-                    rm.cov.touched.0,
-                    rm.cov.touched.1,
-                    x as u32,
-                )
-            }));
-        self.by_tag.sort_unstable();
-        self.reach.clear();
-        self.pos.clear();
-        self.pos.resize(masks.len(), 0);
-        let mut reach = (u16::MAX, i64::MIN);
-        for (q, e) in self.by_tag.iter().enumerate() {
-            reach = (
-                e.0,
-                if e.0 == reach.0 {
-                    reach.1.max(e.2)
-                } else {
-                    e.2
-                },
-            );
-            self.reach.push(reach.1);
-            self.pos[e.3 as usize] = q as u32;
         }
     }
 
     /// Hidden fragments left out of pixel `i` (none without [`Hidden`]).
     #[cfg(test)]
     pub(super) fn hidden_at(&self, i: usize) -> u32 {
-        self.hidden.get(i).copied().unwrap_or(0)
+        self.hidden.per_pixel().get(i).copied().unwrap_or(0)
     }
 
     /// Hidden fragments left out per pixel, or no entries if the row left none out.
     #[inline]
     pub(super) fn hidden_row(&self) -> &[u32] {
-        &self.hidden
+        self.hidden.per_pixel()
     }
 
     /// The depth pick's evaluations and steps of the row's hidden fragments.
     pub(super) fn hidden_counts(&self) -> (u64, u64) {
-        self.hidden_counts
+        self.hidden.counts()
     }
 
     /// The fragments of pixel `i`.
@@ -540,175 +398,18 @@ impl BandMasks {
     }
 }
 
-/// Whether a triangle's fully covered fragment is hidden, and left out ([`RowFrags`]).
-trait Hiding {
-    /// Called for each fully covered pixel `i` with the fragment's `zc`.
-    fn hides(&mut self, i: i64, zc: i64) -> bool;
-}
-
-/// Every fragment made.
-struct NoHiding;
-
-impl Hiding for NoHiding {
-    #[inline(always)]
-    fn hides(&mut self, _: i64, _: i64) -> bool {
-        false
-    }
-}
-
-/// A triangle's fully covered fragments whose range starts beyond the pixel's `front`
-/// are left out and counted, if the triangle passes the tag test (`test`, run at the
-/// first such fragment).
-struct Behind<'a, F: FnMut() -> bool> {
-    front: &'a [i64],
-    hidden: &'a mut [u32],
-    /// The triangle's [`FragSetup::half_range`].
-    half: i64,
-    /// Fragments left out.
-    count: u64,
-    /// The tag test's outcome, once run.
-    alone: Option<bool>,
-    test: F,
-}
-
-impl<F: FnMut() -> bool> Hiding for Behind<'_, F> {
-    #[inline(always)]
-    fn hides(&mut self, i: i64, zc: i64) -> bool {
-        let i = i as usize;
-        if zc - self.half <= self.front[i] {
-            return false;
-        }
-        if !*self.alone.get_or_insert_with(&mut self.test) {
-            return false;
-        }
-        self.hidden[i] += 1;
-        self.count += 1;
-        true
-    }
-}
-
-/// Most other triangles of its tag the tag test looks at for one triangle; with more it
-/// fails (keeps the fragments), which bounds its cost where a tag is a mesh of many
-/// overlapping parts.
-const TAG_TEST_MAX: usize = 6;
-
-/// The tag test of [`RowFrags`] on one row: the row's triangles in (tag, first touched
-/// pixel) order (`by_tag`, with each entry's `reach`: the farthest touched pixel of its
-/// tag's entries up to it) and their depth steppers (`zs`, `masks` order).
-struct TagTest<'a> {
-    by_tag: &'a [(u16, i64, i64, u32)],
-    reach: &'a [i64],
-    zs: &'a [RoundDivSteps],
-    masks: &'a [(u32, RowMasks)],
-    setups: &'a [FragSetup],
-    j: i64,
-    size: MaskSize,
-}
-
-impl TagTest<'_> {
-    /// Whether the triangle at `by_tag[pos]` (with fully covered pixels `fa..=fb`) has
-    /// depth ranges apart from those of every other triangle of its tag on the pixels both
-    /// touch there: the later entries of the tag that start by `fb`, and the earlier ones
-    /// while their tag's reach gets to `fa`.
-    fn alone(&self, pos: usize) -> bool {
-        let (by, masks) = (self.by_tag, self.masks);
-        let e = by[pos];
-        let x = e.3 as usize;
-        let Some((fa, fb)) = masks[x].1.cov.full else {
-            return false;
-        };
-        let later = by[pos + 1..].iter().take_while(|u| u.0 == e.0 && u.1 <= fb);
-        let earlier = (0..pos)
-            .rev()
-            .take_while(|&q| by[q].0 == e.0 && self.reach[q] >= fa)
-            .map(|q| &by[q]);
-        let t = &self.setups[masks[x].0 as usize];
-        let mut met = 0;
-        later.chain(earlier).filter(|u| u.2 >= fa).all(|u| {
-            met += 1;
-            if met > TAG_TEST_MAX {
-                return false;
-            }
-            let y = u.3 as usize;
-            apart(
-                (t, self.zs[x], e.1),
-                (&self.setups[masks[y].0 as usize], self.zs[y], u.1),
-                (fa.max(u.1), fb.min(u.2)),
-                self.j,
-                self.size,
-            )
-        })
-    }
-}
-
-/// Whether the depth ranges of the fragments of triangles `t` and `o` (each with its
-/// depth stepper `z` from its first touched pixel `a`) stay apart on pixels `p..=q` of
-/// row `j`. First bounded over the whole run ([`RoundDivSteps::bounds`]); if those bounds
-/// meet, pixel by pixel.
-fn apart(
-    (t, tz, ta): (&FragSetup, RoundDivSteps, i64),
-    (o, oz, oa): (&FragSetup, RoundDivSteps, i64),
-    (p, q): (i64, i64),
-    j: i64,
-    size: MaskSize,
-) -> bool {
-    let (th, oh) = (t.half_range(size), o.half_range(size));
-    let band = |z: RoundDivSteps, a: i64, half: i64| {
-        let (lo, hi) = z.bounds((p - a) as u64, (q - a) as u64);
-        (saturate_plane(lo) - half, saturate_plane(hi) + half)
-    };
-    let (tb, ob) = (band(tz, ta, th), band(oz, oa, oh));
-    if tb.1 < ob.0 || ob.1 < tb.0 {
-        return true;
-    }
-    let steps = (q - p + 1) as u64;
-    let (tz, oz) = (t.depth_steps(p, j), o.depth_steps(p, j));
-    match (tz.narrow(steps), oz.narrow(steps)) {
-        (Some(tz), Some(oz)) => apart_each(tz, th, oz, oh, steps),
-        _ => apart_each(tz, th, oz, oh, steps),
-    }
-}
-
-/// [`apart`] pixel by pixel: the ranges `zc ± half` of two steppers over `steps` pixels
-/// never overlap.
-fn apart_each<A: PlaneStepper, B: PlaneStepper>(
-    mut tz: A,
-    th: i64,
-    mut oz: B,
-    oh: i64,
-    steps: u64,
-) -> bool {
-    for _ in 0..steps {
-        let (t, o) = (saturate_plane(tz.value()), saturate_plane(oz.value()));
-        if t - th <= o + oh && o - oh <= t + th {
-            return false;
-        }
-        tz.advance();
-        oz.advance();
-    }
-    true
-}
-
-/// Each pixel's `front` lowered to the far end of the range of a triangle's fully
-/// covered fragments (`run`), the depth stepped from its first touched pixel `a`.
-fn front_run<Z: PlaneStepper>(front: &mut [i64], mut z: Z, a: i64, run: (i64, i64), half: i64) {
-    for _ in a..run.0 {
-        z.advance();
-    }
-    for f in &mut front[run.0 as usize..=run.1 as usize] {
-        *f = (*f).min(saturate_plane(z.value()) + half);
-        z.advance();
-    }
+/// A row's fragment slots, pixel after pixel, and each pixel's next free slot.
+struct Slots<'a> {
+    frags: &'a mut [Fragment],
+    end: &'a mut [u32],
 }
 
 /// Writes the fragments of triangle `t`'s row `j` into their pixels' slots, the depth
 /// stepped by `z` from the first touched pixel, the colour by the cheapest stepper that
 /// gives the same values.
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn emit_triangle<H: Hiding>(
-    frags: &mut [Fragment],
-    end: &mut [u32],
+    slots: &mut Slots<'_>,
     t: &FragSetup,
     rm: &RowMasks,
     z: RoundDivSteps,
@@ -719,20 +420,20 @@ fn emit_triangle<H: Hiding>(
     let (a, b) = rm.cov.touched;
     let steps = (b - a + 1) as u64;
     match (z.narrow(steps), t.flat) {
-        (Some(z), Some(rgb)) => emit(frags, end, t, rm, (z, Flat::of(rgb)), full, hiding),
-        (None, Some(rgb)) => emit(frags, end, t, rm, (z, Flat::of(rgb)), full, hiding),
+        (Some(z), Some(rgb)) => emit(slots, t, rm, (z, Flat::of(rgb)), full, hiding),
+        (None, Some(rgb)) => emit(slots, t, rm, (z, Flat::of(rgb)), full, hiding),
         (z64, None) => {
             let [c0, c1, c2] = t.colour_steps(a, j);
             match (z64, [c0, c1, c2].map(|c| c.narrow(steps))) {
                 (Some(z), [Some(r), Some(g), Some(bl)]) => {
                     let c = [r, g, bl];
                     if c.iter().all(|s| s.stays_within(steps, 0, COLOUR_Q12_MAX)) {
-                        emit(frags, end, t, rm, (z, InRange(c)), full, hiding)
+                        emit(slots, t, rm, (z, InRange(c)), full, hiding)
                     } else {
-                        emit(frags, end, t, rm, (z, c), full, hiding)
+                        emit(slots, t, rm, (z, c), full, hiding)
                     }
                 }
-                _ => emit(frags, end, t, rm, (z, [c0, c1, c2]), full, hiding),
+                _ => emit(slots, t, rm, (z, [c0, c1, c2]), full, hiding),
             }
         }
     }
@@ -743,14 +444,14 @@ fn emit_triangle<H: Hiding>(
 /// pixel; a fully covered fragment `hiding` hides is not written.
 #[inline]
 fn emit<Z: PlaneStepper, C: RowColour, H: Hiding>(
-    frags: &mut [Fragment],
-    end: &mut [u32],
+    slots: &mut Slots<'_>,
     t: &FragSetup,
     rm: &RowMasks,
     (mut z, mut c): (Z, C),
     full: u64,
     hiding: &mut H,
 ) {
+    let Slots { frags, end } = slots;
     let rc = rm.cov;
     for i in rc.touched.0..=rc.touched.1 {
         let mask = match rc.full {

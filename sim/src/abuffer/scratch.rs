@@ -160,6 +160,7 @@ impl PixelScratch {
     /// the hidden ones, which the row counts. A pixel of two or more fragments picks the
     /// depth of every fragment, so a lone fragment left (the full one in front) has its
     /// pick counted and takes every bit.
+    #[inline]
     pub(crate) fn process_without_hidden(
         &mut self,
         frags: &[Fragment],
