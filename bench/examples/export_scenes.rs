@@ -1,5 +1,6 @@
-//! Writes the `--all-methods` benchmark's hard scenes (`forest`, `spheres`, `closeup`,
-//! `shards`, `tori`) as scene files: `OUTDIR/<name>/scene.json` and the OBJ files it names, so
+//! Writes the `--all-methods` benchmark's generated scenes (`large`, `grid-1k`, `grid-10k`,
+//! `forest`, `spheres`, `closeup`, `shards`, `tori`; the city is the built-in `@boxes`) as
+//! scene files: `OUTDIR/<name>/scene.json` and the OBJ files it names, so
 //! that they can be rendered with `pixelproc render`, benchmarked one case at a time with
 //! `pixelproc bench`, or given to a build that predates them.
 //!
@@ -9,7 +10,7 @@
 //! ```
 
 use anyhow::{Context, Result};
-use pixelproc_bench::methods::hard_scene_files;
+use pixelproc_bench::methods::{hard_scene_files, target_scene_files};
 
 fn main() {
     if let Err(e) = run() {
@@ -22,7 +23,7 @@ fn run() -> Result<()> {
     let out = std::env::args()
         .nth(1)
         .context("usage: export_scenes OUTDIR")?;
-    for (name, (json, files)) in hard_scene_files() {
+    for (name, (json, files)) in target_scene_files().into_iter().chain(hard_scene_files()) {
         let dir = std::path::Path::new(&out).join(name);
         std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
         for (file, text) in files.iter().chain([(&"scene.json".to_string(), &json)]) {

@@ -436,6 +436,14 @@ pub fn bench_scenes() -> Result<Vec<LoadedScene>, scene::SceneError> {
 /// `large` (a ground and eight big boxes: a few large triangles), `boxes` (the built-in
 /// city), `grid-1k` and `grid-10k` (same coverage, 10× the triangles).
 pub fn target_scenes() -> Result<Vec<LoadedScene>, scene::SceneError> {
+    let mut out = embedded(target_scene_files())?;
+    out.insert(1, scene::load_builtin("boxes")?);
+    Ok(out)
+}
+
+/// The generated [`target_scenes`] as files (`large`, `grid-1k`, `grid-10k`; the city is
+/// the built-in `@boxes`): name, scene JSON, and the OBJ files it names.
+pub fn target_scene_files() -> [(&'static str, GenScene); 3] {
     let large = box_scene(&[
         ([-9.0, 0.0, -10.0], [5.0, 8.0, 5.0], 15.0),
         ([-2.0, 0.0, -14.0], [6.0, 11.0, 4.0], -20.0),
@@ -446,13 +454,11 @@ pub fn target_scenes() -> Result<Vec<LoadedScene>, scene::SceneError> {
         ([9.0, 0.0, 0.0], [3.0, 5.0, 3.0], 65.0),
         ([-5.0, 0.0, 4.0], [2.5, 2.0, 2.5], -10.0),
     ]);
-    let mut out = embedded([
+    [
         ("large", large),
         ("grid-1k", grid_scene(22)),
         ("grid-10k", grid_scene(71)),
-    ])?;
-    out.insert(1, scene::load_builtin("boxes")?);
-    Ok(out)
+    ]
 }
 
 /// Scenes added after the targets were met on the [`target_scenes`], where they are not:
