@@ -359,11 +359,17 @@ impl SampleRows {
         evals
     }
 
-    /// The sample `(a, b)`: colour and owner.
+    /// The owner of sample `(a, b)`.
     #[inline]
-    fn at(&self, a: u32, b: u32) -> Sample {
-        let s = (b - self.lo) as usize * self.nx + a as usize;
-        (self.rgb[s], self.tri[s])
+    fn owner(&self, a: u32, b: u32) -> i32 {
+        self.tri[(b - self.lo) as usize * self.nx + a as usize]
+    }
+
+    /// The colours of lattice row `b`.
+    #[inline]
+    fn rgb_row(&self, b: u32) -> &[[u32; 3]] {
+        let s = (b - self.lo) as usize * self.nx;
+        &self.rgb[s..s + self.nx]
     }
 }
 
@@ -378,37 +384,81 @@ fn check(p: &CornerParams) -> Result<u64, AaError> {
     Ok(total)
 }
 
-/// A sample read from a lattice: Q8.12 colour and the visible triangle.
-type Sample = ([u32; 3], i32);
+/// The resolved colours of pixel row `rows` into `out` (RGB8, three bytes per pixel),
+/// `⌊Σ wt·C / (total·2^12)⌋` per channel over each pixel's samples (colours truncate; at
+/// most 255). Each pixel's samples are those [`RowSamples::of`] gives it, read from the
+/// template's lattice rows at the template column plus the shift per two pixels, without
+/// a lookup per sample.
+fn resolve_row(rows: &RowSamples, bufs: &[SampleRows], total: u64, out: &mut [u8]) {
+    match rows.tpl[0].n {
+        4 => resolve_row_n::<4>(rows, bufs, total, out),
+        5 => resolve_row_n::<5>(rows, bufs, total, out),
+        n => unreachable!("{n} samples per pixel"),
+    }
+}
 
-/// The box-weighted colour of one pixel from its samples `(sample, weight)` (weights sum
-/// to `total`; colours truncate) and its visible triangle: the one with the largest summed
-/// weight, the lowest index on a tie. `wsum` is scratch space.
-/// The visible triangle is found only when `wsum` is given (else −1 is returned).
-fn resolve_pixel(
-    vals: &[(Sample, u32)],
+/// A sample slot of a row's pixels of one column parity: its lattice row's colours, the
+/// column of the template pixel, the shift per two pixels, the weight.
+type Slot<'b> = (&'b [[u32; 3]], usize, usize, u64);
+
+/// [`resolve_row`] for pixels of `N` samples each.
+fn resolve_row_n<const N: usize>(
+    rows: &RowSamples,
+    bufs: &[SampleRows],
     total: u64,
-    wsum: Option<&mut Vec<(i32, u64)>>,
-) -> ([u8; 3], i32) {
-    let mut acc = [0u64; 3];
-    for &((c, _), wt) in vals {
+    out: &mut [u8],
+) {
+    let slots: [[Slot; N]; 2] = std::array::from_fn(|q| {
+        std::array::from_fn(|n| {
+            let (l, a0, b, wt) = rows.tpl[q].s[n];
+            let step = rows.adv[q][n];
+            (bufs[l].rgb_row(b), a0 as usize, step as usize, wt as u64)
+        })
+    });
+    if total.is_power_of_two() {
+        let sh = 12 + total.trailing_zeros();
+        resolve_pixels(&slots, out, |a| a >> sh);
+    } else {
+        let d = total * 4096;
+        resolve_pixels(&slots, out, |a| a / d);
+    }
+}
+
+/// [`resolve_row_n`]'s loop, `norm` the division by the weights' sum.
+#[inline(always)]
+fn resolve_pixels<const N: usize>(
+    slots: &[[Slot; N]; 2],
+    out: &mut [u8],
+    norm: impl Fn(u64) -> u64,
+) {
+    for (i, o) in out.chunks_exact_mut(3).enumerate() {
+        let k = i >> 1;
+        let mut acc = [0u64; 3];
+        for &(src, a0, step, wt) in &slots[i & 1] {
+            let c = src[a0 + k * step];
+            for ch in 0..3 {
+                acc[ch] += wt * c[ch] as u64;
+            }
+        }
         for ch in 0..3 {
-            acc[ch] += wt as u64 * c[ch] as u64;
+            o[ch] = norm(acc[ch]).min(255) as u8;
         }
     }
-    let rgb = acc.map(|a| super::div_q12(a, total).min(255) as u8);
-    let Some(wsum) = wsum else {
-        return (rgb, -1);
-    };
+}
+
+/// The visible triangle of one pixel from the owners of its samples `(owner, weight)`:
+/// the one with the largest summed weight, the lowest index on a tie. `wsum` is scratch
+/// space.
+fn owner_of(vals: &[(i32, u32)], wsum: &mut Vec<(i32, u64)>) -> i32 {
     wsum.clear();
-    for &((_, t), wt) in vals {
+    for &(t, wt) in vals {
         match wsum.iter_mut().find(|e| e.0 == t) {
             Some(e) => e.1 += wt as u64,
             None => wsum.push((t, wt as u64)),
         }
     }
     wsum.sort_by_key(|e| (std::cmp::Reverse(e.1), e.0));
-    (rgb, wsum[0].0)
+    wsum[0].0
 }
 
 /// Renders with the pattern of `p`.
@@ -477,30 +527,33 @@ pub fn render_with(
                     evals += buf.fill(&lrs[l], lo, hi, seen);
                 }
                 let mut reads = 0u64;
-                let mut vals = [(([0u32; 3], -1i32), 0u32); 5];
+                let mut vals = [(-1i32, 0u32); 5];
                 for j in j0..j1 {
                     let rows = RowSamples::new(p, j);
                     let r = (j - j0) as usize;
-                    for i in 0..width {
-                        let smp = rows.of(i);
-                        let smp = smp.as_slice();
-                        for (n, &(l, a, b, wt)) in smp.iter().enumerate() {
-                            reads += match n {
-                                0 | 1 if corner => 0,
-                                2 if corner && i > 0 => 0,
-                                _ => 1,
-                            };
-                            vals[n] = (bufs[l].at(a, b), wt);
-                        }
-                        let (c, t) = resolve_pixel(
-                            &vals[..smp.len()],
-                            total,
-                            want_visible.then_some(&mut *wsum),
-                        );
-                        let px = r * w + i as usize;
-                        rgb_band[3 * px..3 * px + 3].copy_from_slice(&c);
-                        if want_visible {
-                            vis_band[px] = t;
+                    resolve_row(
+                        &rows,
+                        bufs,
+                        total,
+                        &mut rgb_band[3 * r * w..3 * (r + 1) * w],
+                    );
+                    // Each pixel reads its samples; for the corner pattern samples 0 and 1
+                    // come from the row buffer, sample 2 from the previous pixel's sample 3
+                    // (but at the row's first pixel).
+                    let n = rows.tpl[0].n as u64;
+                    reads += if corner {
+                        (n - 2) * width as u64 - (width as u64 - 1)
+                    } else {
+                        n * width as u64
+                    };
+                    if want_visible {
+                        for i in 0..width {
+                            let smp = rows.of(i);
+                            let smp = smp.as_slice();
+                            for (v, &(l, a, b, wt)) in vals.iter_mut().zip(smp) {
+                                *v = (bufs[l].owner(a, b), wt);
+                            }
+                            vis_band[r * w + i as usize] = owner_of(&vals[..smp.len()], wsum);
                         }
                     }
                 }
@@ -657,21 +710,37 @@ mod tests {
                     let total = check(&p).unwrap();
                     let bufs = rasterize(&tris, &lattices(&p, w, h), [9, 8, 7]);
                     let mut wsum = Vec::new();
+                    let mut reads = 0;
                     for j in 0..h {
                         for i in 0..w {
-                            let vals: Vec<(Sample, u32)> = pixel_samples(&p, i, j)
-                                .into_iter()
-                                .map(|(l, a, b, wt)| {
-                                    let s = bufs[l].idx(a, b);
-                                    ((bufs[l].rgb[s], bufs[l].tri[s]), wt)
-                                })
-                                .collect();
-                            let (c, t) = resolve_pixel(&vals, total, Some(&mut wsum));
+                            let smp = pixel_samples(&p, i, j);
+                            let mut acc = [0u64; 3];
+                            let mut owners = Vec::new();
+                            for &(l, a, b, wt) in &smp {
+                                let s = bufs[l].idx(a, b);
+                                for ch in 0..3 {
+                                    acc[ch] += wt as u64 * bufs[l].rgb[s][ch] as u64;
+                                }
+                                owners.push((bufs[l].tri[s], wt));
+                            }
+                            let c = acc.map(|a| (a / (total * 4096)).min(255) as u8);
+                            let t = owner_of(&owners, &mut wsum);
                             let px = (j * w + i) as usize;
                             assert_eq!(got.rgb[3 * px..3 * px + 3], c, "{pattern:?} ({i}, {j})");
                             assert_eq!(got.visible.as_ref().unwrap()[px], t);
+                            reads += smp.len() as u64;
                         }
                     }
+                    // Every corner sample is read once (the row buffer and the register
+                    // supply the other three of a pixel's corners); the other patterns and
+                    // the centre sample read each of a pixel's samples.
+                    let corners = (w as u64 + 1) * (h as u64 + 1);
+                    let centres = if centre { (w * h) as u64 } else { 0 };
+                    let want_reads = match pattern {
+                        Pattern::Corner => corners + centres,
+                        _ => reads,
+                    };
+                    assert_eq!(got.stats.sample_reads, want_reads, "{pattern:?} {w}x{h}");
                     let evals: u64 = bufs.iter().map(|b| b.depth_evals).sum();
                     let written: u64 = bufs.iter().map(|b| b.z.len() as u64).sum();
                     assert_eq!(got.stats.depth_evals, evals, "{pattern:?} {w}x{h}");
@@ -679,6 +748,7 @@ mod tests {
                     let hidden = render_with(&tris, w, h, [9, 8, 7], &p, false).unwrap();
                     assert_eq!(hidden.rgb, got.rgb);
                     assert_eq!(hidden.stats.depth_evals, evals);
+                    assert_eq!(hidden.stats.sample_reads, got.stats.sample_reads);
                 }
             }
         }
