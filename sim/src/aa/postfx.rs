@@ -39,7 +39,9 @@
 //! **x and y combined through the 1-bit flag (seed 004, "both directions").** The x pass
 //! writes the blended image and sets a flag per pixel it changed; the y pass reads a
 //! flagged pixel from the anti-aliased buffer and blends again ("priority to the first,
-//! blend again"). Colours are RGB8; a blend is `(c·(2^16 − a) + c'·a + 2^15) >> 16`.
+//! blend again"). Colours are RGB8; a blend is `(c·(2^16 − a) + c'·a + 2^15) >> 16`. The
+//! model blends one buffer in place, which always holds the value the flag selects
+//! (`PassBufs`).
 //!
 //! **5-line window (seed 004, Figs. 9–11).** With [`PostFxParams::window`] a run on the
 //! boundary between lines v and v+1 reads the edge bits of lines v−1..v+2: runs split
@@ -258,32 +260,28 @@ pub fn render_with(
     if let Some(s) = &shadow {
         add_shadow_edges(&mut e, s.level);
     }
-    // Loop 1, then loop 2 (x pass then y pass, combined through the flag).
-    let post = |img: &[[u8; 3]], reads: &mut u64| {
-        let mut after1 = img.to_vec();
+    // Loop 1, then loop 2 (x pass then y pass, combined through the flag: one buffer
+    // blended in place, `PassBufs`).
+    let post = |mut img: Vec<[u8; 3]>, reads: &mut u64| {
         let skip = if p.creases {
-            crease_pass(img, &mut after1, &z, d2, &e, reads)
+            crease_pass(&mut img, &z, d2, &e, reads)
         } else {
             vec![false; w * h]
         };
-        let mut out = after1.clone();
-        let mut flag = vec![false; w * h];
         let mut bufs = PassBufs {
-            src: &after1,
-            dst: &mut out,
-            flag: &mut flag,
+            img: &mut img,
             skip: &skip,
             reads,
         };
         run_pass(&mut bufs, &e, false, p.window);
         run_pass(&mut bufs, &e, true, p.window);
-        out
+        img
     };
     let mut reads = extra;
-    let out = post(&img, &mut reads);
+    let out = post(img, &mut reads);
     let fraction = shadow.map(|s| {
         let grey: Vec<[u8; 3]> = s.level.iter().map(|&l| [l; 3]).collect();
-        post(&grey, &mut 0).iter().map(|c| c[0]).collect()
+        post(grey, &mut 0).iter().map(|c| c[0]).collect()
     });
     let frame = AaFrame {
         width,
@@ -357,6 +355,78 @@ mod tests {
                 assert_eq!((a.ex, a.ey), (b.ex, b.ey), "{w}x{h}");
             }
         }
+    }
+
+    /// The edge bits are the seed's rule (module header) applied boundary by boundary,
+    /// written out here from the second-difference buffers: on random depths, planes
+    /// with steps, every shape down to one pixel, thresholds from 0 up.
+    #[test]
+    fn edges_follow_the_rule_at_every_boundary() {
+        let mut rng = crate::rng::XorShift64Star(0x0ed9_e5);
+        let mut edges = 0;
+        for (w, h) in [(1, 1), (1, 6), (6, 1), (2, 3), (9, 7), (40, 23)] {
+            for round in 0..30 {
+                let (gx, gy) = (rng.next_u64() % 3000, rng.next_u64() % 3000);
+                let z: Vec<u32> = (0..w * h)
+                    .map(|k| {
+                        let (x, y) = ((k % w) as u64, (k / w) as u64);
+                        let plane = 100_000 + gx * x + gy * y;
+                        match (rng.next_u64() % 8, round % 3) {
+                            (0, 0) => (rng.next_u64() % (1 << 24)) as u32,
+                            (0 | 1, _) => (plane + rng.next_u64() % 20_000) as u32,
+                            _ => plane as u32,
+                        }
+                    })
+                    .collect();
+                let p = PostFxParams {
+                    zth: [0, 1, 64, 5000][round % 4],
+                    zjump: [0, 4096, 30_000][round % 3],
+                    ..PostFxParams::default()
+                };
+                let (dx, dy) = second_differences(&z, w, h);
+                let at = |x: i64, y: i64| {
+                    z[y.clamp(0, h as i64 - 1) as usize * w + x.clamp(0, w as i64 - 1) as usize]
+                        as i64
+                };
+                let over = |d: i32| (d as i64).abs() > p.zth as i64;
+                // P = (x, y) marks the boundary toward (x + sx, y + sy) when its first
+                // difference that way is at least the one the other way.
+                let toward = |x: i64, y: i64, sx: i64, sy: i64| {
+                    (at(x + sx, y + sy) - at(x, y)).abs() >= (at(x, y) - at(x - sx, y - sy)).abs()
+                };
+                let class = |a: i64, b: i64| {
+                    if (a - b).abs() > p.zjump as i64 {
+                        2u8
+                    } else {
+                        1
+                    }
+                };
+                let (mut wx, mut wy) = (vec![0u8; w * h], vec![0u8; w * h]);
+                for y in 0..h as i64 {
+                    for x in 0..w as i64 {
+                        let k = (y * w as i64 + x) as usize;
+                        if x + 1 < w as i64
+                            && ((over(dx[k]) && toward(x, y, 1, 0))
+                                || (over(dx[k + 1]) && !toward(x + 1, y, 1, 0)))
+                        {
+                            wx[k] = class(at(x, y), at(x + 1, y));
+                        }
+                        if y + 1 < h as i64
+                            && ((over(dy[k]) && toward(x, y, 0, 1))
+                                || (over(dy[k + w]) && !toward(x, y + 1, 0, 1)))
+                        {
+                            wy[k] = class(at(x, y), at(x, y + 1));
+                        }
+                    }
+                }
+                edges += wx.iter().chain(&wy).filter(|&&b| b != 0).count();
+                let a = detect_edges(&z, w, h, &p);
+                assert_eq!((&a.ex, &a.ey), (&wx, &wy), "{w}x{h} round {round}");
+                let b = detect_edges_from(&z, &dx, &dy, None, w, h, &p);
+                assert_eq!((&b.ex, &b.ey), (&wx, &wy), "{w}x{h} round {round}, kept");
+            }
+        }
+        assert!(edges > 1000, "{edges} edge bits");
     }
 
     #[test]

@@ -165,12 +165,17 @@ pub(super) fn run_area(hl: i64, hr: i64, len: i64, k: i64) -> (i64, i64) {
     }
 }
 
-/// The colour buffers of one loop-2 pass: reads `src`, or `dst` where `flag` is set;
-/// writes `dst`, sets `flag`; never writes a pixel in `skip` (blended by loop 1).
+/// The colour buffer of the loop-2 passes, blended in place; never writes a pixel in
+/// `skip` (blended by loop 1).
+///
+/// The seed keeps two buffers and a 1-bit flag per pixel: a pass reads the source image,
+/// or the anti-aliased buffer where the flag says the pixel was blended, and writes the
+/// anti-aliased buffer. That buffer starts as a copy of the source and a pixel differs
+/// from it only once blended, when its flag is set; so the value the flag selects is
+/// always the anti-aliased buffer's, and one buffer blended in place gives the same
+/// image.
 pub(super) struct PassBufs<'a> {
-    pub(super) src: &'a [[u8; 3]],
-    pub(super) dst: &'a mut [[u8; 3]],
-    pub(super) flag: &'a mut [bool],
+    pub(super) img: &'a mut [[u8; 3]],
     pub(super) skip: &'a [bool],
     pub(super) reads: &'a mut u64,
 }
@@ -180,25 +185,13 @@ impl PassBufs<'_> {
     pub(super) fn blend_toward(&mut self, a: usize, o: usize, area: i64) {
         if area > 0 && !self.skip[a] {
             *self.reads += 2;
-            let c = if self.flag[a] {
-                self.dst[a]
-            } else {
-                self.src[a]
-            };
-            let oc = if self.flag[o] {
-                self.dst[o]
-            } else {
-                self.src[o]
-            };
-            self.dst[a] = blend(c, oc, area);
-            self.flag[a] = true;
+            self.img[a] = blend(self.img[a], self.img[o], area);
         }
     }
 }
 
 /// One pass of loop 2 along rows (`transpose = false`: boundaries between rows y and
-/// y+1, runs along x) or along columns. Reads `src`, or `dst` where `flag` is set;
-/// writes `dst`, sets `flag`.
+/// y+1, runs along x) or along columns, blending [`PassBufs::img`] in place.
 pub(super) fn run_pass(bufs: &mut PassBufs, e: &Edges, transpose: bool, window: bool) {
     let view = PassView::new(e, transpose);
     let (nu, nv) = (view.nu, view.nv);
@@ -251,8 +244,7 @@ pub(super) fn run_pass(bufs: &mut PassBufs, e: &Edges, transpose: bool, window: 
 /// The pixel the crease does not reach the centre of takes `|s − ½|` of its neighbour.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn crease_pass(
-    src: &[[u8; 3]],
-    dst: &mut [[u8; 3]],
+    img: &mut [[u8; 3]],
     z: &[u32],
     d2: SecondDiffs<'_>,
     e: &Edges,
@@ -263,15 +255,23 @@ pub(super) fn crease_pass(
     let at = |x: i64, y: i64| {
         z[(y.clamp(0, h as i64 - 1) as usize) * w + x.clamp(0, w as i64 - 1) as usize] as i64
     };
-    // Every blend reads `src` only, so the blends of each row are found in parallel and
-    // then written in the sequential order (a later write to the same pixel wins).
+    // Every blend reads the image as it was before the loop, so the blends of each row
+    // are found in parallel and then written in the sequential order (a later write to
+    // the same pixel wins).
+    let src = &*img;
     let rows: Vec<Vec<Option<CreaseWrite>>> = (0..h as i64)
         .into_par_iter()
         .map(|y| {
             let mut writes = Vec::new();
-            for x in 0..w as i64 {
+            let row = y as usize * w..(y as usize + 1) * w;
+            let (exr, eyr) = (&e.ex[row.clone()], &e.ey[row]);
+            for (x, (&bx, &by)) in exr.iter().zip(eyr).enumerate() {
+                if bx != 1 && by != 1 {
+                    continue;
+                }
+                let x = x as i64;
                 let k = y as usize * w + x as usize;
-                for (dx, dy, bit) in [(1i64, 0i64, e.ex[k]), (0, 1, e.ey[k])] {
+                for (dx, dy, bit) in [(1i64, 0i64, bx), (0, 1, by)] {
                     if bit != 1 {
                         continue;
                     }
@@ -313,7 +313,7 @@ pub(super) fn crease_pass(
     for w in rows.into_iter().flatten() {
         *reads += 2;
         if let Some((k, c)) = w {
-            dst[k] = c;
+            img[k] = c;
             done[k] = true;
         }
     }

@@ -65,6 +65,43 @@ impl SecondDiffs<'_> {
     }
 }
 
+impl SecondDiffs<'_> {
+    /// `d2x` of row `y` of the `w`-wide z-buffer `z` into `out` (`w` long): the values of
+    /// [`SecondDiffs::dx`], a row at a time.
+    pub fn dx_row(&self, z: &[u32], w: usize, y: usize, out: &mut [i32]) {
+        match self {
+            SecondDiffs::Kept(d, _) => out.copy_from_slice(&d[y * w..(y + 1) * w]),
+            SecondDiffs::FinalZ => {
+                let r = &z[y * w..(y + 1) * w];
+                let at = |x: usize| {
+                    r[(x + 1).min(w - 1)] as i32 + r[x.saturating_sub(1)] as i32 - 2 * r[x] as i32
+                };
+                // The borders replicate; between them, the three pixels around each.
+                out[0] = at(0);
+                out[w - 1] = at(w - 1);
+                for (o, t) in out[1..].iter_mut().zip(r.windows(3)) {
+                    *o = t[2] as i32 + t[0] as i32 - 2 * t[1] as i32;
+                }
+            }
+        }
+    }
+
+    /// `d2y` of row `y` of the `w × h` z-buffer `z` into `out` (`w` long): the values of
+    /// [`SecondDiffs::dy`], a row at a time.
+    pub fn dy_row(&self, z: &[u32], w: usize, h: usize, y: usize, out: &mut [i32]) {
+        match self {
+            SecondDiffs::Kept(_, d) => out.copy_from_slice(&d[y * w..(y + 1) * w]),
+            SecondDiffs::FinalZ => {
+                let row = |y: usize| &z[y * w..(y + 1) * w];
+                let (up, r, dn) = (row(y.saturating_sub(1)), row(y), row((y + 1).min(h - 1)));
+                for (o, ((&a, &b), &c)) in out.iter_mut().zip(up.iter().zip(r).zip(dn)) {
+                    *o = c as i32 + a as i32 - 2 * b as i32;
+                }
+            }
+        }
+    }
+}
+
 /// Edge bits between pixels and their class.
 pub struct Edges {
     /// Width.
@@ -127,27 +164,44 @@ pub fn detect_edges_with(
     };
     // Gathered per boundary, so rows are independent: the boundary between P and its
     // neighbour Q = P + (dx, dy) is an edge when P marks it forward or Q backward, of
-    // the class of the pair (P, Q).
+    // the class of the pair (P, Q). Each row first finds which of its pixels (and of the
+    // next row's) exceed Zth, so that only boundaries next to such a pixel are looked at.
     ex.par_chunks_mut(w)
         .zip(ey.par_chunks_mut(w))
         .enumerate()
-        .for_each(|(y, (exr, eyr))| {
-            for x in 0..w {
-                let (xi, yi) = (x as i64, y as i64);
-                if x + 1 < w
-                    && ((over(d2.dx(z, w, x, y)) && forward(xi, yi, 1, 0))
-                        || (over(d2.dx(z, w, x + 1, y)) && !forward(xi + 1, yi, 1, 0)))
-                {
-                    exr[x] = class(at(xi, yi), at(xi + 1, yi));
+        .for_each_init(
+            || [vec![0; w], vec![0; w], vec![0; w]],
+            |[dx, dy, dy1], (y, (exr, eyr))| {
+                d2.dx_row(z, w, y, dx);
+                d2.dy_row(z, w, h, y, dy);
+                if y + 1 < h {
+                    d2.dy_row(z, w, h, y + 1, dy1);
                 }
-                if y + 1 < h
-                    && ((over(d2.dy(z, w, h, x, y)) && forward(xi, yi, 0, 1))
-                        || (over(d2.dy(z, w, h, x, y + 1)) && !forward(xi, yi + 1, 0, 1)))
-                {
-                    eyr[x] = class(at(xi, yi), at(xi, yi + 1));
+                let yi = y as i64;
+                for x in 0..w {
+                    if !(over(dx[x])
+                        || over(dy[x])
+                        || (x + 1 < w && over(dx[x + 1]))
+                        || (y + 1 < h && over(dy1[x])))
+                    {
+                        continue;
+                    }
+                    let xi = x as i64;
+                    if x + 1 < w
+                        && ((over(dx[x]) && forward(xi, yi, 1, 0))
+                            || (over(dx[x + 1]) && !forward(xi + 1, yi, 1, 0)))
+                    {
+                        exr[x] = class(at(xi, yi), at(xi + 1, yi));
+                    }
+                    if y + 1 < h
+                        && ((over(dy[x]) && forward(xi, yi, 0, 1))
+                            || (over(dy1[x]) && !forward(xi, yi + 1, 0, 1)))
+                    {
+                        eyr[x] = class(at(xi, yi), at(xi, yi + 1));
+                    }
                 }
-            }
-        });
+            },
+        );
     if p.normals {
         match (p.normal_source, stored) {
             (NormalSource::Stored, Some(nb)) => {
