@@ -2,7 +2,7 @@
 //! not call for (no shadow stage without shadows, no array without a reason for it), and
 //! nothing the plan leaves out.
 
-use pixelproc_sim::pipeline::render;
+use pixelproc_sim::pipeline::{render, AaReport};
 use pixelproc_sim::plan::{plan, AaKind, AaSpec, Aov, Effects, Overrides, Stage};
 use pixelproc_sim::scene::load_builtin;
 
@@ -47,4 +47,33 @@ fn a_render_runs_exactly_the_planned_stages() {
         with_shadows += casters;
     }
     assert!(with_shadows >= 3, "the default scene casts shadows");
+}
+
+/// A method's counters are divided by the frame's pixels, whichever path the pipeline
+/// takes (the post-process of a shadowed baseline runs outside the common entry point):
+/// per pixel, with and without shadows.
+#[test]
+fn every_methods_counters_count_the_frames_pixels() {
+    let ls = load_builtin("default").unwrap();
+    let pixels = ls.scene.width as u64 * ls.scene.height as u64;
+    for kind in [
+        AaKind::Multiscan,
+        AaKind::Corner,
+        AaKind::PostFx,
+        AaKind::Ssaa,
+    ] {
+        for no_shadows in [false, true] {
+            let ov = Overrides {
+                aa: Some(AaSpec::default_for(kind)),
+                no_shadows,
+                ..Default::default()
+            };
+            let fx = Effects::resolve(&ls, &ov).unwrap();
+            let Some(AaReport::Other(st)) = render(&ls, &fx).unwrap().aa else {
+                panic!("{kind:?}: no counters");
+            };
+            assert_eq!(st.pixels, pixels, "{kind:?}, no_shadows {no_shadows}");
+            assert!(st.reads_per_pixel() < 100.0, "{kind:?}: {st:?}");
+        }
+    }
 }
