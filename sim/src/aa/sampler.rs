@@ -353,46 +353,115 @@ fn fill_samples<T>(
 {
     let narrow = |v: i128| T::try_from(v).ok().expect("checked by fits");
     let (mut zacc, dz) = (narrow(z), narrow(dz));
-    /// The colour planes once a sample is written: in `i64` where every value fits.
-    enum Cols {
-        Narrow([(i64, i64); 3]),
-        Wide([(i128, i128); 3]),
-    }
-    /// `clamp((C + k·dC) >> 32)` per channel, in `U`.
-    fn at<U>(cc: &[(U, U); 3], k: U) -> [u32; 3]
-    where
-        U: Copy
-            + std::ops::Add<Output = U>
-            + std::ops::Mul<Output = U>
-            + std::ops::Shr<u32, Output = U>
-            + Into<i128>,
-    {
-        cc.map(|(c, d)| ((c + k * d) >> 32).into().clamp(0, (255 << 12) + 4095) as u32)
-    }
-    let mut cols = None;
-    for (k, ((zb, c), ti)) in zr
-        .iter_mut()
-        .zip(cr.iter_mut())
-        .zip(tr.iter_mut())
-        .enumerate()
-    {
+    // Up to the first sample that passes, depths only.
+    let mut k0 = zr.len();
+    for (k, zb) in zr.iter_mut().enumerate() {
         let zv = zacc.shr(20).into() as i64;
         zacc = zacc + dz;
         if depth::passes(zv, *zb, decal) {
             *zb = zv;
-            *ti = idx;
-            let cols = cols.get_or_insert_with(|| {
-                let cc = colours();
-                if cc.iter().all(|&p| fits(p)) {
-                    Cols::Narrow(cc.map(|(v, d)| (v as i64, d as i64)))
+            k0 = k;
+            break;
+        }
+    }
+    if k0 == zr.len() {
+        return;
+    }
+    let cc = colours();
+    let rest = Rest {
+        k0,
+        zacc,
+        dz,
+        decal,
+        idx,
+    };
+    // The colour planes are linear in `k`: when their values at both ends of the slices
+    // lie in range, so does every value between, and the clamp cannot act.
+    let last = zr.len() as i128 - 1;
+    let in_range = cc.iter().all(|&(c, d)| {
+        let ends = [c >> 32, (c + last * d) >> 32];
+        ends.iter().all(|e| (0..=COLOUR_MAX as i128).contains(e))
+    });
+    let out = (zr, cr, tr);
+    match (cc.iter().all(|&p| fits(p)), in_range) {
+        (true, true) => rest.fill::<i64, false>(narrow_colours(cc), out),
+        (true, false) => rest.fill::<i64, true>(narrow_colours(cc), out),
+        (false, true) => rest.fill::<i128, false>(cc, out),
+        (false, false) => rest.fill::<i128, true>(cc, out),
+    }
+}
+
+/// The largest Q8.12 colour value.
+const COLOUR_MAX: i64 = (255 << 12) + 4095;
+
+/// Colour planes whose every value fits `i64` ([`fill_range`]'s test), narrowed.
+fn narrow_colours(cc: [(i128, i128); 3]) -> [(i64, i64); 3] {
+    cc.map(|(c, d)| (c as i64, d as i64))
+}
+
+/// The rest of a triangle's samples on one lattice row from the first that passed
+/// (`k0`, already written but for its colours and index), `zacc` the depth sum of the
+/// next.
+struct Rest<T> {
+    k0: usize,
+    zacc: T,
+    dz: T,
+    decal: bool,
+    idx: i32,
+}
+
+impl<T> Rest<T>
+where
+    T: Copy + std::ops::Add<Output = T> + std::ops::Shr<u32, Output = T> + Into<i128>,
+{
+    /// Writes sample `k0`'s index and colours, then tests and writes the samples after
+    /// it; colours `(C + k·dC) >> 32` in `U`, clamped when `CLAMP` (else every value is
+    /// known to lie in range).
+    #[inline(always)]
+    fn fill<U, const CLAMP: bool>(
+        self,
+        cc: [(U, U); 3],
+        (zr, cr, tr): (&mut [i64], &mut [[u32; 3]], &mut [i32]),
+    ) where
+        U: Copy
+            + std::ops::Add<Output = U>
+            + std::ops::Mul<Output = U>
+            + std::ops::Shr<u32, Output = U>
+            + Into<i128>
+            + TryFrom<usize>,
+    {
+        let at = |k: usize| -> [u32; 3] {
+            let k = U::try_from(k).ok().expect("a row's length fits");
+            cc.map(|(c, d)| {
+                let v: i128 = ((c + k * d) >> 32).into();
+                if CLAMP {
+                    v.clamp(0, COLOUR_MAX as i128) as u32
                 } else {
-                    Cols::Wide(cc)
+                    v as u32
                 }
-            });
-            *c = match cols {
-                Cols::Narrow(cc) => at(cc, k as i64),
-                Cols::Wide(cc) => at(cc, k as i128),
-            };
+            })
+        };
+        let Rest {
+            k0,
+            mut zacc,
+            dz,
+            decal,
+            idx,
+        } = self;
+        tr[k0] = idx;
+        cr[k0] = at(k0);
+        let rest = zr[k0 + 1..]
+            .iter_mut()
+            .zip(&mut cr[k0 + 1..])
+            .zip(&mut tr[k0 + 1..]);
+        for (k, ((zb, c), ti)) in (k0 + 1..).zip(rest) {
+            let zv = zacc.shr(20).into() as i64;
+            zacc = zacc + dz;
+            if depth::passes(zv, *zb, decal) {
+                *zb = zv;
+                *ti = idx;
+                *c = at(k);
+            }
         }
     }
 }
@@ -431,7 +500,7 @@ mod tests {
     #[test]
     fn narrowed_sums_are_the_closed_form() {
         let mut rng = Rng(0x5a3_91e5);
-        let (mut narrow, mut wide) = (0, 0);
+        let (mut narrow, mut wide, mut unclamped) = (0, 0, 0);
         for case in 0..20_000 {
             let len = 1 + (rng.next_u64() % 40) as usize;
             let value = |rng: &mut Rng| -> (i128, i128) {
@@ -449,8 +518,18 @@ mod tests {
                 let d = (rng.next_u64() as i128 % (2 * reach + 1)) - reach;
                 (v, if case % 7 == 0 { d * 3 } else { d })
             };
+            // Colours that stay in 0..=255.4095 over the row (the clamp cannot act), in
+            // a quarter of the cases.
+            let colour = |rng: &mut Rng| -> (i128, i128) {
+                if case % 4 == 1 {
+                    let v = ((rng.next_u64() % (200 << 12)) as i128 + 4096) << 32;
+                    (v, (rng.next_u64() % (1 << 33)) as i128 - (1 << 32))
+                } else {
+                    value(rng)
+                }
+            };
             let z = value(&mut rng);
-            let cc = [value(&mut rng), value(&mut rng), value(&mut rng)];
+            let cc = [colour(&mut rng), colour(&mut rng), colour(&mut rng)];
             let limit = |(v, d): (i128, i128)| {
                 let e = v + (len as i128 - 1) * d;
                 v.abs() < 1 << 62 && d.abs() < 1 << 62 && e.abs() < 1 << 62
@@ -459,6 +538,15 @@ mod tests {
                 narrow += 1;
             } else {
                 wide += 1;
+            }
+            // Colour planes that never leave 0..=255.4095 over the row (no clamp).
+            let last = len as i128 - 1;
+            if cc.iter().all(|&(c, d)| {
+                [c, c + last * d]
+                    .iter()
+                    .all(|e| (0..=(255 << 12) + 4095).contains(&(e >> 32)))
+            }) {
+                unclamped += 1;
             }
             let tri = (case, rng.next_u64().is_multiple_of(4));
             // A row already holding depths around the plane's, so that some samples pass.
@@ -479,6 +567,9 @@ mod tests {
                 "case {case}: z {z:?}, colours {cc:?}"
             );
         }
-        assert!(narrow > 2000 && wide > 2000, "{narrow} narrow, {wide} wide");
+        assert!(
+            narrow > 2000 && wide > 2000 && unclamped > 1000,
+            "{narrow} narrow, {wide} wide, {unclamped} unclamped"
+        );
     }
 }
