@@ -78,6 +78,7 @@ pub fn render_with(
                 rgb: vec![[0; 3]; band],
                 tri: vec![0; band],
                 counts: Vec::new(),
+                acc: Vec::new(),
             },
             |buf, (j, (rgb_row, vis_row))| {
                 let mut evals = 0;
@@ -117,6 +118,8 @@ struct Rows {
     rgb: Vec<[u32; 3]>,
     tri: Vec<i32>,
     counts: Vec<(i32, u32)>,
+    /// Per pixel of the row, the sums of its samples' Q8.12 colours.
+    acc: Vec<[u64; 3]>,
 }
 
 impl Rows {
@@ -126,19 +129,33 @@ impl Rows {
         let w = rgb.len() / 3;
         let nx = w * k;
         let n = (k * k) as u64;
-        for (i, out) in rgb.chunks_exact_mut(3).enumerate() {
-            let mut acc = [0u64; 3];
-            for b in 0..k {
-                let s0 = b * nx + i * k;
-                for c in &self.rgb[s0..s0 + k] {
-                    for (a, &v) in acc.iter_mut().zip(c) {
-                        *a += v as u64;
+        // Sample row by sample row, each pixel's `k` samples added to its sums.
+        let acc = &mut self.acc;
+        acc.clear();
+        acc.resize(w, [0; 3]);
+        for row in self.rgb[..k * nx].chunks_exact(nx) {
+            for (a, px) in acc.iter_mut().zip(row.chunks_exact(k)) {
+                for c in px {
+                    for ch in 0..3 {
+                        a[ch] += c[ch] as u64;
                     }
                 }
             }
-            for (o, a) in out.iter_mut().zip(acc) {
-                *o = super::div_q12(a, n).min(255) as u8;
+        }
+        fn put(acc: &[[u64; 3]], rgb: &mut [u8], norm: impl Fn(u64) -> u64) {
+            for (out, a) in rgb.chunks_exact_mut(3).zip(acc) {
+                for ch in 0..3 {
+                    out[ch] = norm(a[ch]).min(255) as u8;
+                }
             }
+        }
+        // `⌊Σ / (k²·2^12)⌋` (`super::div_q12`), the test of its divisor made once.
+        if n.is_power_of_two() {
+            let sh = 12 + n.trailing_zeros();
+            put(acc, rgb, |a| a >> sh);
+        } else {
+            let d = n * 4096;
+            put(acc, rgb, |a| a / d);
         }
         let Some(visible) = visible else {
             return;
