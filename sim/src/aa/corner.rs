@@ -718,8 +718,8 @@ mod tests {
                             let mut owners = Vec::new();
                             for &(l, a, b, wt) in &smp {
                                 let s = bufs[l].idx(a, b);
-                                for ch in 0..3 {
-                                    acc[ch] += wt as u64 * bufs[l].rgb[s][ch] as u64;
+                                for (a, &c) in acc.iter_mut().zip(&bufs[l].rgb[s]) {
+                                    *a += wt as u64 * c as u64;
                                 }
                                 owners.push((bufs[l].tri[s], wt));
                             }

@@ -137,18 +137,6 @@ pub struct AaFrame {
     pub stats: AaStats,
 }
 
-/// `⌊a / (d·2^12)⌋` for `d > 0`: the truncating resolve of a weighted sum of Q8.12
-/// colours by a weight total `d`, with a shift instead of a division when `d` is a power of
-/// two (the same quotient: `⌊⌊a / 2^12⌋ / d⌋ = ⌊a / (d·2^12)⌋`).
-#[inline]
-pub(crate) fn div_q12(a: u64, d: u64) -> u64 {
-    if d.is_power_of_two() {
-        a >> (12 + d.trailing_zeros())
-    } else {
-        a / (d * 4096)
-    }
-}
-
 /// Checks the screen size.
 pub(crate) fn check_screen(width: u32, height: u32) -> Result<(), AaError> {
     if width == 0 || height == 0 || width > 4096 || height > 4096 {

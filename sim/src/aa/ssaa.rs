@@ -149,7 +149,8 @@ impl Rows {
                 }
             }
         }
-        // `⌊Σ / (k²·2^12)⌋` (`super::div_q12`), the test of its divisor made once.
+        // `⌊Σ / (k²·2^12)⌋`: a shift when k² is a power of two (`⌊⌊Σ / 2^12⌋ / k²⌋`
+        // is the same quotient), else a division; chosen once per row.
         if n.is_power_of_two() {
             let sh = 12 + n.trailing_zeros();
             put(acc, rgb, |a| a >> sh);
