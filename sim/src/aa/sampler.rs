@@ -257,10 +257,23 @@ impl<'a> LatticeRaster<'a> {
     /// Rasterizes lattice row `b` into `zr`, `cr`, `tr` (each `nx` long), which it first
     /// sets to the background; returns the depth evaluations made.
     pub fn row(&self, b: u32, zr: &mut [i64], cr: &mut [[u32; 3]], tr: &mut [i32]) -> u64 {
+        DEPTH_BOUNDS.with(|hz| self.row_with(b, zr, cr, tr, &mut hz.borrow_mut()))
+    }
+
+    /// [`LatticeRaster::row`] with the row's depth bounds `hz` (scratch).
+    fn row_with(
+        &self,
+        b: u32,
+        zr: &mut [i64],
+        cr: &mut [[u32; 3]],
+        tr: &mut [i32],
+        hz: &mut DepthBounds,
+    ) -> u64 {
         let l = &self.lat;
         zr.fill(i64::MAX);
         cr.fill(self.bgq);
         tr.fill(-1);
+        hz.reset(zr.len());
         let b = b as i64;
         // Sample y in Q.8·den.
         let yq = 256 * (b * l.sy + l.oy);
@@ -292,10 +305,17 @@ impl<'a> LatticeRaster<'a> {
             }
             evals += (hi - lo + 1) as u64;
             let sp = &self.steps[ti as usize];
+            let (z0, dz) = (t.z.lattice_value(l, b), sp[0]);
+            // The samples at the range's ends that cannot pass the depth test are left
+            // out a block at a time (every covered sample still counts as evaluated).
+            let depth = |a: i64| (z0 + a as i128 * dz) >> 20;
+            (lo, hi) = hz.trim(zr, (lo, hi), (depth(lo), depth(hi)), t.decal);
+            if lo > hi {
+                continue;
+            }
             // Each plane's values at the ends of `lo..=hi`: linear in `a`, so every value
             // between lies between them, and where all fit 62 bits the same sums run in
             // `i64` (the colours only once a sample is written).
-            let (z0, dz) = (t.z.lattice_value(l, b), sp[0]);
             let z = (z0 + lo as i128 * dz, dz);
             let colours = || {
                 [0, 1, 2].map(|ch| {
@@ -305,32 +325,113 @@ impl<'a> LatticeRaster<'a> {
             };
             let (lo, hi) = (lo as usize, hi as usize);
             let out = (&mut zr[lo..=hi], &mut cr[lo..=hi], &mut tr[lo..=hi]);
-            fill_range(z, colours, out, (t.idx, t.decal));
+            if fill_range(z, colours, out, (t.idx, t.decal)) {
+                hz.touch(lo, hi);
+            }
         }
         evals
+    }
+}
+
+/// Samples per block of [`DepthBounds`].
+const DEPTH_BLOCK: usize = 32;
+
+thread_local! {
+    /// Each thread's [`DepthBounds`] (the rows it rasterizes reuse it).
+    static DEPTH_BOUNDS: std::cell::RefCell<DepthBounds> = Default::default();
+}
+
+/// Per block of [`DEPTH_BLOCK`] samples of one lattice row, an upper bound of the depths
+/// stored there: exact once recomputed, and kept until a triangle writes into the block,
+/// after which it is recomputed when next asked for. A triangle whose smallest depth on
+/// the row is not in front of a block's bound (`≥`, or `>` for a decal, the depth test's
+/// opposite) passes at no sample of that block.
+#[derive(Default)]
+struct DepthBounds {
+    max: Vec<i64>,
+    stale: Vec<bool>,
+}
+
+impl DepthBounds {
+    /// A row of `n` samples, all empty (`i64::MAX`).
+    fn reset(&mut self, n: usize) {
+        let nb = n.div_ceil(DEPTH_BLOCK);
+        self.max.clear();
+        self.max.resize(nb, i64::MAX);
+        self.stale.clear();
+        self.stale.resize(nb, false);
+    }
+
+    /// Samples `lo ..= hi` were written.
+    fn touch(&mut self, lo: usize, hi: usize) {
+        self.stale[lo / DEPTH_BLOCK..=hi / DEPTH_BLOCK].fill(true);
+    }
+
+    /// Whether no sample of block `k` of `zr` passes the depth test of a triangle whose
+    /// depths on the row are all at least `zmin`.
+    fn hides(&mut self, zr: &[i64], k: usize, zmin: i128, decal: bool) -> bool {
+        if self.stale[k] {
+            let s = k * DEPTH_BLOCK;
+            let e = (s + DEPTH_BLOCK).min(zr.len());
+            self.max[k] = zr[s..e].iter().copied().max().unwrap_or(i64::MAX);
+            self.stale[k] = false;
+        }
+        let bound = self.max[k] as i128;
+        if decal {
+            zmin > bound
+        } else {
+            zmin >= bound
+        }
+    }
+
+    /// `lo ..= hi` without the blocks at either end where no sample can pass, `ends`
+    /// the triangle's depths at `lo` and `hi` (the per-sample depths are `(Z + a·dZ) >>
+    /// 20`, linear before the shift, so every depth between lies between them).
+    fn trim(
+        &mut self,
+        zr: &[i64],
+        (mut lo, mut hi): (i64, i64),
+        ends: (i128, i128),
+        decal: bool,
+    ) -> (i64, i64) {
+        // Depths beyond 64 bits wrap where the row stores them: no bound is claimed.
+        let fits = |v: i128| i64::try_from(v).is_ok();
+        if !fits(ends.0) || !fits(ends.1) {
+            return (lo, hi);
+        }
+        let zmin = ends.0.min(ends.1);
+        let block = DEPTH_BLOCK as i64;
+        while lo <= hi && self.hides(zr, (lo / block) as usize, zmin, decal) {
+            lo = (lo / block + 1) * block;
+        }
+        while lo <= hi && self.hides(zr, (hi / block) as usize, zmin, decal) {
+            hi = (hi / block) * block - 1;
+        }
+        (lo, hi)
     }
 }
 
 /// A triangle's samples on one lattice row, [`fill_samples`] over the slices `out`
 /// (depths, colours, triangle indices), `z` and `colours` the planes' values at the first
 /// sample and their steps: in `i64` where the values at both ends (so every value
-/// between) and the steps fit 62 bits, else in `i128`.
+/// between) and the steps fit 62 bits, else in `i128`. Returns whether a sample was
+/// written.
 #[inline(always)]
 fn fill_range(
     z: (i128, i128),
     colours: impl Fn() -> [(i128, i128); 3],
     out: (&mut [i64], &mut [[u32; 3]], &mut [i32]),
     tri: (i32, bool),
-) {
+) -> bool {
     let span = out.0.len().saturating_sub(1) as i128;
     let fits = |(v, d): (i128, i128)| {
         const LIM: i128 = 1 << 62;
         v.abs() < LIM && d.abs() < LIM && (v + span * d).abs() < LIM
     };
     if fits(z) {
-        fill_samples::<i64>(z, colours, &fits, out, tri);
+        fill_samples::<i64>(z, colours, &fits, out, tri)
     } else {
-        fill_samples::<i128>(z, colours, &fits, out, tri);
+        fill_samples::<i128>(z, colours, &fits, out, tri)
     }
 }
 
@@ -339,7 +440,7 @@ fn fill_range(
 /// colours `clamp((C + k·dC) >> 32)` written, `k` the sample's offset in the slices (the
 /// planes' values `Z`, `C` at `k = 0`). Depth sums run in `T`; the colours, set up by
 /// `colours` at the first write, in `i64` where `fits` says all their values fit, else in
-/// `i128`.
+/// `i128`. Returns whether a sample was written.
 #[inline(always)]
 fn fill_samples<T>(
     (z, dz): (i128, i128),
@@ -347,7 +448,8 @@ fn fill_samples<T>(
     fits: &impl Fn((i128, i128)) -> bool,
     (zr, cr, tr): (&mut [i64], &mut [[u32; 3]], &mut [i32]),
     (idx, decal): (i32, bool),
-) where
+) -> bool
+where
     T: Copy + std::ops::Add<Output = T> + std::ops::Shr<u32, Output = T> + Into<i128>,
     T: TryFrom<i128>,
 {
@@ -365,7 +467,7 @@ fn fill_samples<T>(
         }
     }
     if k0 == zr.len() {
-        return;
+        return false;
     }
     let cc = colours();
     let rest = Rest {
@@ -389,6 +491,7 @@ fn fill_samples<T>(
         (false, true) => rest.fill::<i128, false>(cc, out),
         (false, false) => rest.fill::<i128, true>(cc, out),
     }
+    true
 }
 
 /// The largest Q8.12 colour value.
@@ -492,6 +595,221 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Every lattice row rasterized (ranges from the edges, the depth bounds that leave
+    /// out hidden blocks, narrowed sums) holds what a z-buffer written sample by sample
+    /// holds: for each sample, every prepared triangle in scene order, inside its three
+    /// edges, depth `(V(0, b) + a·step) >> 20` tested against the stored one, colours
+    /// clamped. Scenes of large quads drawn front to back and back to front (so that
+    /// whole blocks are hidden), equal depths, decals on their hosts and small triangles,
+    /// on the lattices of SSAA 2×2 and 3×3 and of the corner pattern.
+    #[test]
+    fn rows_equal_a_sample_by_sample_z_buffer() {
+        use crate::setup::HostPlane;
+        let mut rng = Rng(0x51_dec0);
+        let (w, h) = (47u32, 23u32);
+        let q = |x: f64| (x * 256.0) as i32;
+        let mut hidden_rows = 0;
+        for round in 0..12 {
+            let mut tris = Vec::new();
+            let colour =
+                |rng: &mut Rng| [0; 3].map(|_| ((rng.next_u64() % 256) << 12) as u32 + 2048);
+            // Walls across the screen at depths rising or falling with the scene order.
+            for k in 0..6u32 {
+                let z = if round % 2 == 0 {
+                    1000 + 5000 * k
+                } else {
+                    40000 - 5000 * k
+                };
+                let (x0, x1) = (-2.0 + k as f64, w as f64 + 2.0 - k as f64);
+                let (y0, y1) = (-1.0, h as f64 + 1.0);
+                let c = [colour(&mut rng), colour(&mut rng), colour(&mut rng)];
+                let tilt = (rng.next_u64() % 400) as u32;
+                for v in [
+                    [[x0, y0], [x1, y0], [x1, y1]],
+                    [[x0, y0], [x1, y1], [x0, y1]],
+                ] {
+                    tris.push(SnappedTri {
+                        v: v.map(|p| [q(p[0]), q(p[1])]),
+                        z: [z, z + tilt, z],
+                        c,
+                        ..Default::default()
+                    });
+                }
+            }
+            // A decal on the nearest wall's plane, and a copy of a wall (equal depths).
+            let host = tris[if round % 2 == 0 { 0 } else { 10 }];
+            tris.push(SnappedTri {
+                v: [[q(5.0), q(4.0)], [q(30.0), q(6.5)], [q(12.0), q(20.0)]],
+                host: Some(HostPlane {
+                    v: host.v,
+                    z: host.z,
+                }),
+                c: [colour(&mut rng); 3],
+                z: host.z,
+                ..Default::default()
+            });
+            tris.push(tris[4]);
+            // Small triangles in between.
+            for _ in 0..30 {
+                let (cx, cy) = (
+                    (rng.next_u64() % w as u64) as f64,
+                    (rng.next_u64() % h as u64) as f64,
+                );
+                let mut p = || {
+                    [
+                        cx + (rng.next_u64() % 1200) as f64 / 100.0 - 6.0,
+                        cy + (rng.next_u64() % 1200) as f64 / 100.0 - 6.0,
+                    ]
+                };
+                let v = [p(), p(), p()];
+                let z = [0; 3].map(|_| 500 + (rng.next_u64() % 40000) as u32);
+                tris.push(SnappedTri {
+                    v: v.map(|p| [q(p[0]), q(p[1])]),
+                    z,
+                    c: [colour(&mut rng), colour(&mut rng), colour(&mut rng)],
+                    ..Default::default()
+                });
+            }
+            let ssaa = |k: u32| Lattice {
+                nx: w * k,
+                ny: h * k,
+                sx: 2,
+                sy: 2,
+                ox: 1,
+                oy: 1,
+                den: 2 * k as i64,
+            };
+            let corner = Lattice {
+                nx: w / 2 + 1,
+                ny: h / 2 + 1,
+                sx: 12,
+                sy: 12,
+                ox: 5,
+                oy: 5,
+                den: 6,
+            };
+            let bg = [1, 2, 3];
+            let st = prepare_all(&tris);
+            for lat in [ssaa(2), ssaa(3), corner] {
+                let got = rasterize(&tris, &[lat], bg).pop().unwrap();
+                let bgq = bg.map(|v| ((v as u32) << 12) + 2048);
+                for b in 0..lat.ny as i64 {
+                    let yq = 256 * (b * lat.sy + lat.oy);
+                    for a in 0..lat.nx as i64 {
+                        let xq = 256 * (a * lat.sx + lat.ox);
+                        let (mut z, mut c, mut owner) = (i64::MAX, bgq, -1);
+                        for t in &st.0 {
+                            let e = |ed: &EdgeFn| ed.a * xq + ed.b * yq + ed.c * lat.den;
+                            if !t.edges.iter().all(|ed| ed.inside(e(ed))) {
+                                continue;
+                            }
+                            let at = |p: &Plane| {
+                                p.lattice_value(&lat, b) + a as i128 * p.lattice_step(&lat)
+                            };
+                            let zv = (at(&t.z) >> 20) as i64;
+                            if depth::passes(zv, z, t.decal) {
+                                z = zv;
+                                owner = t.idx;
+                                c =
+                                    t.c.each_ref()
+                                        .map(|p| (at(p) >> 32).clamp(0, (255 << 12) + 4095) as u32);
+                            }
+                        }
+                        let s = got.idx(a as u32, b as u32);
+                        assert_eq!(
+                            (got.z[s], got.rgb[s], got.tri[s]),
+                            (z, c, owner),
+                            "round {round}, lattice {lat:?}, sample ({a}, {b})"
+                        );
+                    }
+                }
+            }
+            // Rows where the depth bounds left a wall out.
+            let lr = LatticeRaster::new(&st, &ssaa(2), bg);
+            let n = 2 * w as usize;
+            let (mut z, mut c, mut t) = (vec![0; n], vec![[0; 3]; n], vec![0; n]);
+            for b in 0..2 * h {
+                let mut hz = DepthBounds::default();
+                lr.row_with(b, &mut z, &mut c, &mut t, &mut hz);
+                hidden_rows += hz.max.iter().any(|&m| m < i64::MAX) as usize;
+            }
+        }
+        assert!(hidden_rows > 100, "{hidden_rows} rows with depth bounds");
+    }
+
+    /// The depth bounds trim exactly the blocks at a range's ends where no sample passes
+    /// the depth test for the triangle's nearest depth (the best any of its samples can
+    /// do): random rows with repeated depths, ranges, nearest depths at, just below and
+    /// just above a block's largest depth, decals and not, bounds stale and fresh.
+    #[test]
+    fn depth_bounds_trim_the_blocks_no_sample_can_pass() {
+        let mut rng = Rng(0xb0_0d5);
+        let (mut trimmed, mut kept) = (0, 0);
+        for case in 0..4000 {
+            let n = 1 + (rng.next_u64() % 150) as usize;
+            let zr: Vec<i64> = (0..n)
+                .map(|_| match rng.next_u64() % 60 {
+                    0 => i64::MAX,
+                    _ => 100 + (rng.next_u64() % 4) as i64,
+                })
+                .collect();
+            let mut hz = DepthBounds::default();
+            hz.reset(n);
+            if case % 2 == 0 {
+                hz.touch(0, n - 1);
+            } else {
+                // Fresh bounds, as the recomputation gives them.
+                for (k, m) in hz.max.iter_mut().enumerate() {
+                    *m = *zr[k * DEPTH_BLOCK..((k + 1) * DEPTH_BLOCK).min(n)]
+                        .iter()
+                        .max()
+                        .unwrap();
+                }
+            }
+            let a = (rng.next_u64() % n as u64) as i64;
+            let b = (rng.next_u64() % n as u64) as i64;
+            let (lo, hi) = (a.min(b), a.max(b));
+            let zmin = 99 + (rng.next_u64() % 7) as i128;
+            let decal = rng.next_u64().is_multiple_of(3);
+            let ends = if rng.next_u64().is_multiple_of(2) {
+                (zmin, zmin + 5)
+            } else {
+                (zmin + 5, zmin)
+            };
+            let got = hz.trim(&zr, (lo, hi), ends, decal);
+            // A block is left out when none of its samples would take the nearest depth.
+            let hopeless = |k: i64| {
+                let s = (k as usize) * DEPTH_BLOCK;
+                !zr[s..(s + DEPTH_BLOCK).min(n)]
+                    .iter()
+                    .any(|&zb| depth::passes(zmin, zb as i128, decal))
+            };
+            let blk = DEPTH_BLOCK as i64;
+            let (mut wlo, mut whi) = (lo, hi);
+            while wlo <= whi && hopeless(wlo / blk) {
+                wlo = (wlo / blk + 1) * blk;
+            }
+            while wlo <= whi && hopeless(whi / blk) {
+                whi = whi / blk * blk - 1;
+            }
+            let want = if wlo > whi { None } else { Some((wlo, whi)) };
+            let got_some = (got.0 <= got.1).then_some(got);
+            assert_eq!(
+                got_some, want,
+                "case {case}: {zr:?} {lo}..={hi} zmin {zmin} decal {decal}"
+            );
+            if got != (lo, hi) {
+                trimmed += 1;
+            } else {
+                kept += 1;
+            }
+        }
+        assert!(
+            trimmed > 500 && kept > 500,
+            "{trimmed} trimmed, {kept} kept"
+        );
     }
 
     /// `fill_range` (64-bit sums where they fit) writes what the closed form in 128 bits
