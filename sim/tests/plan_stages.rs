@@ -76,4 +76,23 @@ fn every_methods_counters_count_the_frames_pixels() {
             assert!(st.reads_per_pixel() < 100.0, "{kind:?}: {st:?}");
         }
     }
+    // The common entry point, every method (the baseline and the A-buffer too).
+    let tris = pixelproc_sim::frontend::project(&ls).unwrap().tris;
+    let (w, h) = (ls.scene.width, ls.scene.height);
+    for kind in [
+        AaKind::None,
+        AaKind::Abuffer,
+        AaKind::Multiscan,
+        AaKind::Corner,
+        AaKind::PostFx,
+        AaKind::Ssaa,
+    ] {
+        let ov = Overrides {
+            aa: Some(AaSpec::default_for(kind)),
+            ..Default::default()
+        };
+        let fx = Effects::resolve(&ls, &ov).unwrap();
+        let f = pixelproc_sim::aa::render_aa(&tris, w, h, [0; 3], &fx.aa).unwrap();
+        assert_eq!(f.stats.pixels, pixels, "{kind:?} through render_aa");
+    }
 }

@@ -322,6 +322,7 @@ pub fn render_with(
             depth_evals: evals,
             samples_written: samples,
             sample_reads: reads,
+            pixels: w as u64 * h as u64,
             ..Default::default()
         },
     })

@@ -102,7 +102,9 @@ pub struct AaStats {
     pub samples_written: u64,
     /// Sample-memory (or pixel-memory) reads made by the resolve.
     pub sample_reads: u64,
-    /// Pixels resolved (width × height).
+    /// Pixels resolved (width × height), set by each method where it makes its counters
+    /// (the pipeline reaches the post-process of a shadowed baseline without
+    /// [`render_aa`]).
     pub pixels: u64,
     /// Wall-clock time of [`render_aa`], seconds.
     pub seconds: f64,
@@ -204,13 +206,13 @@ pub fn render_aa_with(
                     samples_written: a.stats.fragments,
                     // The resolve reads each stored fragment once.
                     sample_reads: a.stats.fragments,
+                    pixels: width as u64 * height as u64,
                     ..Default::default()
                 },
             }
         }
     };
     f.stats.seconds = t0.elapsed().as_secs_f64();
-    f.stats.pixels = width as u64 * height as u64;
     Ok(f)
 }
 
@@ -235,6 +237,7 @@ fn render_none(
             depth_evals: evals,
             samples_written: width as u64 * height as u64,
             sample_reads: width as u64 * height as u64,
+            pixels: width as u64 * height as u64,
             ..Default::default()
         },
     })

@@ -293,8 +293,6 @@ pub fn render_with(
             samples_written: (w * h) as u64,
             // z buffer read once per pixel per pass (edges), plus colour reads.
             sample_reads: 2 * (w * h) as u64 + reads,
-            // Set here as well as by `render_aa_with`: the pipeline calls this function
-            // directly when it post-processes a shadowed baseline.
             pixels: (w * h) as u64,
             ..Default::default()
         },

@@ -107,6 +107,7 @@ pub fn render_with(
             depth_evals: evals,
             samples_written: samples,
             sample_reads: samples,
+            pixels: (w * h) as u64,
             ..Default::default()
         },
     })

@@ -449,6 +449,7 @@ pub fn render_with(
     }
     // Pixel memory: each pixel is read once for the final divide.
     stats.sample_reads = w as u64 * height as u64;
+    stats.pixels = w as u64 * height as u64;
     Ok(AaFrame {
         width,
         height,
