@@ -27,7 +27,7 @@ use super::{emit_triangle, FragSetup, Slots};
 use crate::mask::RowMasks;
 use crate::mask_search::{DepthSelect, DepthSelector};
 use crate::raster::{PlaneStepper, RoundDivSteps};
-use pixelproc_formats::abuffer::{saturate_plane, FragPlane, MaskSize};
+use pixelproc_formats::abuffer::{saturate_plane, FragPlane, MaskSize, PLANE_MAX};
 
 /// Fully covered pixels a row needs, in rows' widths, before it looks for hidden
 /// fragments: where surfaces lie fewer layers deep, the tests cost more than the
@@ -308,10 +308,45 @@ fn apart(
     }
     let steps = (q - p + 1) as u64;
     let (tz, oz) = (t.depth_steps(p, j), o.depth_steps(p, j));
+    if steps >= ENDS_MIN {
+        let (tq, oq) = (t.depth_steps(q, j), o.depth_steps(q, j));
+        if let Some(a) = apart_by_ends([tz.value(), tq.value()], [oz.value(), oq.value()], th + oh)
+        {
+            return a;
+        }
+    }
     match (tz.narrow(steps), oz.narrow(steps)) {
         (Some(tz), Some(oz)) => apart_each(tz, th, oz, oh, steps),
         _ => apart_each(tz, th, oz, oh, steps),
     }
+}
+
+/// Pixels a run of [`apart`] needs before its ends are looked at: on a shorter run the
+/// pixel-by-pixel test costs less than the four divisions that give the ends.
+const ENDS_MIN: u64 = 64;
+
+/// [`apart`] from the depths at the two ends of a run alone, where they settle it:
+/// `Some(true)` when the two fragments' ranges (`zc ± half`, `margin` the sum of the
+/// halves) are apart on every pixel of the run, else `None` (not known).
+///
+/// `t` and `o` are the rounded depths (`round_div` of the planes, before
+/// `saturate_plane`) at the first and the last pixel. Rounding half up puts each in
+/// `(v − ½, v + ½]` of its exact plane value `v`, so `d = t − o` lies strictly within 1
+/// of `D = T − O`, which is linear along the row and so between the ends at least its
+/// smaller end value. Hence at every pixel `d > D − 1 ≥ min(D_first, D_last) − 1 >
+/// min(d_first, d_last) − 2`, that is `d ≥ min(d_first, d_last) − 1` (integers), and the
+/// ranges are apart there (`d > margin`) when that bound exceeds `margin`; the same holds
+/// on the other side with the maxima. The rounded values are monotone along the row, so when the four ends lie
+/// inside `saturate_plane`'s range every pixel's does, and the saturation changes
+/// nothing.
+fn apart_by_ends(t: [i128; 2], o: [i128; 2], margin: i64) -> Option<bool> {
+    let lim = PLANE_MAX as i128;
+    if t.iter().chain(&o).any(|v| v.abs() > lim) {
+        return None;
+    }
+    let d = [t[0] - o[0], t[1] - o[1]];
+    let m = margin as i128;
+    (d[0].min(d[1]) - 1 > m || d[0].max(d[1]) + 1 < -m).then_some(true)
 }
 
 /// [`apart`] pixel by pixel: the ranges `zc ± half` of two steppers over `steps` pixels
@@ -343,5 +378,143 @@ fn front_run<Z: PlaneStepper>(front: &mut [i64], mut z: Z, a: i64, run: (i64, i6
     for f in &mut front[run.0 as usize..=run.1 as usize] {
         *f = (*f).min(saturate_plane(z.value()) + half);
         z.advance();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::setup::SnappedTri;
+    use pixelproc_formats::{Z_GEOM_MAX, Z_GEOM_MIN};
+
+    /// The reference of [`apart`]: each pixel's two ranges `zc ± half` computed from the
+    /// planes directly ([`FragSetup::plane_at`]) and compared, pixel by pixel.
+    fn apart_direct(
+        t: &FragSetup,
+        o: &FragSetup,
+        (p, q): (i64, i64),
+        j: i64,
+        size: MaskSize,
+    ) -> bool {
+        let (th, oh) = (t.half_range(size), o.half_range(size));
+        (p..=q).all(|i| {
+            let (a, b) = (t.plane_at(i, j).zc, o.plane_at(i, j).zc);
+            a - th > b + oh || b - oh > a + th
+        })
+    }
+
+    /// `apart` (bounds over the run, then the ends of a long run, then pixel by pixel)
+    /// agrees with the pixel-by-pixel reference on pairs of wide triangles: planes nearly
+    /// parallel, crossing, steep enough to saturate off the triangle, runs from one
+    /// pixel to hundreds; and the ends settle many long runs that the bounds do not.
+    #[test]
+    fn apart_agrees_with_the_pixel_by_pixel_test() {
+        let mut rng = crate::rng::Lcg64(0x0a9a_47e5);
+        let size = MaskSize::S4X4;
+        let (lo, hi) = (Z_GEOM_MIN as f64, Z_GEOM_MAX as f64);
+        let (mut apart_n, mut overlap_n, mut by_ends) = (0, 0, 0);
+        for case in 0..3000 {
+            let base = rng.range(lo, hi);
+            // Depth differences across the triangle from none to the whole range; every
+            // fourth case steep (far beyond the range once extrapolated off the triangle).
+            let spread = match case % 4 {
+                0 => 0.0,
+                1 => rng.range(0.0, 2000.0),
+                2 => rng.range(0.0, 200_000.0),
+                _ => rng.range(0.0, hi - lo),
+            };
+            let tri = |rng: &mut crate::rng::Lcg64, z0: f64| {
+                let v = [
+                    [rng.range(-50.0, 20.0), rng.range(-30.0, 10.0)],
+                    [rng.range(600.0, 900.0), rng.range(-30.0, 40.0)],
+                    [rng.range(100.0, 500.0), rng.range(30.0, 90.0)],
+                ]
+                .map(|p| p.map(|c| (c * 256.0) as i32));
+                let z = [0; 3].map(|_| (z0 + rng.range(-spread, spread)).clamp(lo, hi) as u32);
+                SnappedTri {
+                    v,
+                    z,
+                    ..Default::default()
+                }
+            };
+            let a = tri(&mut rng, base);
+            // The other triangle's depth: on the same plane, near it, or well apart.
+            let gap = [0.0, 3.0, 300.0, 30_000.0][case % 4 / 2 + (case / 4) % 3 % 2 * 2];
+            let z0 = base + rng.range(-gap, gap);
+            let b = tri(&mut rng, z0);
+            let (Some(t), Some(o)) = (
+                FragSetup::new(&a, 0, size).unwrap(),
+                FragSetup::new(&b, 1, size).unwrap(),
+            ) else {
+                continue;
+            };
+            let j = (rng.step() % 40) as i64;
+            let p = (rng.step() % 500) as i64;
+            let q = p + [0, 5, 63, 64, 300][case % 5] + (rng.step() % 50) as i64;
+            let (ta, oa) = (p - (rng.step() % 4) as i64, p - (rng.step() % 4) as i64);
+            let got = apart(
+                (&t, t.depth_steps(ta, j), ta),
+                (&o, o.depth_steps(oa, j), oa),
+                (p, q),
+                j,
+                size,
+            );
+            let want = apart_direct(&t, &o, (p, q), j, size);
+            assert_eq!(got, want, "case {case}: run {p}..={q} of row {j}");
+            if want {
+                apart_n += 1;
+            } else {
+                overlap_n += 1;
+            }
+            let ends = |s: &FragSetup| [s.depth_steps(p, j).value(), s.depth_steps(q, j).value()];
+            let margin = t.half_range(size) + o.half_range(size);
+            if q - p + 1 >= ENDS_MIN as i64 && apart_by_ends(ends(&t), ends(&o), margin).is_some() {
+                by_ends += 1;
+            }
+        }
+        assert!(
+            apart_n > 500 && overlap_n > 500 && by_ends > 300,
+            "{apart_n} apart, {overlap_n} overlapping, {by_ends} settled by the ends"
+        );
+    }
+
+    /// The ends' rule alone, on rounded linear functions with small denominators (where
+    /// rounding moves values most), margins within a few units of their difference and
+    /// values at the edge of `saturate_plane`'s range: whenever it says apart, every pixel
+    /// of the run is apart after rounding and saturation.
+    #[test]
+    fn the_ends_rule_never_misses_an_overlap() {
+        let mut rng = crate::rng::Lcg64(0x0e4d_5a9a);
+        let lim = PLANE_MAX as i128;
+        let (mut said, mut near) = (0, 0);
+        for case in 0..200_000 {
+            let base = [0, lim - 40, -lim + 40][case % 3];
+            let line = |rng: &mut crate::rng::Lcg64| {
+                let c = 1 + (rng.step() % 7) as i128;
+                let b = (rng.step() % 9) as i128 - 4;
+                let a = (base + (rng.step() % 41) as i128 - 20) * c + (rng.step() % 7) as i128;
+                move |x: i128| crate::raster::round_div(a + b * x, c)
+            };
+            let (t, o) = (line(&mut rng), line(&mut rng));
+            let n = 64 + (rng.step() % 30) as i128;
+            let d0 = t(0) - o(0);
+            let margin = (d0.abs() - 3 + (rng.step() % 7) as i128).max(0) as i64;
+            let Some(true) = apart_by_ends([t(0), t(n - 1)], [o(0), o(n - 1)], margin) else {
+                continue;
+            };
+            said += 1;
+            let m = margin as i128;
+            let mut closest = i128::MAX;
+            for x in 0..n {
+                let (a, b) = (saturate_plane(t(x)) as i128, saturate_plane(o(x)) as i128);
+                assert!(a - b > m || b - a > m, "case {case}: pixel {x} overlaps");
+                closest = closest.min((a - b).abs() - m);
+            }
+            near += (closest == 1) as u32;
+        }
+        assert!(
+            said > 5000 && near > 150,
+            "{said} said apart, {near} one unit from the margin"
+        );
     }
 }
