@@ -692,11 +692,44 @@ mod tests {
     /// left out.
     #[test]
     fn leaving_hidden_fragments_out_changes_no_output() {
-        let mut rng = crate::rng::Lcg64(0x1dde_7f00);
-        let (w, h) = (40u32, 30u32);
+        let (made, left_out) = hidden_left_out_changes_nothing(0x1dde_7f00, (40, 30), 1, 48);
+        assert!(
+            left_out * 6 > made,
+            "{left_out} of {made} fragments left out"
+        );
+    }
+
+    /// As [`leaving_hidden_fragments_out_changes_no_output`] on rows several blocks of
+    /// hidden fragments wide (the layered scene stretched six times along x), where whole
+    /// blocks are left out at once.
+    #[test]
+    fn leaving_hidden_blocks_out_changes_no_output() {
+        let (made, left_out) = hidden_left_out_changes_nothing(0xb10c_4ed0, (240, 30), 6, 24);
+        assert!(
+            left_out * 5 > made,
+            "{left_out} of {made} fragments left out"
+        );
+    }
+
+    /// Renders `cases` layered scenes (x stretched by `sx`) on a `w`×`h` frame with and
+    /// without leaving hidden fragments out, asserts that every output is the same, and
+    /// returns the fragments made and left out.
+    fn hidden_left_out_changes_nothing(
+        seed: u64,
+        (w, h): (u32, u32),
+        sx: i32,
+        cases: usize,
+    ) -> (u64, u64) {
+        let mut rng = crate::rng::Lcg64(seed);
         let (mut made, mut left_out) = (0u64, 0u64);
-        for case in 0..48 {
-            let tris = layered_scene(&mut rng, case % 4 == 3);
+        for case in 0..cases {
+            let mut tris = layered_scene(&mut rng, case % 4 == 3);
+            for t in &mut tris {
+                t.v.iter_mut().for_each(|p| p[0] *= sx);
+                if let Some(hp) = &mut t.host {
+                    hp.v.iter_mut().for_each(|p| p[0] *= sx);
+                }
+            }
             let p = AbufferParams {
                 size: [MaskSize::S4X4, MaskSize::S8X8][case % 2],
                 depth: DepthSelect::ALL[(case / 2) % 4],
@@ -729,10 +762,7 @@ mod tests {
             }
             made += all.stats.fragments;
         }
-        assert!(
-            left_out * 6 > made,
-            "{left_out} of {made} fragments left out"
-        );
+        (made, left_out)
     }
 
     #[test]

@@ -16,7 +16,7 @@ use rayon::prelude::*;
 
 mod hidden;
 pub(super) use hidden::Hidden;
-use hidden::{HiddenRow, Hiding, NoHiding, Row};
+use hidden::{HiddenRow, Hiding, NoHiding, Row, HIDE_BLOCK};
 
 /// One fragment: a triangle's share of one pixel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -453,12 +453,29 @@ fn emit<Z: PlaneStepper, C: RowColour, H: Hiding>(
 ) {
     let Slots { frags, end } = slots;
     let rc = rm.cov;
-    for i in rc.touched.0..=rc.touched.1 {
+    const BLOCK_U: u64 = HIDE_BLOCK as u64;
+    // The steppers' jumps over a block, prepared at the first hidden block.
+    let mut jumps: Option<(Z::Jump, C::Jump)> = None;
+    let mut i = rc.touched.0;
+    while i <= rc.touched.1 {
         let mask = match rc.full {
             Some((a, b)) if a <= i && i <= b => {
+                // A whole block of fully covered pixels at once where `hiding` hides it.
+                if H::BLOCKS && i % HIDE_BLOCK == 0 && i + HIDE_BLOCK - 1 <= b {
+                    let zlo = saturate_plane(z.lower(BLOCK_U - 1));
+                    if hiding.hides_block(i, zlo) {
+                        let (jz, jc) =
+                            jumps.get_or_insert_with(|| (z.jump_by(BLOCK_U), c.jump_by(BLOCK_U)));
+                        z.jump(jz);
+                        c.jump(jc);
+                        i += HIDE_BLOCK;
+                        continue;
+                    }
+                }
                 if hiding.hides(i, saturate_plane(z.value())) {
                     z.advance();
                     c.advance();
+                    i += 1;
                     continue;
                 }
                 full
@@ -472,6 +489,7 @@ fn emit<Z: PlaneStepper, C: RowColour, H: Hiding>(
         }
         z.advance();
         c.advance();
+        i += 1;
     }
 }
 
@@ -491,6 +509,12 @@ trait RowColour {
     fn rgb_q12(&self) -> [u32; 3];
     /// Moves one pixel on.
     fn advance(&mut self);
+    /// `k` pixels prepared as one move ([`PlaneStepper::Jump`]).
+    type Jump: Copy;
+    /// Prepares [`RowColour::jump`] by `k` pixels.
+    fn jump_by(&self, k: u64) -> Self::Jump;
+    /// Moves on by the pixels `j` was prepared for.
+    fn jump(&mut self, j: &Self::Jump);
 }
 
 /// A flat triangle's colour (every colour plane constant), clamped once: the same at
@@ -513,6 +537,10 @@ impl RowColour for Flat {
     }
     #[inline]
     fn advance(&mut self) {}
+    type Jump = ();
+    fn jump_by(&self, _: u64) {}
+    #[inline]
+    fn jump(&mut self, _: &()) {}
 }
 
 /// The three colour planes stepped, each value clamped.
@@ -524,6 +552,14 @@ impl<S: PlaneStepper> RowColour for [S; 3] {
     #[inline]
     fn advance(&mut self) {
         self.iter_mut().for_each(|s| s.advance());
+    }
+    type Jump = [S::Jump; 3];
+    fn jump_by(&self, k: u64) -> Self::Jump {
+        self.map(|s| s.jump_by(k))
+    }
+    #[inline]
+    fn jump(&mut self, j: &Self::Jump) {
+        self.iter_mut().zip(j).for_each(|(s, j)| s.jump(j));
     }
 }
 
@@ -541,6 +577,14 @@ impl RowColour for InRange {
     #[inline]
     fn advance(&mut self) {
         self.0.iter_mut().for_each(|s| s.advance());
+    }
+    type Jump = [<RoundDivSteps64 as PlaneStepper>::Jump; 3];
+    fn jump_by(&self, k: u64) -> Self::Jump {
+        self.0.map(|s| s.jump_by(k))
+    }
+    #[inline]
+    fn jump(&mut self, j: &Self::Jump) {
+        self.0.iter_mut().zip(j).for_each(|(s, j)| s.jump(j));
     }
 }
 

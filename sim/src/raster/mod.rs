@@ -229,6 +229,27 @@ pub(crate) trait PlaneStepper: Copy {
     fn value(&self) -> i128;
     /// Moves to the next numerator.
     fn advance(&mut self);
+    /// A lower bound of the current value and those of the next `k` advances (an advance
+    /// adds `dq` or `dq + 1`). For the narrowed form, `k` at most what it was narrowed
+    /// for.
+    fn lower(&self, k: u64) -> i128;
+    /// `k` advances prepared as one ([`PlaneStepper::jump`]), for this stepper's step.
+    type Jump: Copy;
+    /// Prepares [`PlaneStepper::jump`] by `k` advances (one division, once per step).
+    fn jump_by(&self, k: u64) -> Self::Jump;
+    /// Moves on by the advances `j` was prepared for: the same state as that many
+    /// [`PlaneStepper::advance`]s. For the narrowed form, within the advances it was
+    /// narrowed for.
+    fn jump(&mut self, j: &Self::Jump);
+}
+
+/// `k` advances of a stepper with step `dq + dr/den` as one: the quotient's step
+/// `k·dq + ⌊k·dr / den⌋` and the remainder's `k·dr mod den` (`None` where `k·dr` does not
+/// fit). From remainder `r < den`, `r + k·dr = (r + dr_k) + den·⌊k·dr / den⌋` with
+/// `r + dr_k < 2·den`, so one more carry at most, as in an advance.
+fn jump_steps(k: u64, dq: i128, dr: i128, den: i128) -> Option<(i128, i128)> {
+    let total = dr.checked_mul(k as i128)?;
+    Some(((k as i128).checked_mul(dq)? + total / den, total % den))
 }
 
 impl PlaneStepper for RoundDivSteps {
@@ -239,6 +260,27 @@ impl PlaneStepper for RoundDivSteps {
     #[inline]
     fn advance(&mut self) {
         RoundDivSteps::advance(self)
+    }
+    #[inline]
+    fn lower(&self, k: u64) -> i128 {
+        self.bounds(0, k).0
+    }
+    /// The jump's steps, or the number of advances to make one by one.
+    type Jump = Result<(i128, i128), u64>;
+    fn jump_by(&self, k: u64) -> Self::Jump {
+        jump_steps(k, self.dq, self.dr, self.den).ok_or(k)
+    }
+    #[inline]
+    fn jump(&mut self, j: &Self::Jump) {
+        match *j {
+            Ok((dq, dr)) => {
+                let r = self.r + dr;
+                let carry = (r >= self.den) as i128;
+                self.q += dq + carry;
+                self.r = r - carry * self.den;
+            }
+            Err(k) => (0..k).for_each(|_| self.advance()),
+        }
     }
 }
 
@@ -251,6 +293,28 @@ impl PlaneStepper for RoundDivSteps64 {
     fn advance(&mut self) {
         self.q += self.dq;
         self.r += self.dr;
+        if self.r >= self.den {
+            self.r -= self.den;
+            self.q += 1;
+        }
+    }
+    #[inline]
+    fn lower(&self, k: u64) -> i128 {
+        // Inside 64 bits: `|q| + (|dq| + 1)·(k + 1) < 2^62` for the `k` it was narrowed for.
+        (self.q + k as i64 * self.dq.min(0)) as i128
+    }
+    /// The jump's steps: `dr < den < 2^62` and a jump the narrowing allows keep them
+    /// inside 64 bits.
+    type Jump = (i64, i64);
+    fn jump_by(&self, k: u64) -> Self::Jump {
+        let (dq, dr) = jump_steps(k, self.dq as i128, self.dr as i128, self.den as i128)
+            .expect("64-bit steps times a block fit 128 bits");
+        (dq as i64, dr as i64)
+    }
+    #[inline]
+    fn jump(&mut self, &(dq, dr): &Self::Jump) {
+        self.q += dq;
+        self.r += dr;
         if self.r >= self.den {
             self.r -= self.den;
             self.q += 1;
@@ -636,6 +700,71 @@ mod tests {
                 s.advance();
             }
         }
+    }
+
+    /// A prepared jump is the same state as as many advances, and `lower` bounds every
+    /// value up to it from below: the 128-bit stepper (with denominators up to 2^124,
+    /// where a jump of many advances no longer fits and falls back to advancing) and the
+    /// narrowed one, denominators down to a few units (where a jump lands exactly on a
+    /// carry), slopes of either sign, jumps of 1 to 64 advances made again and
+    /// again.
+    #[test]
+    fn jumps_equal_advances_and_lower_bounds_them() {
+        let mut rng = crate::rng::Lcg64(0x00ab_c0de);
+        let (mut narrowed, mut fell_back) = (0, 0);
+        for case in 0..20_000 {
+            let bits = [3, 20, 40, 61, 90, 124][case % 6];
+            let mut draw = |b: u32| {
+                let v = ((rng.step() as i128) << 64 | rng.step() as i128) % (1i128 << b);
+                if rng.step() & 1 == 0 {
+                    -v
+                } else {
+                    v
+                }
+            };
+            let d = draw(bits).abs().max(1);
+            let (n0, dn) = (draw((bits + 6).min(125)), draw(bits));
+            let k = 1 + case as u64 % 64;
+            let st = RoundDivSteps::new(n0, dn, d);
+            let j = st.jump_by(k);
+            fell_back += j.is_err() as u32;
+            let (mut a, mut b) = (st, st);
+            for _ in 0..3 {
+                let lo = a.lower(k);
+                for _ in 0..k {
+                    assert!(lo <= a.value(), "case {case}: {n0} + i·{dn} / {d}");
+                    a.advance();
+                }
+                assert!(lo <= a.value());
+                b.jump(&j);
+                assert_eq!(
+                    (b.q, b.r),
+                    (a.q, a.r),
+                    "case {case}: {n0} + i·{dn} / {d}, {k}"
+                );
+            }
+            let Some(n) = st.narrow(3 * k) else { continue };
+            narrowed += 1;
+            let (mut a, mut b) = (n, n);
+            let j = n.jump_by(k);
+            for _ in 0..3 {
+                let lo = a.lower(k);
+                for _ in 0..k {
+                    assert!(lo <= PlaneStepper::value(&a), "case {case}");
+                    a.advance();
+                }
+                b.jump(&j);
+                assert_eq!(
+                    (b.q, b.r),
+                    (a.q, a.r),
+                    "case {case}: {n0} + i·{dn} / {d}, {k}"
+                );
+            }
+        }
+        assert!(
+            narrowed > 5000 && fell_back > 100,
+            "{narrowed} narrowed, {fell_back} fell back"
+        );
     }
 
     /// `stays_within` is never wrong when it says yes: on random steppers (slopes of

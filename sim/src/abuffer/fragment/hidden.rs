@@ -63,6 +63,8 @@ pub(super) struct HiddenRow {
     counts: (u64, u64),
     /// Per pixel, the nearest far end of a full-mask fragment's depth range.
     front: Vec<i64>,
+    /// Per block of [`HIDE_BLOCK`] pixels, the largest `front` in it.
+    front_max: Vec<i64>,
     /// Each triangle's depth stepper from its first touched pixel, in `masks` order.
     zs: Vec<RoundDivSteps>,
     /// Each triangle's place in `by_tag`, in `masks` order.
@@ -114,6 +116,12 @@ impl HiddenRow {
                 None => front_run(&mut self.front, *z, a, run, half),
             }
         }
+        self.front_max.clear();
+        self.front_max.extend(
+            self.front
+                .chunks(HIDE_BLOCK as usize)
+                .map(|b| b.iter().copied().max().unwrap_or(i64::MAX)),
+        );
         self.by_tag.clear();
         self.by_tag
             .extend(masks.iter().enumerate().map(|(x, (k, rm))| {
@@ -156,6 +164,7 @@ impl HiddenRow {
         };
         let mut behind = Behind {
             front: &self.front,
+            front_max: &self.front_max,
             hidden: &mut self.per_pixel,
             half: t.half_range(row.size),
             count: 0,
@@ -190,16 +199,34 @@ impl HiddenRow {
 
 /// Whether a triangle's fully covered fragment is hidden, and left out.
 pub(super) trait Hiding {
+    /// Whether [`Hiding::hides_block`] can ever say yes (a constant: without it the
+    /// emitting loop looks at pixels one by one only).
+    const BLOCKS: bool;
     /// Called for each fully covered pixel `i` with the fragment's `zc`.
     fn hides(&mut self, i: i64, zc: i64) -> bool;
+    /// Called for the fully covered pixels `i .. i + HIDE_BLOCK` (`i` a multiple of
+    /// [`HIDE_BLOCK`]) with a lower bound `zlo` of the fragment's `zc` on all of them:
+    /// whether [`Hiding::hides`] would hide each of them, then counted as it counts them.
+    /// `false` says nothing (the pixels are then asked one by one).
+    fn hides_block(&mut self, i: i64, zlo: i64) -> bool;
 }
+
+/// Pixels per block of the row's `front` maxima ([`HiddenRow`]): a triangle's fully
+/// covered fragments are first tested a block at a time against the block's farthest
+/// `front`.
+pub(super) const HIDE_BLOCK: i64 = 32;
 
 /// Every fragment made.
 pub(super) struct NoHiding;
 
 impl Hiding for NoHiding {
+    const BLOCKS: bool = false;
     #[inline(always)]
     fn hides(&mut self, _: i64, _: i64) -> bool {
+        false
+    }
+    #[inline(always)]
+    fn hides_block(&mut self, _: i64, _: i64) -> bool {
         false
     }
 }
@@ -209,6 +236,8 @@ impl Hiding for NoHiding {
 /// first such fragment).
 struct Behind<'a, F: FnMut() -> bool> {
     front: &'a [i64],
+    /// The largest `front` of each block of [`HIDE_BLOCK`] pixels.
+    front_max: &'a [i64],
     hidden: &'a mut [u32],
     /// The triangle's [`FragSetup::half_range`].
     half: i64,
@@ -220,6 +249,24 @@ struct Behind<'a, F: FnMut() -> bool> {
 }
 
 impl<F: FnMut() -> bool> Hiding for Behind<'_, F> {
+    const BLOCKS: bool = true;
+    #[inline(always)]
+    fn hides_block(&mut self, i: i64, zlo: i64) -> bool {
+        // Every pixel's `zc − half ≥ zlo − half > front_max ≥ front`: each is hidden
+        // exactly when the tag test passes, as `hides` finds pixel by pixel.
+        if zlo - self.half <= self.front_max[(i / HIDE_BLOCK) as usize] {
+            return false;
+        }
+        if !*self.alone.get_or_insert_with(&mut self.test) {
+            return false;
+        }
+        let i = i as usize;
+        self.hidden[i..i + HIDE_BLOCK as usize]
+            .iter_mut()
+            .for_each(|h| *h += 1);
+        self.count += HIDE_BLOCK as u64;
+        true
+    }
     #[inline(always)]
     fn hides(&mut self, i: i64, zc: i64) -> bool {
         let i = i as usize;
