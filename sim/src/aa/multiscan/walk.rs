@@ -301,6 +301,20 @@ impl WalkScratch {
     }
 }
 
+/// Whether a depth in `rp` is less than one in `rq`, when the two ranges (`(least,
+/// greatest)`) settle it for every such pair: they are apart, so the depths differ and
+/// their order is the ranges'. `None` when they meet (equal depths, and with them the
+/// slope and tie rules of [`Walker::front`], are possible).
+fn ahead_by_ranges(rp: (i64, i64), rq: (i64, i64)) -> Option<bool> {
+    if rp.1 < rq.0 {
+        Some(true)
+    } else if rq.1 < rp.0 {
+        Some(false)
+    } else {
+        None
+    }
+}
+
 /// Depth comparisons of one sub-scanline walk, counting plane evaluations.
 pub(super) struct Walker<'a, 'b, 'c> {
     pub(super) act: &'a [Active<'b>],
@@ -339,8 +353,16 @@ impl Walker<'_, '_, '_> {
         z
     }
 
-    /// Is `p` in front of `q` at x (depth, then slope to the right, then tie order)?
+    /// Is `p` in front of `q` at x (depth, then slope to the right, then tie order)? `x`
+    /// lies on both polygons' parts of the line.
     pub(super) fn front(&mut self, p: usize, q: usize, x: i64) -> bool {
+        // Depth ranges apart on the line settle it without the two evaluations, which are
+        // counted: each depth at x lies in its polygon's range (the rounded plane is
+        // monotone along the line, the range its two ends).
+        if let Some(ahead) = ahead_by_ranges(self.zrange[p], self.zrange[q]) {
+            self.evals += 2;
+            return ahead;
+        }
         let (zp, zq) = (self.zat(p, x), self.zat(q, x));
         if zp != zq {
             return zp < zq;
@@ -417,6 +439,30 @@ impl Walker<'_, '_, '_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `ahead_by_ranges` against every pair of depths in small ranges: where it answers,
+    /// every pair differs and orders as it says; it answers for every pair of ranges
+    /// that are apart.
+    #[test]
+    fn ranges_apart_order_every_pair_of_depths() {
+        let ranges: Vec<(i64, i64)> = (-3..=3)
+            .flat_map(|lo| (lo..=3).map(move |hi| (lo, hi)))
+            .collect();
+        let mut answered = 0;
+        for &rp in &ranges {
+            for &rq in &ranges {
+                let pairs = || (rp.0..=rp.1).flat_map(|zp| (rq.0..=rq.1).map(move |zq| (zp, zq)));
+                match ahead_by_ranges(rp, rq) {
+                    Some(ahead) => {
+                        answered += 1;
+                        assert!(pairs().all(|(zp, zq)| zp != zq && (zp < zq) == ahead));
+                    }
+                    None => assert!(pairs().any(|(zp, zq)| zp == zq), "{rp:?} {rq:?}"),
+                }
+            }
+        }
+        assert!(answered > 100, "{answered}");
+    }
 
     /// The re-sort of carried crossings: the bounded insertion sort sorts whenever it
     /// reports success, gives up on a reversed list, and the merge of two sorted lists is
