@@ -309,7 +309,9 @@ impl PlaneStepper for RoundDivSteps64 {
     fn jump_by(&self, k: u64) -> Self::Jump {
         let (dq, dr) = jump_steps(k, self.dq as i128, self.dr as i128, self.den as i128)
             .expect("64-bit steps times a block fit 128 bits");
-        (dq as i64, dr as i64)
+        // `dr < den`; `dq` fits where the narrowing allows the `k` advances.
+        let dq = i64::try_from(dq).expect("a jump beyond the narrowed stepper's range");
+        (dq, dr as i64)
     }
     #[inline]
     fn jump(&mut self, &(dq, dr): &Self::Jump) {

@@ -357,9 +357,8 @@ fn apart(
     let (tz, oz) = (t.depth_steps(p, j), o.depth_steps(p, j));
     if steps >= ENDS_MIN {
         let (tq, oq) = (t.depth_steps(q, j), o.depth_steps(q, j));
-        if let Some(a) = apart_by_ends([tz.value(), tq.value()], [oz.value(), oq.value()], th + oh)
-        {
-            return a;
+        if apart_by_ends([tz.value(), tq.value()], [oz.value(), oq.value()], th + oh) {
+            return true;
         }
     }
     match (tz.narrow(steps), oz.narrow(steps)) {
@@ -369,12 +368,12 @@ fn apart(
 }
 
 /// Pixels a run of [`apart`] needs before its ends are looked at: on a shorter run the
-/// pixel-by-pixel test costs less than the four divisions that give the ends.
+/// pixel-by-pixel test costs less than the two more divisions that give the far end.
 const ENDS_MIN: u64 = 64;
 
-/// [`apart`] from the depths at the two ends of a run alone, where they settle it:
-/// `Some(true)` when the two fragments' ranges (`zc ± half`, `margin` the sum of the
-/// halves) are apart on every pixel of the run, else `None` (not known).
+/// [`apart`] from the depths at the two ends of a run alone, where they settle it: `true`
+/// when the two fragments' ranges (`zc ± half`, `margin` the sum of the halves) are apart
+/// on every pixel of the run, `false` when the ends do not tell.
 ///
 /// `t` and `o` are the rounded depths (`round_div` of the planes, before
 /// `saturate_plane`) at the first and the last pixel. Rounding half up puts each in
@@ -386,14 +385,14 @@ const ENDS_MIN: u64 = 64;
 /// on the other side with the maxima. The rounded values are monotone along the row, so when the four ends lie
 /// inside `saturate_plane`'s range every pixel's does, and the saturation changes
 /// nothing.
-fn apart_by_ends(t: [i128; 2], o: [i128; 2], margin: i64) -> Option<bool> {
+fn apart_by_ends(t: [i128; 2], o: [i128; 2], margin: i64) -> bool {
     let lim = PLANE_MAX as i128;
     if t.iter().chain(&o).any(|v| v.abs() > lim) {
-        return None;
+        return false;
     }
     let d = [t[0] - o[0], t[1] - o[1]];
     let m = margin as i128;
-    (d[0].min(d[1]) - 1 > m || d[0].max(d[1]) + 1 < -m).then_some(true)
+    d[0].min(d[1]) - 1 > m || d[0].max(d[1]) + 1 < -m
 }
 
 /// [`apart`] pixel by pixel: the ranges `zc ± half` of two steppers over `steps` pixels
@@ -515,7 +514,7 @@ mod tests {
             }
             let ends = |s: &FragSetup| [s.depth_steps(p, j).value(), s.depth_steps(q, j).value()];
             let margin = t.half_range(size) + o.half_range(size);
-            if q - p + 1 >= ENDS_MIN as i64 && apart_by_ends(ends(&t), ends(&o), margin).is_some() {
+            if q - p + 1 >= ENDS_MIN as i64 && apart_by_ends(ends(&t), ends(&o), margin) {
                 by_ends += 1;
             }
         }
@@ -546,9 +545,9 @@ mod tests {
             let n = 64 + (rng.step() % 30) as i128;
             let d0 = t(0) - o(0);
             let margin = (d0.abs() - 3 + (rng.step() % 7) as i128).max(0) as i64;
-            let Some(true) = apart_by_ends([t(0), t(n - 1)], [o(0), o(n - 1)], margin) else {
+            if !apart_by_ends([t(0), t(n - 1)], [o(0), o(n - 1)], margin) {
                 continue;
-            };
+            }
             said += 1;
             let m = margin as i128;
             let mut closest = i128::MAX;
