@@ -95,11 +95,18 @@ impl RoundDivSteps {
     /// Moves to `k + 1`.
     #[inline]
     pub(crate) fn advance(&mut self) {
+        self.step(self.dq, self.dr);
+    }
+
+    /// Adds the quotient step `dq` and the remainder step `dr < den`, carrying once if
+    /// the remainder reaches `den` (an advance, or a prepared jump).
+    #[inline]
+    fn step(&mut self, dq: i128, dr: i128) {
         // Without a branch: whether the remainder carries follows no pattern a predictor
         // learns.
-        let r = self.r + self.dr;
+        let r = self.r + dr;
         let carry = (r >= self.den) as i128;
-        self.q += self.dq + carry;
+        self.q += dq + carry;
         self.r = r - carry * self.den;
     }
 }
@@ -146,6 +153,18 @@ pub(crate) struct RoundDivSteps64 {
 }
 
 impl RoundDivSteps64 {
+    /// Adds the quotient step `dq` and the remainder step `dr < den`, carrying once if
+    /// the remainder reaches `den` (an advance, or a prepared jump).
+    #[inline]
+    fn step(&mut self, dq: i64, dr: i64) {
+        self.q += dq;
+        self.r += dr;
+        if self.r >= self.den {
+            self.r -= self.den;
+            self.q += 1;
+        }
+    }
+
     /// Whether the current value and those of the next `steps` advances all lie in
     /// `lo..=hi` (a sufficient test: `false` can come for a run that stays inside). An
     /// advance adds `dq` or `dq + 1`, so after `k` advances the value lies in
@@ -214,12 +233,7 @@ impl PlaneStepper for RoundDivSteps {
     #[inline]
     fn jump(&mut self, j: &Self::Jump) {
         match *j {
-            Ok((dq, dr)) => {
-                let r = self.r + dr;
-                let carry = (r >= self.den) as i128;
-                self.q += dq + carry;
-                self.r = r - carry * self.den;
-            }
+            Ok((dq, dr)) => self.step(dq, dr),
             Err(k) => (0..k).for_each(|_| self.advance()),
         }
     }
@@ -232,12 +246,7 @@ impl PlaneStepper for RoundDivSteps64 {
     }
     #[inline]
     fn advance(&mut self) {
-        self.q += self.dq;
-        self.r += self.dr;
-        if self.r >= self.den {
-            self.r -= self.den;
-            self.q += 1;
-        }
+        self.step(self.dq, self.dr);
     }
     #[inline]
     fn lower(&self, k: u64) -> i128 {
@@ -256,12 +265,7 @@ impl PlaneStepper for RoundDivSteps64 {
     }
     #[inline]
     fn jump(&mut self, &(dq, dr): &Self::Jump) {
-        self.q += dq;
-        self.r += dr;
-        if self.r >= self.den {
-            self.r -= self.den;
-            self.q += 1;
-        }
+        self.step(dq, dr);
     }
 }
 
