@@ -44,16 +44,31 @@ impl ColourSteps {
     }
 }
 
-/// Hands the colours of `count` whole pixels, stepped from `st`, to `f(k, colour)`.
+/// Adds `w` times the colours of whole pixels, stepped from `st`, to the sums `dst` (one
+/// pixel each); clamped to the range a piece takes when `CLAMP`, which the caller may
+/// leave out where it has shown every value inside it.
 #[inline]
-fn run<S: PlaneStepper>(st: &mut [S; 3], count: i64, mut f: impl FnMut(i64, [i64; 3])) {
-    for k in 0..count {
-        let mut c = [0; 3];
-        for (v, s) in c.iter_mut().zip(st.iter_mut()) {
-            *v = s.value() as i64;
+fn add_stepped<S: PlaneStepper, const CLAMP: bool>(st: &mut [S; 3], dst: &mut [[u64; 3]], w: i64) {
+    for sum in dst {
+        for (acc, s) in sum.iter_mut().zip(st.iter_mut()) {
+            let mut v = s.value() as i64;
+            if CLAMP {
+                v = v.clamp(0, COLOUR_MAX);
+            }
             s.advance();
+            *acc += (w * v) as u64;
         }
-        f(k, clamp_colour(c));
+    }
+}
+
+/// Adds `w` times colour `c` to each of the sums `dst`.
+#[inline]
+fn add_fixed(dst: &mut [[u64; 3]], w: i64, c: [i64; 3]) {
+    let wc = c.map(|v| (w * v) as u64);
+    for sum in dst {
+        for (acc, v) in sum.iter_mut().zip(wc) {
+            *acc += v;
+        }
     }
 }
 
@@ -208,28 +223,43 @@ impl<'a, 't> PieceColour<'a, 't> {
         [r[1].row(ynum), r[2].row(ynum), r[3].row(ynum)]
     }
 
-    /// The colours of `count` whole pixels from `x0` on (parts `[x0 + k·2^16,
-    /// x0 + (k + 1)·2^16)`, `k = 0..count`), handed to `f(k, colour)`. The same values as
+    /// Adds `w` times the colours of whole pixels from `x0` on (parts `[x0 + k·2^16,
+    /// x0 + (k + 1)·2^16)`, one per sum of `dst`) to `dst`: the same values as
     /// [`PieceColour::at`] gives each part.
     #[inline]
-    pub(super) fn whole(&mut self, x0: i64, count: i64, mut f: impl FnMut(i64, [i64; 3])) {
-        if count <= 0 {
+    pub(super) fn add_whole(&mut self, x0: i64, dst: &mut [[u64; 3]], w: i64) {
+        let count = dst.len() as i64;
+        if count == 0 {
             // No whole pixel (a piece across one pixel boundary): no steppers to set up.
             return;
         }
+        let mid = x0 + ONE16 / 2;
         match self.src {
-            ColourSource::Fixed(c) => (0..count).for_each(|k| f(k, c)),
-            ColourSource::Row(row, steps) => match row.run(x0 + ONE16 / 2, steps) {
-                Some(mut st) => run(&mut st, count, f),
+            ColourSource::Fixed(c) => add_fixed(dst, w, c),
+            ColourSource::Row(row, steps) => match row.run(mid, steps) {
+                Some(mut st) => {
+                    // A row's values are monotone in x, so when the first and the last
+                    // middle's lie inside the clamp's range, every one between does.
+                    let last = row.at(mid + (count - 1) * ONE16);
+                    let inside = |c: [i64; 3]| c.iter().all(|&v| (0..=COLOUR_MAX).contains(&v));
+                    if inside(last) && inside(st.map(|s| s.value() as i64)) {
+                        add_stepped::<_, false>(&mut st, dst, w)
+                    } else {
+                        add_stepped::<_, true>(&mut st, dst, w)
+                    }
+                }
                 None => {
-                    (0..count).for_each(|k| f(k, clamp_colour(row.at(x0 + k * ONE16 + ONE16 / 2))))
+                    for (k, sum) in dst.iter_mut().enumerate() {
+                        let c = clamp_colour(row.at(mid + k as i64 * ONE16));
+                        add_fixed(std::slice::from_mut(sum), w, c);
+                    }
                 }
             },
             ColourSource::Wide(a) => {
                 // Steppers at the first middle, set up once for the run.
-                match self.wide_steps(a, x0 + ONE16 / 2, count as u64) {
-                    ColourSteps::Narrow(mut st) => run(&mut st, count, f),
-                    ColourSteps::Wide(mut st) => run(&mut st, count, f),
+                match self.wide_steps(a, mid, count as u64) {
+                    ColourSteps::Narrow(mut st) => add_stepped::<_, true>(&mut st, dst, w),
+                    ColourSteps::Wide(mut st) => add_stepped::<_, true>(&mut st, dst, w),
                 }
             }
         }
@@ -309,6 +339,66 @@ mod tests {
         assert!(
             built > 1000 && refused > 300,
             "built {built}, refused {refused}"
+        );
+    }
+
+    /// A run of whole pixels adds to each pixel's sum its weight times the clamped
+    /// colour of the plane at the pixel's middle, evaluated here one pixel at a time from
+    /// [`RowPlane::at`]; on rows inside the clamp's range, rows crossing either of its
+    /// limits, and rows beyond it.
+    #[test]
+    fn whole_pixels_add_the_clamped_middle_colours() {
+        let mut rng = crate::rng::Lcg64(0x0add_3601e);
+        let (mut inside, mut crossing) = (0, 0);
+        for case in 0..4000 {
+            let mut small = |m: u64| (rng.step() % (2 * m + 1)) as i128 - m as i128;
+            // Values at `x0` in and around the range `0..=COLOUR_MAX` (about 2^20),
+            // moving by up to 2^15 a pixel: some rows cross a limit (into the range or
+            // out of it) within a few dozen pixels.
+            let x0 = small(1 << 22) as i64;
+            let spread = [1 << 18, 3 << 18][case % 2];
+            let planes = [0; 3].map(|_| {
+                let d = small(1 << 12).abs().max(1);
+                let s = small(d as u64 / 2 + 1);
+                let k = (COLOUR_MAX as i128 / 2 + small(spread)) * d - s * x0 as i128;
+                RowPlane::new(k, s, d)
+            });
+            let count = (1 + small(30).abs()) as usize;
+            let end = x0 + count as i64 * ONE16;
+            let Some(row) = ColourRow::new(&planes, x0, end) else {
+                continue;
+            };
+            let steps = planes.map(|p| RoundDivStep::new(p.s * ONE16 as i128, p.d));
+            let mut pcol = PieceColour {
+                src: ColourSource::Row(&row, &steps),
+                ynum: 0,
+                steps: None,
+            };
+            let w = ONE16 * (1 + (case / 2 % 2) as i64);
+            let start: Vec<[u64; 3]> = (0..count)
+                .map(|_| [0; 3].map(|_| small(1 << 40).unsigned_abs() as u64))
+                .collect();
+            let mut got = start.clone();
+            pcol.add_whole(x0, &mut got, w);
+            let mut clamped = false;
+            for (k, (g, s0)) in got.iter().zip(&start).enumerate() {
+                let mid = x0 + k as i64 * ONE16 + ONE16 / 2;
+                let want: [u64; 3] = std::array::from_fn(|ch| {
+                    let v = planes[ch].at(mid, 0);
+                    clamped |= v != v.clamp(0, COLOUR_MAX);
+                    s0[ch] + (w * v.clamp(0, COLOUR_MAX)) as u64
+                });
+                assert_eq!(*g, want, "{planes:?} from {x0}, pixel {k} of {count}");
+            }
+            if clamped {
+                crossing += 1;
+            } else {
+                inside += 1;
+            }
+        }
+        assert!(
+            inside > 1000 && crossing > 500,
+            "{inside} inside, {crossing} clamped"
         );
     }
 

@@ -130,11 +130,31 @@ impl PixRow<'_> {
             c[ch] += (w * col[ch]) as u64;
         }
         if let Some(ws) = self.w.get_mut(i) {
-            match ws.iter_mut().find(|e| e.0 == tri) {
-                Some(e) => e.1 += w,
-                None => ws.push((tri, w)),
-            }
+            weigh(ws, w, tri);
         }
+    }
+
+    /// The colour sums of the `count` pixels from `first` on, for a run of them to add
+    /// weight `w` of triangle `tri` to each, having added that weight to each pixel's
+    /// triangle's when weights are kept (as [`PixRow::add`] does pixel by pixel).
+    #[inline]
+    pub(super) fn run(&mut self, first: usize, count: usize, w: i64, tri: i32) -> &mut [[u64; 3]] {
+        let r = first..first + count;
+        if !self.w.is_empty() && w != 0 {
+            self.w[r.clone()]
+                .iter_mut()
+                .for_each(|ws| weigh(ws, w, tri));
+        }
+        &mut self.c[r]
+    }
+}
+
+/// Adds weight `w` to triangle `tri`'s in one pixel's weights.
+#[inline(always)]
+fn weigh(ws: &mut Weights, w: i64, tri: i32) {
+    match ws.iter_mut().find(|e| e.0 == tri) {
+        Some(e) => e.1 += w,
+        None => ws.push((tri, w)),
     }
 }
 
@@ -173,9 +193,13 @@ pub(super) fn accumulate_box(
             first = i0 + 1;
         }
         let i1 = x1.div_euclid(ONE16);
-        pcol.whole(first * ONE16, i1 - first, |k, col| {
-            acc.add((first + k) as usize, wl * ONE16, col, tri)
-        });
+        let sums = acc.run(
+            first as usize,
+            (i1 - first).max(0) as usize,
+            wl * ONE16,
+            tri,
+        );
+        pcol.add_whole(first * ONE16, sums, wl * ONE16);
         let b1 = i1 * ONE16;
         if b1 < x1 {
             acc.add(i1 as usize, wl * (x1 - b1), pcol.at(b1, x1, x1), tri);
@@ -218,6 +242,41 @@ pub(super) fn accumulate_filtered(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A run adds to each of its pixels what [`PixRow::add`] adds there, weights
+    /// included: random runs and single additions over rows with and without weights.
+    #[test]
+    fn a_run_adds_what_single_additions_add() {
+        let mut rng = crate::rng::Lcg64(0x0a0d_5e75);
+        for case in 0..300 {
+            let (len, track) = (40, case % 3 != 0);
+            let (mut by_run, mut by_pixel) = (PixMem::default(), PixMem::default());
+            by_run.reset(len, track);
+            by_pixel.reset(len, track);
+            for _ in 0..30 {
+                let first = (rng.step() % len as u64) as usize;
+                let count = (rng.step() % (len - first) as u64 + 1) as usize;
+                let w = (rng.step() % 3) as i64 * ONE16;
+                let tri = (rng.step() % 5) as i32 - 1;
+                let cols: Vec<[i64; 3]> = (0..count)
+                    .map(|_| [0; 3].map(|_| (rng.step() % (1 << 20)) as i64))
+                    .collect();
+                let mut row = by_run.row(0..len);
+                for (s, c) in row.run(first, count, w, tri).iter_mut().zip(&cols) {
+                    for ch in 0..3 {
+                        s[ch] += (w * c[ch]) as u64;
+                    }
+                }
+                let mut row = by_pixel.row(0..len);
+                for (k, c) in cols.iter().enumerate() {
+                    row.add(first + k, w, *c, tri);
+                }
+            }
+            assert_eq!(by_run.c, by_pixel.c, "case {case}");
+            assert_eq!(by_run.w, by_pixel.w, "case {case}");
+            assert_eq!(by_run.w.len(), if track { len } else { 0 });
+        }
+    }
 
     #[test]
     fn tables_are_monotone_and_total_near_2_24() {
