@@ -114,6 +114,12 @@ impl ColourRow {
     #[inline(never)]
     fn new(c: &[RowPlane; 3], x0: i64, x1: i64) -> Option<ColourRow> {
         const LIM: i128 = 1 << 62;
+        // Bounds under which no product or sum below leaves `i128` (|x| < 2^40,
+        // |s| < 2^61, |k| < 2^120), tested with compares instead of checked arithmetic;
+        // a plane beyond them fails the 2^62 tests anyway, or takes the 128-bit form.
+        if x0.unsigned_abs().max(x1.unsigned_abs()) >= 1 << 40 {
+            return None;
+        }
         let span = (x1 - x0) as i128;
         let mut out = ColourRow {
             x0,
@@ -126,10 +132,15 @@ impl ColourRow {
         for (ch, p) in c.iter().enumerate() {
             let d2 = 2 * p.d;
             let s2 = 2 * p.s;
-            if p.d <= 0 || d2 >= LIM || s2.checked_abs()?.checked_mul(span)? + d2 >= LIM {
+            if p.d <= 0
+                || d2 >= LIM
+                || p.s.unsigned_abs() >= 1 << 61
+                || p.k.unsigned_abs() >= 1 << 120
+                || s2.abs() * span + d2 >= LIM
+            {
                 return None;
             }
-            let n = (2 * (p.k.checked_add(p.s.checked_mul(x0 as i128)?)?)).checked_add(p.d)?;
+            let n = 2 * (p.k + p.s * x0 as i128) + p.d;
             // By the prepared divisor where `n` fits 64 bits (the common case).
             let q = match i64::try_from(n) {
                 Ok(n) => out.div[ch].floor(n) as i128,
