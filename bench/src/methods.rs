@@ -570,7 +570,7 @@ fn fresh_allocations() {
 /// Renders every case of every scene `runs` times (after one warm-up render each, which
 /// also measures the peak memory) and returns the medians. `progress` is told each scene.
 /// Sets the allocator so that each render allocates as a fresh process would
-/// ([`fresh_allocations`]).
+/// (`fresh_allocations`).
 pub fn run_all_methods(
     scenes: &[LoadedScene],
     runs: usize,

@@ -68,7 +68,7 @@ const WRAPPED: [(&str, &str); 2] = [
     (crate::mul_reg::MODULE, crate::mul_reg::GENERIC_VERILOG),
 ];
 
-/// `verilog` with the generic definition of each wrapped module ([`WRAPPED`]) appended
+/// `verilog` with the generic definition of each wrapped module (`WRAPPED`) appended
 /// once if a module instantiates it, so that the file stays self-contained. The ECP5 flow
 /// reads its own definitions (`synth/ecp5/pixelproc_bank_ram.v`,
 /// `synth/ecp5/pixelproc_mul_reg.v`) over these.
@@ -205,7 +205,7 @@ fn class_name(first: &str) -> String {
 /// canonical form is its text with its own name and the names of the modules it
 /// instantiates replaced by their classes; modules with the same canonical form are one
 /// class. One module per class is kept, under the name of its first member (in file
-/// order) without instance indices ([`class_name`]), or the first member's own name if
+/// order) without instance indices (`class_name`), or the first member's own name if
 /// the class has one member, would clash with another name, or holds the top (the
 /// first module). Instantiations are rewritten to the kept names. Text that is not a
 /// sequence of modules, or whose hierarchy has a cycle, is returned unchanged.

@@ -227,7 +227,7 @@ fn scene_city(width: u32, height: u32, rng: &mut Rng) -> Vec<SnappedTri> {
 
 /// The 1080p scene of the sweep (`city-1080p`, [`CITY_WIDTH`]×[`CITY_HEIGHT`], drawn at
 /// that size): see `scene_city`. Generated from its own seed; it is not part of
-/// [`builtin_scenes`], so the ten scenes of the set and their figures are unchanged.
+/// [`builtin_scenes`](super::builtin_scenes), so the ten scenes of the set and their figures are unchanged.
 pub fn city_1080p() -> TestScene {
     city_scene(false)
 }

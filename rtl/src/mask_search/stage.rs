@@ -23,7 +23,7 @@ pub struct StageProbe {
     pub plane: [u64; 3],
 }
 
-/// One stage of [`MaskSearchPipe`]: tests line `k` (a constant) for the mask in its
+/// One stage of [`MaskSearchPipe`](super::MaskSearchPipe): tests line `k` (a constant) for the mask in its
 /// registers, unless an earlier line already hit.
 #[derive(LogicBlock)]
 pub struct SearchStage<const B: usize> {

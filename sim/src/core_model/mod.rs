@@ -9,7 +9,7 @@
 //! **The stream** ([`CoreStream::of_scene`]): the shading table as TABLE beats (shadows
 //! only), then for every scanline and every tile a TILE beat followed by the commands
 //! that touch the tile ([`SceneStream::tile`]: the binning the renderer itself uses),
-//! then an END beat. [`CoreStream::unbinned`] feeds every tile the whole row instead (the
+//! then an END beat. [`unbinned_cycles`] times feeding every tile the whole row instead (the
 //! old array testbench's stream), to show what binning saves.
 //!
 //! **The model** ([`CoreModel::step`]): one call per rising edge, with the values on the

@@ -139,7 +139,7 @@ pub struct SampleRows {
 /// Cycles of the array drawing every row of samples of `passes`: pixel rows top to
 /// bottom, and per pixel row the passes in the order given, each a run of tile-lines
 /// through the core ([`core_cycles`]). A row's OP spans are the scene's spans at the
-/// row's `y` (the scene moved by the rounded offset, [`super::shift_y`]); a span over
+/// row's `y` (the scene moved by the rounded offset, `shift_y`); a span over
 /// pixel columns `xl..=xr` covers samples `⌊xl·num/den⌋ ..= ⌊((xr+1)·num − 1)/den⌋`, exact
 /// for one sample per pixel and within one pixel's samples otherwise (stated: the
 /// samples' own x positions inside the pixel are not used). Returns the cycles and the

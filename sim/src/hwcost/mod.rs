@@ -3,7 +3,7 @@
 //!
 //! | method | module | exact | stated |
 //! |---|---|---|---|
-//! | none (the pixel-processor array of seed 001 in the streaming core) | [`array`] | cycles: the core's controller timing (`docs/core.md`, "Timing"), equal to [`crate::core_model::CoreModel`]'s count on the same stream | — |
+//! | none (the pixel-processor array of seed 001 in the streaming core) | [`array`](mod@array) | cycles: the core's controller timing (`docs/core.md`, "Timing"), equal to [`crate::core_model::CoreModel`]'s count on the same stream | — |
 //! | multi-scanning (seed 002 on seed 001's array) | [`multiscan`] | the array's cycles per pass | one pass per sub-scanline; the weighting and the two-row memory |
 //! | corner sampling, D3D 4×, ordered 2×2, k×k supersampling (seed 003) | [`sampling`] | the array's cycles per sample row | sample rows per pixel row, samples per row, the row buffer |
 //! | post-process (seed 004) | [`postfx`] | the array's frame | a scan-out pass, one pixel per clock, the 5-line window |

@@ -10,7 +10,7 @@
 //! - [`depth`]: the array's depth-test rule (`Z < ZB`, or `Z ≤ ZB` for a decal);
 //! - [`rows`]: which rows a triangle can touch, and binning triangles into row bands;
 //! - [`ceil_div`], [`floor_div`], [`round_div`]: exact integer division helpers, and
-//!   [`divisor`]: floor division by a divisor prepared once, by multiplication;
+//!   `divisor`: floor division by a divisor prepared once, by multiplication;
 //! - `steps`: the same quotients along arithmetic progressions with additions only
 //!   (`RoundDivSteps` for planes along a row, `FloorSteps` for edge bounds down the rows);
 //! - [`SpanSink`] and [`SpanRaster`]: span scan conversion (through

@@ -34,7 +34,7 @@
 //! **Stream.** [`stream`] runs the AXI4-Stream units on the whole search stream of an
 //! A-buffer render with random input gaps and output back-pressure ([`run_search_stream`]).
 //!
-//! Files: [`jobs`] (stimulus), [`schedule`] (golden per-clock vectors), [`rusthdl`] (the
+//! Files: [`jobs`] (stimulus), [`schedule`](mod@schedule) (golden per-clock vectors), [`rusthdl`] (the
 //! RustHDL runs), [`vectors`] (vector files and the Verilog testbench), [`external`]
 //! (Icarus Verilog and Verilator through the shared runner of `crate::external`).
 
