@@ -250,7 +250,10 @@ impl<'a, 't> PieceColour<'a, 't> {
             ColourSource::Row(row, steps) => match row.run(mid, steps) {
                 Some(mut st) => {
                     // A row's values are monotone in x, so when the first and the last
-                    // middle's lie inside the clamp's range, every one between does.
+                    // middle's lie inside the clamp's range, every one between does. (Not
+                    // `RoundDivSteps64::stays_within`, the A-buffer's bound: its magnitude
+                    // precondition is not shown for a colour row's steppers, and it is
+                    // only sufficient; the last middle's value is exact.)
                     let last = row.at(mid + (count - 1) * ONE16);
                     let inside = |c: [i64; 3]| c.iter().all(|&v| (0..=COLOUR_MAX).contains(&v));
                     if inside(last) && inside(st.map(|s| s.value() as i64)) {
