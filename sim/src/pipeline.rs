@@ -338,7 +338,7 @@ pub(super) struct ArrayCtx<'a> {
 impl ArrayCtx<'_> {
     /// The array drawing a frame: each shadowing light's volumes through `pj` set up
     /// (timed as their own stages), then the span words of `src` with those volumes'
-    /// shadow commands behind each row's spans, made as the rows are drawn. Each row is
+    /// shadow commands behind each row's spans, applied as the rows are drawn. Each row is
     /// shaded by `table` at readout, if given.
     fn draw(
         &self,

@@ -6,14 +6,15 @@
 //! read out. Rows are independent, so they run in
 //! parallel (rayon) with bit-identical results.
 
-use crate::pixel_array::{is_flag_command, Command, PixelArray, ProcState, RowFlags, MORE_SHADE};
+use crate::pixel_array::{
+    is_flag_command, BandFlags, Command, PixelArray, ProcState, RowFlags, MORE_SHADE,
+};
 use crate::raster::{SpanRaster, SpanSink};
 use crate::setup::{SetupError, SnappedTri};
 use crate::shadow::ShadowRows;
 use crate::stream::{feed_routed, feed_routed_pairs, TileRouter};
 use pixelproc_formats::{SpanWord, MAX_SCREEN};
 use rayon::prelude::*;
-use std::sync::Mutex;
 
 /// A rendered frame: per-pixel processor state after the last command of its row.
 #[derive(Clone, Debug)]
@@ -175,70 +176,22 @@ pub fn render_frame(
 pub enum RowExtra<'a> {
     /// One stored list per row (or none at all: an empty slice).
     Stored(&'a [Vec<Command>]),
-    /// The shadow commands of volumes set up beforehand, made a band of rows and a light
-    /// sample at a time as the rows are drawn ([`ShadowRows::sample_rows`]) and never
-    /// stored.
+    /// The shadow volumes set up beforehand, applied to a band of rows' flags a light
+    /// sample at a time as the rows are drawn ([`ShadowRows::sample_flags`]), with the
+    /// result of their commands, which are never made.
     Shadows(&'a ShadowRows),
 }
 
-/// Rows drawn by one task: each light sample's shadow commands for the band are made by
-/// one walk of its volumes (or a few, when they would take too much memory).
+/// Rows drawn by one task: a band's polygon spans, then each light sample's shadow
+/// volumes applied to the band's flags in one walk ([`ShadowRows::sample_flags`]).
 const BAND: usize = 16;
-
-/// Sets of a light sample's shadow command lists for a band (one list per row), one per
-/// drawing thread (by its index in the thread pool), kept for the thread's next band and
-/// the next frame: with thousands of volumes a row's list is hundreds of KiB, and fresh
-/// lists are faulted in page by page (on `tori`, about 60 MB and 15,000 page faults a
-/// frame, a sixth of its shadow time), and lists another core wrote last are slower to
-/// write again. After each frame only the first [`KEPT_LISTS`] threads' sets are kept
-/// ([`release_shadow_lists`] frees them all).
-static SHADOW_LISTS: Mutex<Vec<Vec<Vec<Command>>>> = Mutex::new(Vec::new());
-
-/// Sets of shadow command lists kept after a frame: each holds at most the budget of
-/// [`ShadowRows::sample_rows_at_once`] (59 MB), so at most 118 MB are kept however many
-/// threads draw.
-const KEPT_LISTS: usize = 2;
-
-/// This thread's set of shadow command lists, kept or new.
-fn take_lists() -> Vec<Vec<Command>> {
-    let t = rayon::current_thread_index().unwrap_or(0);
-    SHADOW_LISTS
-        .lock()
-        .ok()
-        .and_then(|mut l| l.get_mut(t).map(std::mem::take))
-        .unwrap_or_default()
-}
-
-/// Gives this thread's set of lists back for its next band.
-fn give_back_lists(lists: Vec<Vec<Command>>) {
-    let t = rayon::current_thread_index().unwrap_or(0);
-    if let Ok(mut l) = SHADOW_LISTS.lock() {
-        if l.len() <= t {
-            l.resize_with(t + 1, Vec::new);
-        }
-        l[t] = lists;
-    }
-}
-
-/// Frees the sets of lists of threads `n..`.
-fn keep_lists(n: usize) {
-    if let Ok(mut l) = SHADOW_LISTS.lock() {
-        l.truncate(n);
-    }
-}
-
-/// Frees the shadow command lists kept from earlier frames (up to 118 MB after a frame
-/// with many shadow volumes), e.g. before measuring another render's peak memory.
-pub fn release_shadow_lists() {
-    keep_lists(0);
-}
 
 /// [`render_frame`], with `readout(row, more)` called on each row's final processor
 /// states (and its shade registers 2.., empty if unused) as the row is read out, while it
 /// is still in cache (its band's rows are 600 KB at 1080p): where the core's shade unit
 /// corrects intensities ([`crate::shadow::shade_row`]). Rows are drawn in bands of 16,
-/// in parallel: a band's polygon spans first, then each light sample's shadow commands
-/// in turn.
+/// in parallel: a band's polygon spans first, then each light sample's shadow volumes
+/// in turn, applied to the band's flags.
 pub fn render_frame_with<G>(
     src: &SpanSource,
     bg: [u8; 3],
@@ -301,24 +254,17 @@ where
                         readout(&mut band[row(r)], &mut mband[m]);
                     }
                 }
-                // Then the shadows' commands, light sample by light sample (each sample's
-                // for the band's rows made at once, unless that would take too much
-                // memory), applied to the whole rows as the routed tiles would apply them.
+                // Then the shadows, light sample by light sample, each applied to the
+                // band's flags as the routed tiles would apply its commands.
                 if let Some(s) = shadows {
-                    let mut made = take_lists();
-                    for k in 0..s.samples() {
-                        let mut r0 = 0;
-                        while r0 < n {
-                            let m = s.sample_rows_at_once(k, j0 + r0 as u32, n - r0);
-                            made.resize_with(m.max(made.len()), Vec::new);
-                            s.sample_rows(k, j0 + r0 as u32, &mut made[..m]);
-                            for (r, cmds) in (r0..).zip(&made[..m]) {
-                                scratch.shadow_flags(&mut band[row(r)], cmds);
-                            }
-                            r0 += m;
+                    if s.samples() > 0 {
+                        let flags = &mut scratch.band_flags;
+                        flags.load(band, w as usize);
+                        for k in 0..s.samples() {
+                            s.sample_flags(k, j0, band, flags);
                         }
+                        flags.store(band);
                     }
-                    give_back_lists(made);
                     for r in 0..n {
                         let m = mrow(mband, r);
                         readout(&mut band[row(r)], &mut mband[m]);
@@ -327,7 +273,6 @@ where
             },
         );
     drop(more_bands);
-    keep_lists(KEPT_LISTS);
     Frame {
         width: w,
         height: h,
@@ -345,6 +290,8 @@ struct RowScratch {
     /// Per tile: which of the row's commands it is fed ([`TileRouter::route`]).
     routed: Vec<Vec<u32>>,
     flags: RowFlags,
+    /// The band's shadow flags, for the volumes of each light sample.
+    band_flags: BandFlags,
 }
 
 impl RowScratch {
@@ -355,6 +302,7 @@ impl RowScratch {
             router: TileRouter::default(),
             routed: vec![Vec::new(); tiles],
             flags: RowFlags::default(),
+            band_flags: BandFlags::default(),
         }
     }
 
@@ -375,6 +323,7 @@ impl RowScratch {
             router,
             routed,
             flags,
+            ..
         } = self;
         let array_width = arr.width();
         let (w, tiles) = (src.width, per_tile.len());
@@ -418,14 +367,6 @@ impl RowScratch {
             flags.run(row, cmds, array_width);
         }
     }
-
-    /// Applies shadow commands (each [`is_flag_command`]) to a row drawn by
-    /// [`RowScratch::draw`] without them, as `draw` would have: the row's commands may be
-    /// applied in parts, light sample after light sample ([`crate::shadow::ShadowRows`]).
-    fn shadow_flags(&mut self, row: &mut [ProcState], cmds: &[Command]) {
-        debug_assert!(cmds.iter().all(is_flag_command));
-        self.flags.run(row, cmds, self.arr.width());
-    }
 }
 
 #[cfg(test)]
@@ -436,10 +377,11 @@ mod tests {
     use crate::shadow::{occluders, shadow_lights, Shading, ShadowForm};
     use crate::stream::SceneStream;
 
-    /// Drawing with each band's shadow commands made as its rows are drawn gives the same
-    /// frame (every register, the shade registers 2.. included) and the same count of
-    /// shadow span words as drawing the commands stored per row, one light's after the
-    /// other's, as the RTL benches' stimulus stores them: two point lights and an area
+    /// Drawing with each band's shadow volumes applied to its flags as its rows are drawn
+    /// gives the same frame (every register, the shade registers 2.. included) and the
+    /// same count of shadow span words as drawing the commands stored per row, one light's
+    /// after the other's, as the RTL benches' stimulus stores them (which the volumes make
+    /// a band, a row or a few rows at a time): two point lights and an area
     /// light with exact shading (three shade channels), both shadow forms, heights that
     /// are and are not a multiple of the band, arrays narrower and wider than the screen;
     /// and each row is what one array as wide as the screen makes of the stream's row.
@@ -489,19 +431,16 @@ mod tests {
             let bg = s.bg;
             let want = render_frame(&s.spans, bg, n, &s.shadow);
             // Each light sample's commands made for a whole band at once, one row at a
-            // time (the least budget), and a few rows at a time.
-            for budget in [1, 3000] {
-                let made = make(budget);
-                let got = render_frame_with(&s.spans, bg, n, RowExtra::Shadows(&made), |_, _| {});
-                assert_eq!(got.px, want.px, "height {h}, {form:?}, array {n}, {budget}");
-                assert_eq!(
-                    got.more, want.more,
-                    "height {h}, {form:?}, array {n}, {budget}"
-                );
-                assert_eq!(made.stats().span_words, s.shadow_stats.span_words);
+            // time (the least budget) and a few rows at a time, are the stored ones.
+            for budget in [1, 3000, u64::MAX] {
+                let rows = make(budget).commands().rows;
+                assert!(rows == s.shadow, "height {h}, {form:?}, budget {budget}");
             }
+            // Drawn with each light sample's volumes applied to a band's flags.
             let made = make(u64::MAX);
             let got = render_frame_with(&s.spans, bg, n, RowExtra::Shadows(&made), |_, _| {});
+            assert_eq!(got.px, want.px, "height {h}, {form:?}, array {n}");
+            assert_eq!(got.more, want.more, "height {h}, {form:?}, array {n}");
             assert!(!got.more.is_empty());
             // And each row as one array as wide as the screen runs it, straight from the
             // stream's commands (no tiles, no bands).

@@ -38,7 +38,7 @@ mod op_span;
 mod span_parity;
 
 use span_parity::latch_in_place;
-pub use span_parity::{is_flag_command, RowFlags};
+pub use span_parity::{is_flag_command, BandFlags, RowFlags};
 
 /// One clock's input to the array.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -227,6 +227,110 @@ impl RowFlags {
     }
 }
 
+/// The shadow flags of a band of rows, applied volume by volume rather than command by
+/// command: what [`RowFlags::run`] makes of a light sample's commands on each row
+/// (`ClearFlags`, each volume's SP words ended by IF/EV or a `Check`, then the sample's
+/// latching control), without the commands. ZB and the flags of all the band's rows are
+/// held in separate arrays (`n` rows of `width`, a byte per flag).
+///
+/// Why the result is the same: a volume's words only toggle DSF (the IF's inversion of
+/// the whole row included), and toggles commute, so they may come in any order before the
+/// volume's end. The end ORs DSF into FSF, by [`RowFlags::run`] on the tiles the router
+/// picks, here on the columns of the volume's words on the row (the whole row with IF):
+/// both take in every pixel whose DSF changed since the last OR, and on any other pixel
+/// `FSF ∨ DSF = FSF` already (after each end, `FSF ≥ DSF` everywhere: `ClearFlags` sets
+/// both to 0 and every toggle is followed by an end that ORs its pixel).
+#[derive(Debug, Default)]
+pub struct BandFlags {
+    planes: FlagPlanes,
+    width: usize,
+    /// Per row: the current volume's words toggled so far, and their least first and
+    /// greatest last column.
+    open: Vec<(u32, u16, u16)>,
+}
+
+/// A row's current volume before its first word.
+const NO_WORDS: (u32, u16, u16) = (0, u16::MAX, 0);
+
+impl BandFlags {
+    /// Takes ZB of the band `band` (whole rows of `width` processors, after their polygon
+    /// spans); the flags are set by [`BandFlags::clear`].
+    pub fn load(&mut self, band: &[ProcState], width: usize) {
+        assert!(
+            width > 0 && band.len().is_multiple_of(width),
+            "whole rows of {width}"
+        );
+        self.width = width;
+        let p = &mut self.planes;
+        p.zb.clear();
+        p.zb.extend(band.iter().map(|s| s.zb));
+        p.dsf.resize(band.len(), 0);
+        p.fsf.resize(band.len(), 0);
+        self.open.clear();
+        self.open.resize(band.len() / width, NO_WORDS);
+    }
+
+    /// The band's rows.
+    pub fn rows(&self) -> usize {
+        self.open.len()
+    }
+
+    /// `ClearFlags` on every row: `DSF := 0; FSF := 0`.
+    pub fn clear(&mut self) {
+        self.planes.dsf.fill(0);
+        self.planes.fsf.fill(0);
+    }
+
+    /// An SP word of the current volume on row `r` of the band: `DSF := ¬DSF` on its
+    /// columns where it lies in front of ZB. Its columns are on the row (`xl ≤ xr <
+    /// width`, as a shadow polygon's words are made).
+    #[inline]
+    pub fn toggle(&mut self, r: usize, w: &SpanWord) {
+        let (xl, xr) = (w.xl as usize, w.xr as usize);
+        debug_assert!(xl <= xr && xr < self.width, "columns {xl}..={xr}");
+        let o = &mut self.open[r];
+        *o = (o.0 + 1, o.1.min(w.xl), o.2.max(w.xr));
+        let (a, b) = (r * self.width + xl, r * self.width + xr);
+        toggle_in_front(
+            &self.planes.zb[a..=b],
+            &mut self.planes.dsf[a..=b],
+            w.zl as i64,
+            w.dz,
+        );
+    }
+
+    /// Ends the current volume on row `r` and tells how many words it toggled there. With
+    /// `inside` (the row's first span is IF) DSF is inverted on the whole row and FSF
+    /// takes DSF on the whole row; otherwise FSF takes DSF on the words' columns (nothing
+    /// without words).
+    pub fn end_volume(&mut self, r: usize, inside: bool) -> u32 {
+        let (made, lo, hi) = std::mem::replace(&mut self.open[r], NO_WORDS);
+        let row = r * self.width;
+        let (a, b) = if inside {
+            let dsf = &mut self.planes.dsf[row..row + self.width];
+            dsf.iter_mut().for_each(|d| *d ^= 1);
+            (0, self.width)
+        } else if made > 0 {
+            (lo as usize, hi as usize + 1)
+        } else {
+            return 0;
+        };
+        self.planes.absorb(row + a, row + b);
+        made
+    }
+
+    /// The sample's latching control `c` (`AccumulateShadow` or `LatchShadow`) on the
+    /// band's processors, from FSF.
+    pub fn latch(&self, c: &Command, band: &mut [ProcState]) {
+        self.planes.latch(c, band);
+    }
+
+    /// Writes the flags back into the band's processors (ZB is never changed here).
+    pub fn store(&self, band: &mut [ProcState]) {
+        self.planes.store(band);
+    }
+}
+
 /// `AccumulateShadow` (`count := count + FSF`, saturating) or `LatchShadow { bit }`
 /// (`mask := mask | FSF << bit`) on the processors `procs`, from their own FSF.
 pub(super) fn latch_in_place(c: &Command, procs: &mut [ProcState]) {
@@ -267,5 +371,129 @@ impl PixelArray {
                 s.fsf |= s.dsf;
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::Lcg64;
+
+    /// [`BandFlags`], volume by volume, leaves every processor as [`RowFlags::run`] leaves
+    /// it after the same commands row by row: random ZB, counters, masks and earlier
+    /// flags; one to three light samples, each `ClearFlags`, volumes of up to four SP
+    /// words a row (none on some rows), the near plane inside some (the row's first word
+    /// made IF, or an empty IF), each ended by EV (the last word, or an empty EV after an
+    /// IF or no word) or a `Check` of the words' columns (the whole line with IF), then
+    /// `AccumulateShadow` or `LatchShadow`; tile widths 1..40, for the tiles `RowFlags`
+    /// routes EV to.
+    #[test]
+    fn band_flags_leave_what_row_flags_leave() {
+        let mut rng = Lcg64(0x5a11_f1a9);
+        let mut r = |m: u64| rng.step() % m;
+        let (mut toggled, mut shadowed) = (0, 0);
+        for case in 0..1_500 {
+            let (w, n, tile) = (1 + r(90) as usize, 1 + r(5) as usize, 1 + r(40) as usize);
+            let check = case % 3 == 0;
+            let mut band: Vec<ProcState> = (0..w * n)
+                .map(|_| ProcState {
+                    zb: r(600) as u32,
+                    dsf: r(2) == 0,
+                    fsf: r(2) == 0,
+                    count: r(256) as u8,
+                    mask: r(256) as u8,
+                    ..Default::default()
+                })
+                .collect();
+            let mut want = band.clone();
+            let mut cmds = vec![Vec::new(); n];
+            let mut flags = BandFlags::default();
+            flags.load(&band, w);
+            for _ in 0..1 + r(3) {
+                let end = match r(3) {
+                    0 => Command::AccumulateShadow,
+                    _ => Command::LatchShadow { bit: r(8) as u8 },
+                };
+                flags.clear();
+                cmds.iter_mut().for_each(|c| c.push(Command::ClearFlags));
+                for _ in 0..1 + r(6) {
+                    let inside = r(6) == 0;
+                    for (row, out) in cmds.iter_mut().enumerate() {
+                        let words = [0, 0, 1, 1, 2, 3, 4][r(7) as usize];
+                        if words == 0 && !inside {
+                            continue;
+                        }
+                        let start = out.len();
+                        for _ in 0..words {
+                            let xl = r(w as u64) as u16;
+                            let xr = (xl + r(12) as u16).min(w as u16 - 1);
+                            let sw = SpanWord {
+                                attr: Attr::Sp,
+                                xl,
+                                xr,
+                                zl: (r(600) << Z_FRAC) + r(1 << Z_FRAC),
+                                dz: r(40 << Z_FRAC) as i64 - (20 << Z_FRAC),
+                                ..Default::default()
+                            };
+                            flags.toggle(row, &sw);
+                            out.push(Command::Span(sw));
+                        }
+                        assert_eq!(flags.end_volume(row, inside), words as u32);
+                        let span = |c: &Command| match c {
+                            Command::Span(s) => Some((s.xl, s.xr)),
+                            _ => None,
+                        };
+                        let lo = out[start..].iter().filter_map(span).map(|s| s.0).min();
+                        let hi = out[start..].iter().filter_map(span).map(|s| s.1).max();
+                        let empty = SpanWord {
+                            xl: 1,
+                            xr: 0,
+                            ..Default::default()
+                        };
+                        if inside {
+                            match out.get_mut(start) {
+                                Some(Command::Span(s)) => s.attr = Attr::If,
+                                _ => out.push(Command::Span(SpanWord {
+                                    attr: Attr::If,
+                                    ..empty
+                                })),
+                            }
+                        }
+                        if check {
+                            let (xl, xr) = match (inside, lo, hi) {
+                                (false, Some(lo), Some(hi)) => (lo, hi),
+                                _ => (0, w as u16 - 1),
+                            };
+                            out.push(Command::Check { xl, xr });
+                        } else {
+                            let own = out.len() > start;
+                            match out.last_mut() {
+                                Some(Command::Span(s)) if own && s.attr == Attr::Sp => {
+                                    s.attr = Attr::Ev
+                                }
+                                _ => out.push(Command::Span(SpanWord {
+                                    attr: Attr::Ev,
+                                    ..empty
+                                })),
+                            }
+                        }
+                    }
+                }
+                flags.latch(&end, &mut band);
+                cmds.iter_mut().for_each(|c| c.push(end));
+            }
+            flags.store(&mut band);
+            let mut rf = RowFlags::default();
+            for (row, c) in want.chunks_mut(w).zip(&cmds) {
+                rf.run(row, c, tile);
+            }
+            assert_eq!(band, want, "case {case}: width {w}, rows {n}, tile {tile}");
+            toggled += want.iter().filter(|s| s.dsf).count();
+            shadowed += want.iter().filter(|s| s.fsf).count();
+        }
+        assert!(
+            toggled > 10_000 && shadowed > 10_000,
+            "{toggled} {shadowed}"
+        );
     }
 }

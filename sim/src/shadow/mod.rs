@@ -61,7 +61,7 @@
 
 use crate::frontend::{class_normal, Projector, GUARD};
 use crate::pixel_array::MORE_SHADE;
-use crate::pixel_array::{Command, ProcState};
+use crate::pixel_array::{BandFlags, Command, ProcState};
 use crate::scene::LoadedScene;
 use crate::setup::{SetupError, SnappedTri};
 use glam::{DVec3, DVec4};
@@ -272,15 +272,16 @@ struct SampleVolumes {
     row_bound: Vec<u64>,
 }
 
-/// The most commands (by [`SampleVolumes::row_bound`]) made at once for one light sample:
-/// 2^20 commands of 56 bytes, 59 MB per drawing thread.
+/// The most commands (by [`SampleVolumes::row_bound`]) made at once for one light sample
+/// when they are stored ([`ShadowRows::commands`]): 2^20 commands of 56 bytes, 59 MB per
+/// band being made.
 const BAND_BUDGET: u64 = 1 << 20;
 
-/// Some lights' shadow volumes, set up (clipped, snapped, their triangles set up), from
-/// which each row's shadow commands are made when the row is drawn, a band of rows and a
-/// light sample at a time ([`ShadowRows::sample_rows`]): the commands of
-/// [`shadow_commands_of`], never stored.
-/// Per light sample and row: `ClearFlags`, the volumes' spans in volume order (first IF
+/// Some lights' shadow volumes, set up (clipped, snapped, their triangles set up). The
+/// renderer applies them to a band of rows' flags as it draws the band, a light sample at
+/// a time ([`ShadowRows::sample_flags`]), with the result of the commands of
+/// [`shadow_commands_of`], which are made only when asked for ([`ShadowRows::commands`],
+/// a band of rows and a light sample at a time). Per light sample and row: `ClearFlags`, the volumes' spans in volume order (first IF
 /// when the near plane is inside the volume, last EV or a `Check`), then `LatchShadow`
 /// (point light) or `AccumulateShadow` (area-light sample).
 pub struct ShadowRows {
@@ -411,7 +412,7 @@ impl ShadowRows {
     /// most one word per triangle whose rows include the row, and one more per volume
     /// that reaches it, two with the near plane inside). The benchmark's one-light 1080p
     /// scenes take whole bands of 16 rows on all but a few of their busiest rows.
-    pub fn sample_rows_at_once(&self, k: usize, j0: u32, max: usize) -> usize {
+    fn sample_rows_at_once(&self, k: usize, j0: u32, max: usize) -> usize {
         let mut sum = 0;
         let fit = self.samples[k].row_bound[j0 as usize..]
             .iter()
@@ -442,7 +443,7 @@ impl ShadowRows {
     /// EV or a `Check`), so they can be applied one after the other. Walking a volume's
     /// triangles once for all the rows, each through its rows, reads each triangle's
     /// set-up once instead of once per row.
-    pub fn sample_rows(&self, k: usize, j0: u32, made: &mut [Vec<Command>]) {
+    fn sample_rows(&self, k: usize, j0: u32, made: &mut [Vec<Command>]) {
         let j1 = j0 + made.len() as u32 - 1;
         assert!(
             !made.is_empty() && j1 < self.height,
@@ -486,6 +487,41 @@ impl ShadowRows {
         self.words.fetch_add(words, Ordering::Relaxed);
     }
 
+    /// Light sample `k`'s commands on the rows of `band` (whole rows from row `j0`),
+    /// applied as [`crate::pixel_array::RowFlags::run`] applies those [`ShadowRows::commands`]
+    /// stores (`ClearFlags`, each volume's words and end, the sample's end control),
+    /// without making them: each volume's SP words toggle `flags` as they are stepped, then each
+    /// row the volume reaches is ended ([`BandFlags`] says why that is the same). `flags`
+    /// holds the band's ZB ([`BandFlags::load`]); the flags are left in it, for
+    /// [`BandFlags::store`] after the last sample. Counts the same shadow span words.
+    pub fn sample_flags(&self, k: usize, j0: u32, band: &mut [ProcState], flags: &mut BandFlags) {
+        let n = flags.rows();
+        let j1 = j0 + n as u32 - 1;
+        assert!(
+            n > 0 && band.len() == n * self.width as usize && j1 < self.height,
+            "rows {j0}..={j1} of {}",
+            self.height
+        );
+        let s = &self.samples[k];
+        let mut words = 0;
+        flags.clear();
+        for ((tris, near), reach) in s.per_vol.iter().zip(&s.reach) {
+            if !reach.is_some_and(|(a, z)| a <= j1 && z >= j0) {
+                continue;
+            }
+            tris.band_words(j0 as i64, j1 as i64, self.width, |j, w| {
+                flags.toggle((j - j0 as i64) as usize, &w)
+            });
+            let inside = *near == NearPlane::Inside;
+            for r in 0..n {
+                let made = flags.end_volume(r, inside);
+                words += ended_len(made, inside, self.form);
+            }
+        }
+        flags.latch(&s.end, band);
+        self.words.fetch_add(words, Ordering::Relaxed);
+    }
+
     /// Every row's commands, stored.
     pub fn commands(&self) -> ShadowCommands {
         let mut rows: Vec<Vec<Command>> = vec![Vec::new(); self.height as usize];
@@ -510,6 +546,23 @@ impl ShadowRows {
             stats: self.stats(),
         }
     }
+}
+
+/// How many commands [`end_volume_row`] leaves for a volume's row of `made` SP words
+/// (none when there are none and the near plane is outside): the words, an empty IF when there are none
+/// and the near plane is inside, and an empty EV unless the last word (not made IF) can
+/// become EV, or the `Check`.
+fn ended_len(made: u32, inside: bool, form: ShadowForm) -> u64 {
+    if made == 0 && !inside {
+        return 0;
+    }
+    let empty_if = (inside && made == 0) as u64;
+    let end = match form {
+        // The last word stays SP (and becomes EV) unless it is the only one and IF.
+        ShadowForm::Ev => !(made > 1 || (made == 1 && !inside)) as u64,
+        ShadowForm::Check => 1,
+    };
+    made as u64 + empty_if + end
 }
 
 /// Ends one volume's commands for one row, whose SP words are `out[start..]` (columns
@@ -562,6 +615,43 @@ fn end_volume_row(
                 (lo, hi)
             };
             out.push(Command::Check { xl, xr });
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// [`ended_len`] is the length of what [`end_volume_row`] leaves of a volume's row
+    /// (nothing for a row without words outside the volume, which
+    /// [`ShadowRows::sample_rows`] skips): zero to five words, the near plane inside the
+    /// volume or not, both forms.
+    #[test]
+    fn ended_len_counts_the_ended_rows_commands() {
+        for form in [ShadowForm::Ev, ShadowForm::Check] {
+            for inside in [false, true] {
+                for made in 0..6u16 {
+                    let mut out = vec![Command::ClearFlags];
+                    out.extend((0..made).map(|k| {
+                        Command::Span(SpanWord {
+                            attr: Attr::Sp,
+                            xl: 3 * k,
+                            xr: 3 * k + 2,
+                            ..Default::default()
+                        })
+                    }));
+                    let want = if made == 0 && !inside {
+                        0
+                    } else {
+                        let cols = if made == 0 { (1, 0) } else { (0, 3 * made - 1) };
+                        end_volume_row(&mut out, 1, cols, inside, form, 64);
+                        out.len() - 1
+                    };
+                    let got = ended_len(made as u32, inside, form);
+                    assert_eq!(got, want as u64, "{form:?}, inside {inside}, {made} words");
+                }
+            }
         }
     }
 }
