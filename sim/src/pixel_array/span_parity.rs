@@ -33,10 +33,7 @@ impl FlagPlanes {
 
     /// Copies the flags back out (ZB is never changed here).
     fn store(&self, procs: &mut [ProcState]) {
-        for (s, (&d, &f)) in procs.iter_mut().zip(self.dsf.iter().zip(&self.fsf)) {
-            s.dsf = d != 0;
-            s.fsf = f != 0;
-        }
+        store_flags(procs, &self.dsf, &self.fsf);
     }
 
     /// A span word's flag rule on processors `lo..=hi` (`z` its depth at `lo`): IF inverts
@@ -63,19 +60,34 @@ impl FlagPlanes {
     /// `LatchShadow` (light mask); the others are not handled here.
     #[inline]
     fn latch(&self, c: &Command, procs: &mut [ProcState]) {
-        match *c {
-            Command::AccumulateShadow => {
-                for (s, &b) in procs.iter_mut().zip(&self.fsf) {
-                    s.count = s.count.saturating_add(b);
-                }
+        latch_from(c, procs, &self.fsf);
+    }
+}
+
+/// The flags `dsf` and `fsf` (a byte each) into `procs`.
+fn store_flags(procs: &mut [ProcState], dsf: &[u8], fsf: &[u8]) {
+    for (s, (&d, &f)) in procs.iter_mut().zip(dsf.iter().zip(fsf)) {
+        s.dsf = d != 0;
+        s.fsf = f != 0;
+    }
+}
+
+/// `AccumulateShadow` (`count := count + FSF`, saturating) or `LatchShadow { bit }` (`mask
+/// := mask | FSF << bit`) on `procs`, from the flags `fsf` (a byte each).
+#[inline]
+fn latch_from(c: &Command, procs: &mut [ProcState], fsf: &[u8]) {
+    match *c {
+        Command::AccumulateShadow => {
+            for (s, &b) in procs.iter_mut().zip(fsf) {
+                s.count = s.count.saturating_add(b);
             }
-            Command::LatchShadow { bit } => {
-                for (s, &b) in procs.iter_mut().zip(&self.fsf) {
-                    s.mask |= b << (bit & 7);
-                }
-            }
-            _ => unreachable!("not a latching control"),
         }
+        Command::LatchShadow { bit } => {
+            for (s, &b) in procs.iter_mut().zip(fsf) {
+                s.mask |= b << (bit & 7);
+            }
+        }
+        _ => unreachable!("not a latching control"),
     }
 }
 
@@ -247,6 +259,9 @@ pub struct BandFlags {
     /// Per row: the current volume's words toggled so far, and their least first and
     /// greatest last column.
     open: Vec<(u32, u16, u16)>,
+    /// The columns `lo..hi` outside which every row's flags are 0 (since the last clear,
+    /// no ended volume's word reached them and no IF inverted them).
+    cols: (usize, usize),
 }
 
 /// A row's current volume before its first word.
@@ -254,20 +269,24 @@ const NO_WORDS: (u32, u16, u16) = (0, u16::MAX, 0);
 
 impl BandFlags {
     /// Takes ZB of the band `band` (whole rows of `width` processors, after their polygon
-    /// spans); the flags are set by [`BandFlags::clear`].
+    /// spans, with DSF and FSF clear as `ClearLine` leaves them); the flags start at 0.
     pub fn load(&mut self, band: &[ProcState], width: usize) {
         assert!(
             width > 0 && band.len().is_multiple_of(width),
             "whole rows of {width}"
         );
+        debug_assert!(band.iter().all(|s| !s.dsf && !s.fsf), "flags not clear");
         self.width = width;
         let p = &mut self.planes;
         p.zb.clear();
         p.zb.extend(band.iter().map(|s| s.zb));
+        p.dsf.clear();
         p.dsf.resize(band.len(), 0);
+        p.fsf.clear();
         p.fsf.resize(band.len(), 0);
         self.open.clear();
         self.open.resize(band.len() / width, NO_WORDS);
+        self.cols = (0, 0);
     }
 
     /// The band's rows.
@@ -275,10 +294,30 @@ impl BandFlags {
         self.open.len()
     }
 
+    /// Each row's range of the columns that may hold a flag.
+    fn dirty(&self) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
+        let (lo, hi) = self.cols;
+        (0..self.rows()).map(move |r| r * self.width + lo..r * self.width + hi)
+    }
+
     /// `ClearFlags` on every row: `DSF := 0; FSF := 0`.
     pub fn clear(&mut self) {
-        self.planes.dsf.fill(0);
-        self.planes.fsf.fill(0);
+        let ((lo, hi), w) = (self.cols, self.width);
+        for r in 0..self.rows() {
+            self.planes.dsf[r * w + lo..r * w + hi].fill(0);
+            self.planes.fsf[r * w + lo..r * w + hi].fill(0);
+        }
+        self.cols = (0, 0);
+    }
+
+    /// Takes columns `lo..hi` into the range that may hold flags.
+    #[inline]
+    fn reach(&mut self, lo: usize, hi: usize) {
+        self.cols = if self.cols.0 == self.cols.1 {
+            (lo, hi)
+        } else {
+            (self.cols.0.min(lo), self.cols.1.max(hi))
+        };
     }
 
     /// An SP word of the current volume on row `r` of the band: `DSF := ¬DSF` on its
@@ -309,8 +348,10 @@ impl BandFlags {
         let (a, b) = if inside {
             let dsf = &mut self.planes.dsf[row..row + self.width];
             dsf.iter_mut().for_each(|d| *d ^= 1);
+            self.reach(0, self.width);
             (0, self.width)
         } else if made > 0 {
+            self.reach(lo as usize, hi as usize + 1);
             (lo as usize, hi as usize + 1)
         } else {
             return 0;
@@ -320,14 +361,23 @@ impl BandFlags {
     }
 
     /// The sample's latching control `c` (`AccumulateShadow` or `LatchShadow`) on the
-    /// band's processors, from FSF.
+    /// band's processors, from FSF (only where it may be 1: elsewhere it changes nothing).
     pub fn latch(&self, c: &Command, band: &mut [ProcState]) {
-        self.planes.latch(c, band);
+        for k in self.dirty() {
+            latch_from(c, &mut band[k.clone()], &self.planes.fsf[k]);
+        }
     }
 
-    /// Writes the flags back into the band's processors (ZB is never changed here).
+    /// Writes the flags back into the band's processors (ZB is never changed here): only
+    /// where they may be 1, since elsewhere they are 0 and the processors' are clear.
     pub fn store(&self, band: &mut [ProcState]) {
-        self.planes.store(band);
+        for k in self.dirty() {
+            store_flags(
+                &mut band[k.clone()],
+                &self.planes.dsf[k.clone()],
+                &self.planes.fsf[k],
+            );
+        }
     }
 }
 
@@ -380,9 +430,10 @@ mod tests {
     use crate::rng::Lcg64;
 
     /// [`BandFlags`], volume by volume, leaves every processor as [`RowFlags::run`] leaves
-    /// it after the same commands row by row: random ZB, counters, masks and earlier
-    /// flags; one to three light samples, each `ClearFlags`, volumes of up to four SP
-    /// words a row (none on some rows), the near plane inside some (the row's first word
+    /// it after the same commands row by row: random ZB, counters and masks, flags clear
+    /// (as `ClearLine` leaves them); one to three light samples, each `ClearFlags`, volumes of up to four SP
+    /// words a row (none on some rows) on the whole row or a part of it, the near plane
+    /// inside some (the row's first word
     /// made IF, or an empty IF), each ended by EV (the last word, or an empty EV after an
     /// IF or no word) or a `Check` of the words' columns (the whole line with IF), then
     /// `AccumulateShadow` or `LatchShadow`; tile widths 1..40, for the tiles `RowFlags`
@@ -395,11 +446,12 @@ mod tests {
         for case in 0..1_500 {
             let (w, n, tile) = (1 + r(90) as usize, 1 + r(5) as usize, 1 + r(40) as usize);
             let check = case % 3 == 0;
+            // The columns the words may reach: the whole row, or a part of it.
+            let c0 = if case % 2 == 0 { 0 } else { r(w as u64) as u16 };
+            let c1 = c0 + 1 + r((w - c0 as usize) as u64) as u16;
             let mut band: Vec<ProcState> = (0..w * n)
                 .map(|_| ProcState {
                     zb: r(600) as u32,
-                    dsf: r(2) == 0,
-                    fsf: r(2) == 0,
                     count: r(256) as u8,
                     mask: r(256) as u8,
                     ..Default::default()
@@ -425,8 +477,8 @@ mod tests {
                         }
                         let start = out.len();
                         for _ in 0..words {
-                            let xl = r(w as u64) as u16;
-                            let xr = (xl + r(12) as u16).min(w as u16 - 1);
+                            let xl = c0 + r((c1 - c0) as u64) as u16;
+                            let xr = (xl + r(12) as u16).min(c1 - 1);
                             let sw = SpanWord {
                                 attr: Attr::Sp,
                                 xl,
