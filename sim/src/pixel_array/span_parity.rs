@@ -431,13 +431,12 @@ mod tests {
 
     /// [`BandFlags`], volume by volume, leaves every processor as [`RowFlags::run`] leaves
     /// it after the same commands row by row: random ZB, counters and masks, flags clear
-    /// (as `ClearLine` leaves them); one to three light samples, each `ClearFlags`, volumes of up to four SP
-    /// words a row (none on some rows) on the whole row or a part of it, the near plane
-    /// inside some (the row's first word
-    /// made IF, or an empty IF), each ended by EV (the last word, or an empty EV after an
-    /// IF or no word) or a `Check` of the words' columns (the whole line with IF), then
-    /// `AccumulateShadow` or `LatchShadow`; tile widths 1..40, for the tiles `RowFlags`
-    /// routes EV to.
+    /// (as `ClearLine` leaves them); one to three light samples, each `ClearFlags`,
+    /// volumes of up to four SP words a row (none on some rows) on the whole row or a part
+    /// of it, the near plane inside some (the row's first word made IF, or an empty IF),
+    /// each ended by EV (the last word, or an empty EV after an IF or no word) or a
+    /// `Check` of the words' columns (the whole line with IF), then `AccumulateShadow` or
+    /// `LatchShadow`; tile widths 1..40, for the tiles `RowFlags` routes EV to.
     #[test]
     fn band_flags_leave_what_row_flags_leave() {
         let mut rng = Lcg64(0x5a11_f1a9);

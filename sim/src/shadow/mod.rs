@@ -281,9 +281,10 @@ const BAND_BUDGET: u64 = 1 << 20;
 /// renderer applies them to a band of rows' flags as it draws the band, a light sample at
 /// a time ([`ShadowRows::sample_flags`]), with the result of the commands of
 /// [`shadow_commands_of`], which are made only when asked for ([`ShadowRows::commands`],
-/// a band of rows and a light sample at a time). Per light sample and row: `ClearFlags`, the volumes' spans in volume order (first IF
-/// when the near plane is inside the volume, last EV or a `Check`), then `LatchShadow`
-/// (point light) or `AccumulateShadow` (area-light sample).
+/// a band of rows and a light sample at a time). Per light sample and row: `ClearFlags`,
+/// the volumes' spans in volume order (first IF when the near plane is inside the volume,
+/// last EV or a `Check`), then `LatchShadow` (point light) or `AccumulateShadow`
+/// (area-light sample).
 pub struct ShadowRows {
     samples: Vec<SampleVolumes>,
     form: ShadowForm,
@@ -488,12 +489,13 @@ impl ShadowRows {
     }
 
     /// Light sample `k`'s commands on the rows of `band` (whole rows from row `j0`),
-    /// applied as [`crate::pixel_array::RowFlags::run`] applies those [`ShadowRows::commands`]
-    /// stores (`ClearFlags`, each volume's words and end, the sample's end control),
-    /// without making them: each volume's SP words toggle `flags` as they are stepped, then each
-    /// row the volume reaches is ended ([`BandFlags`] says why that is the same). `flags`
-    /// holds the band's ZB ([`BandFlags::load`]); the flags are left in it, for
-    /// [`BandFlags::store`] after the last sample. Counts the same shadow span words.
+    /// applied as [`crate::pixel_array::RowFlags::run`] applies those
+    /// [`ShadowRows::commands`] stores (`ClearFlags`, each volume's words and end, the
+    /// sample's end control), without making them: each volume's SP words toggle `flags`
+    /// as they are stepped, then each row the volume reaches is ended ([`BandFlags`] says
+    /// why that is the same). `flags` holds the band's ZB ([`BandFlags::load`]); the flags
+    /// are left in it, for [`BandFlags::store`] after the last sample. Counts the same
+    /// shadow span words.
     pub fn sample_flags(&self, k: usize, j0: u32, band: &mut [ProcState], flags: &mut BandFlags) {
         let n = flags.rows();
         let j1 = j0 + n as u32 - 1;
@@ -549,9 +551,9 @@ impl ShadowRows {
 }
 
 /// How many commands [`end_volume_row`] leaves for a volume's row of `made` SP words
-/// (none when there are none and the near plane is outside): the words, an empty IF when there are none
-/// and the near plane is inside, and an empty EV unless the last word (not made IF) can
-/// become EV, or the `Check`.
+/// (none when there are none and the near plane is outside): the words, an empty IF when
+/// there are none and the near plane is inside, and an empty EV unless the last word (not
+/// made IF) can become EV, or the `Check`.
 fn ended_len(made: u32, inside: bool, form: ShadowForm) -> u64 {
     if made == 0 && !inside {
         return 0;
