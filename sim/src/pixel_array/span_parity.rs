@@ -294,18 +294,18 @@ impl BandFlags {
         self.open.len()
     }
 
-    /// Each row's range of the columns that may hold a flag.
-    fn dirty(&self) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
-        let (lo, hi) = self.cols;
-        (0..self.rows()).map(move |r| r * self.width + lo..r * self.width + hi)
+    /// Each row's range of the columns that may hold a flag, as indices into the planes
+    /// (the iterator holds copies, so the planes may be changed while it runs).
+    fn dirty(&self) -> impl Iterator<Item = std::ops::Range<usize>> + use<> {
+        let ((lo, hi), w) = (self.cols, self.width);
+        (0..self.rows()).map(move |r| r * w + lo..r * w + hi)
     }
 
     /// `ClearFlags` on every row: `DSF := 0; FSF := 0`.
     pub fn clear(&mut self) {
-        let ((lo, hi), w) = (self.cols, self.width);
-        for r in 0..self.rows() {
-            self.planes.dsf[r * w + lo..r * w + hi].fill(0);
-            self.planes.fsf[r * w + lo..r * w + hi].fill(0);
+        for k in self.dirty() {
+            self.planes.dsf[k.clone()].fill(0);
+            self.planes.fsf[k].fill(0);
         }
         self.cols = (0, 0);
     }
