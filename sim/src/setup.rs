@@ -27,7 +27,8 @@
 
 use crate::raster::edge::{check_coords, check_depths, rewind, winding, EdgeFn};
 use crate::raster::{
-    ceil_div, round_div, rows::centre_rows, FloorSteps, PlaneStepper, RoundDivStep, RoundDivSteps,
+    ceil_div, round_div, rows::centre_rows, FloorStep, FloorSteps, PlaneStepper, RoundDivStep,
+    RoundDivSteps,
 };
 use pixelproc_formats::{
     Attr, SpanWord, DI_BITS, DZ_BITS, IL_BITS, I_FRAC, MAX_COORD_PX, SUBPIXEL_ONE, Z_FRAC,
@@ -168,12 +169,24 @@ impl ExactPlane {
     /// the constant row increment (the raster core's [`RoundDivSteps`]), so every row's
     /// value equals [`ExactPlane::at`] bit for bit with additions only.
     fn rows(&self, x_q8: i64, first_row: i64, frac: u32) -> RoundDivSteps {
+        self.rows_by(x_q8, first_row, frac, &self.row_step(frac))
+    }
+
+    /// The row step of [`ExactPlane::rows`] (one division), for [`ExactPlane::rows_by`].
+    fn row_step(&self, frac: u32) -> RoundDivStep {
+        RoundDivStep::new((self.ny * SUBPIXEL_ONE as i128) << frac, self.area2)
+    }
+
+    /// [`ExactPlane::rows`] with its row step `step` ([`ExactPlane::row_step`] of the same
+    /// `frac`) prepared once.
+    #[inline]
+    fn rows_by(&self, x_q8: i64, first_row: i64, frac: u32, step: &RoundDivStep) -> RoundDivSteps {
         let one = SUBPIXEL_ONE as i128;
         let yc = first_row as i128 * one + one / 2;
         let n =
             (self.v0 * self.area2 + self.nx * (x_q8 as i128 - self.x0) + self.ny * (yc - self.y0))
                 << frac;
-        RoundDivSteps::start(n, &RoundDivStep::new((self.ny * one) << frac, self.area2))
+        RoundDivSteps::start(n, step)
     }
 
     /// `round(∂v/∂x · 2^frac)` per pixel, half up.
@@ -235,28 +248,65 @@ pub(crate) struct ColumnSteps {
     edges: [(EdgeBound, FloorSteps); 3],
 }
 
-impl ColumnSteps {
-    /// The stepper of a triangle's columns (its wound `edges`) from row `first` on.
-    fn new(edges: &[EdgeFn; 3], first: i64) -> ColumnSteps {
+/// A triangle's [`ColumnSteps`] prepared once, to start at any row with one division per
+/// edge ([`ShadowTri`]'s, started once per band): per edge, its bound, the edge
+/// function's row origin `k(j) = s·(B·yc(j) + C + A·128)` (`s` the bound's sign) and the
+/// floor step of its row increment.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ColumnRows {
+    edges: [EdgeRows; 3],
+}
+
+/// One edge of [`ColumnRows`].
+#[derive(Clone, Copy, Debug)]
+struct EdgeRows {
+    bound: EdgeBound,
+    /// `s·B` and `s·(C + A·128)`.
+    b: i64,
+    c: i64,
+    step: FloorStep,
+}
+
+impl ColumnRows {
+    /// Prepares the column steps of a triangle's wound `edges`.
+    fn of(edges: &[EdgeFn; 3]) -> ColumnRows {
         let one = SUBPIXEL_ONE as i64;
-        let yc = first * one + one / 2;
-        ColumnSteps {
+        ColumnRows {
             edges: edges.map(|e| {
                 // E at column i of row j is 256·A·i + k(j), k(j + 1) = k(j) + 256·B.
-                let (k, dk) = (e.b * yc + e.c + e.a * (one / 2), e.b * one);
-                match e.a.cmp(&0) {
-                    std::cmp::Ordering::Greater => {
-                        (EdgeBound::Left, FloorSteps::new(k, dk, one * e.a))
-                    }
-                    std::cmp::Ordering::Less => {
-                        (EdgeBound::Right, FloorSteps::new(-k, -dk, -one * e.a))
-                    }
-                    std::cmp::Ordering::Equal => {
-                        (EdgeBound::Flat(e.top_left), FloorSteps::new(k, dk, 1))
-                    }
+                let (b, c) = (e.b, e.c + e.a * (one / 2));
+                let (bound, s, d) = match e.a.cmp(&0) {
+                    std::cmp::Ordering::Greater => (EdgeBound::Left, 1, one * e.a),
+                    std::cmp::Ordering::Less => (EdgeBound::Right, -1, -one * e.a),
+                    std::cmp::Ordering::Equal => (EdgeBound::Flat(e.top_left), 1, 1),
+                };
+                EdgeRows {
+                    bound,
+                    b: s * b,
+                    c: s * c,
+                    step: FloorStep::new(s * b * one, d),
                 }
             }),
         }
+    }
+
+    /// The stepper from row `first` on.
+    #[inline]
+    pub(crate) fn at(&self, first: i64) -> ColumnSteps {
+        let one = SUBPIXEL_ONE as i64;
+        let yc = first * one + one / 2;
+        ColumnSteps {
+            edges: self
+                .edges
+                .map(|e| (e.bound, FloorSteps::start(e.b * yc + e.c, &e.step))),
+        }
+    }
+}
+
+impl ColumnSteps {
+    /// The stepper of a triangle's columns (its wound `edges`) from row `first` on.
+    fn new(edges: &[EdgeFn; 3], first: i64) -> ColumnSteps {
+        ColumnRows::of(edges).at(first)
     }
 
     /// The current row's inclusive columns, clamped to `0..width`, or `None` (what
@@ -528,8 +578,10 @@ impl TriSetup {
 /// [`TriSetup::span`]'s of the same triangle with attr SP and zero intensities and slopes.
 #[derive(Clone, Debug)]
 pub(crate) struct ShadowTri {
-    edges: [EdgeFn; 3],
+    cols: ColumnRows,
     z: ExactPlane,
+    /// The depth plane's row step ([`ExactPlane::row_step`]).
+    z_step: RoundDivStep,
     /// First and last scanline whose centre may be covered (unclamped).
     pub(crate) row_min: i64,
     pub(crate) row_max: i64,
@@ -555,8 +607,9 @@ impl ShadowTri {
         };
         let (row_min, row_max) = rows_of(&v);
         Ok(Some(ShadowTri {
-            edges: EdgeFn::of_triangle(v),
+            cols: ColumnRows::of(&EdgeFn::of_triangle(v)),
             dz: zp.ddx_per_px(Z_FRAC),
+            z_step: zp.row_step(Z_FRAC),
             z: zp,
             row_min,
             row_max,
@@ -566,14 +619,19 @@ impl ShadowTri {
         }))
     }
 
-    /// The column stepper from row `first` on ([`TriSetup::column_rows`]).
+    /// The column stepper from row `first` on ([`TriSetup::column_rows`]), from the
+    /// steps prepared with the triangle.
+    #[inline]
     pub(crate) fn column_rows(&self, first: i64) -> ColumnSteps {
-        ColumnSteps::new(&self.edges, first)
+        self.cols.at(first)
     }
 
-    /// The depth plane's row stepper from row `first` on ([`TriSetup::depth_rows`]).
+    /// The depth plane's row stepper from row `first` on ([`TriSetup::depth_rows`]), from
+    /// the row step prepared with the triangle.
+    #[inline]
     pub(crate) fn depth_rows(&self, first: i64) -> RoundDivSteps {
-        self.z.rows((SUBPIXEL_ONE / 2) as i64, first, Z_FRAC)
+        self.z
+            .rows_by((SUBPIXEL_ONE / 2) as i64, first, Z_FRAC, &self.z_step)
     }
 
     /// The SP word of the row the steppers `cols` and `z` stand at, or `None` if the row

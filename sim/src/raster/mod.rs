@@ -25,7 +25,9 @@ pub mod edge;
 pub mod rows;
 mod steps;
 
-pub(crate) use steps::{FloorSteps, PlaneStepper, RoundDivStep, RoundDivSteps, RoundDivSteps64};
+pub(crate) use steps::{
+    FloorStep, FloorSteps, PlaneStepper, RoundDivStep, RoundDivSteps, RoundDivSteps64,
+};
 
 use crate::setup::{SetupError, SnappedTri, TriSetup};
 use pixelproc_formats::{SpanWord, Z_FAR};

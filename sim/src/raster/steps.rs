@@ -20,17 +20,17 @@ pub(crate) struct FloorSteps {
 }
 
 impl FloorSteps {
-    /// Starts at `k = 0`; `d > 0`.
+    /// Starts at `k = 0` with the step `dn / d` prepared by [`FloorStep::new`]: one
+    /// division (none when `d = 1`).
     #[inline]
-    pub(crate) fn new(n0: i64, dn: i64, d: i64) -> FloorSteps {
-        debug_assert!(d > 0);
-        let (q, dq) = (n0.div_euclid(d), dn.div_euclid(d));
+    pub(crate) fn start(n0: i64, s: &FloorStep) -> FloorSteps {
+        let q = if s.d == 1 { n0 } else { n0.div_euclid(s.d) };
         FloorSteps {
             q,
-            r: n0 - q * d,
-            dq,
-            dr: dn - dq * d,
-            d,
+            r: n0 - q * s.d,
+            dq: s.dq,
+            dr: s.dr,
+            d: s.d,
         }
     }
 
@@ -48,6 +48,29 @@ impl FloorSteps {
         let carry = (r >= self.d) as i64;
         self.q += self.dq + carry;
         self.r = r - carry * self.d;
+    }
+}
+
+/// The step of a [`FloorSteps`], `dn / d` as a quotient and a remainder, prepared once
+/// for steppers that start at many numerators (a triangle's edge, band after band).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct FloorStep {
+    dq: i64,
+    dr: i64,
+    d: i64,
+}
+
+impl FloorStep {
+    /// The step `dn / d`, `d > 0`.
+    #[inline]
+    pub(crate) fn new(dn: i64, d: i64) -> FloorStep {
+        debug_assert!(d > 0);
+        let dq = dn.div_euclid(d);
+        FloorStep {
+            dq,
+            dr: dn - dq * d,
+            d,
+        }
     }
 }
 
@@ -128,10 +151,15 @@ impl RoundDivSteps {
     /// fits), and the quotient moves by at most `|dq| + 1` per advance.
     #[inline]
     pub(crate) fn narrow(&self, steps: u64) -> Option<RoundDivSteps64> {
-        const LIM: i128 = 1 << 62;
-        let reach = (self.dq.checked_abs()? + 1).checked_mul(steps as i128 + 1)?;
-        let reach = reach.checked_add(self.q.checked_abs()?)?;
-        (self.den < LIM && reach < LIM).then_some(RoundDivSteps64 {
+        // `|q| + (|dq| + 1)·(steps + 1) < 2^62`, in `u128` without overflow once `|q|` and
+        // `|dq|` are below 2^62 (the sum is at least each of them).
+        const LIM: u128 = 1 << 62;
+        let (q, dq) = (self.q.unsigned_abs(), self.dq.unsigned_abs());
+        let fits = self.den < LIM as i128
+            && q < LIM
+            && dq < LIM
+            && (dq + 1) * (steps as u128 + 1) + q < LIM;
+        fits.then_some(RoundDivSteps64 {
             q: self.q as i64,
             r: self.r as i64,
             dq: self.dq as i64,
@@ -323,6 +351,112 @@ mod tests {
     fn round_div_wide(n: i128, d: i128) -> i128 {
         let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
         (2 * n + d).div_euclid(2 * d)
+    }
+
+    /// [`RoundDivSteps::narrow`] takes a stepper exactly when `den < 2^62` and
+    /// `|q| + (|dq| + 1)·(steps + 1) < 2^62` in exact arithmetic (written here with checked
+    /// 128-bit operations, overflow meaning "too large"), and the narrowed stepper then
+    /// gives the same values: quotients, steps and step counts at, just below and just
+    /// above the limit, and far beyond it (up to ±2^126), with `steps` up to `u64::MAX`.
+    #[test]
+    fn narrowing_takes_exactly_the_steppers_that_fit() {
+        const LIM: i128 = 1 << 62;
+        let reference = |q: i128, dq: i128, den: i128, steps: u64| -> bool {
+            let reach = || {
+                (dq.checked_abs()? + 1)
+                    .checked_mul(steps as i128 + 1)?
+                    .checked_add(q.checked_abs()?)
+            };
+            den < LIM && reach().is_some_and(|r| r < LIM)
+        };
+        let mut rng = crate::rng::Lcg64(0x0060_b175);
+        let edge = [
+            0,
+            1,
+            LIM - 2,
+            LIM - 1,
+            LIM,
+            LIM + 1,
+            1 << 100,
+            (1 << 126) - 1,
+        ];
+        let (mut taken, mut refused) = (0, 0);
+        let lim = LIM as u64;
+        // On the limit: the reach and the denominator at 2^62 − 1 (taken) and 2^62 (not).
+        let exact = [
+            (0, 0, 2, lim - 2, true),
+            (0, 0, 2, lim - 1, false),
+            (1, 0, 2, lim - 3, true),
+            (1, 0, 2, lim - 2, false),
+            (-(LIM - 3), 1, 2, 0, true),
+            (LIM - 2, -1, 2, 0, false),
+            (5, 0, LIM - 1, 10, true),
+            (5, 0, LIM, 10, false),
+        ];
+        for (q, dq, den, steps, fits) in exact {
+            let st = RoundDivSteps {
+                q,
+                r: 0,
+                dq,
+                dr: den - 1,
+                den,
+            };
+            assert_eq!(
+                reference(q, dq, den, steps),
+                fits,
+                "reference {q} {dq} {den}"
+            );
+            assert_eq!(st.narrow(steps).is_some(), fits, "q {q} dq {dq} den {den}");
+        }
+        for case in 0..40_000 {
+            let mut pick = |spread: u32| -> i128 {
+                let v = if rng.step().is_multiple_of(6) {
+                    edge[(rng.step() % edge.len() as u64) as usize]
+                } else {
+                    ((rng.step() as i128) << 64 | rng.step() as i128) % (1i128 << spread)
+                };
+                if rng.step() & 1 == 0 {
+                    -v
+                } else {
+                    v
+                }
+            };
+            let spread = [8, 20, 30, 40, 61, 62, 63, 100][case % 8];
+            let (q, dq) = (pick(spread), pick(spread));
+            let den = pick(spread).abs().clamp(1, (1 << 126) - 1);
+            let steps = match (case / 8) % 6 {
+                0..=2 => rng.step() % 2000,
+                3 => u64::MAX - rng.step() % 3,
+                4 => (LIM as u64 / ((dq.unsigned_abs() as u64).max(1))).saturating_sub(1),
+                _ => rng.step() >> (rng.step() % 64),
+            };
+            // A stepper with remainder 0 and step remainder below the denominator.
+            let st = RoundDivSteps {
+                q,
+                r: 0,
+                dq,
+                dr: den - 1,
+                den,
+            };
+            let want = reference(q, dq, den, steps);
+            let got = st.narrow(steps);
+            assert_eq!(got.is_some(), want, "q {q} dq {dq} den {den} steps {steps}");
+            if let Some(mut n) = got {
+                taken += 1;
+                let mut w = st;
+                for _ in 0..steps.min(50) {
+                    assert_eq!(n.value(), w.value(), "{st:?}");
+                    n.advance();
+                    w.advance();
+                }
+            } else {
+                refused += 1;
+            }
+        }
+        assert!(
+            taken > 8_000 && refused > 8_000,
+            "{taken} taken, {refused} refused"
+        );
     }
 
     /// [`RoundDivSteps::bounds`] holds every value the stepper takes over its range of
