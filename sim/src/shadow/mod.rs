@@ -318,7 +318,9 @@ impl ShadowRows {
                 stats.eye_inside += vols.iter().filter(|v| v.eye_inside).count();
                 let per_vol: Vec<(VolumeTris, NearPlane)> = vols
                     .par_iter()
-                    .map(|v| volume_tris(pj, v, bbox))
+                    .map_init(near::ClipBuffers::default, |buf, v| {
+                        volume_tris(pj, v, bbox, buf)
+                    })
                     .collect::<Result<_, _>>()?;
                 stats.near_caps += per_vol
                     .iter()

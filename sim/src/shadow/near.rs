@@ -45,8 +45,12 @@ pub(super) fn clip_planes(mut poly: Vec<DVec3>, planes: &[DVec4]) -> Vec<DVec3> 
 /// The camera's clipping ([`Projector::clip_polygon`], the same planes in the same order
 /// and the same arithmetic, so bit-identical vertices) that also tells which vertices lie
 /// on the near plane: those the near plane created (or that lay on it), and those a later
-/// plane created between two such.
-pub(super) fn clip_tagged(poly: Vec<DVec4>) -> Vec<(DVec4, bool)> {
+/// plane created between two such. Into `out` (`tmp` is a second buffer; both are reused).
+pub(super) fn clip_tagged(
+    poly: &[DVec4],
+    out: &mut Vec<(DVec4, bool)>,
+    tmp: &mut Vec<(DVec4, bool)>,
+) {
     let planes: [fn(&DVec4) -> f64; 6] = [
         |p| p.z,
         |p| p.w - p.z,
@@ -55,26 +59,27 @@ pub(super) fn clip_tagged(poly: Vec<DVec4>) -> Vec<(DVec4, bool)> {
         |p| GUARD * p.w - p.y,
         |p| GUARD * p.w + p.y,
     ];
-    let mut poly: Vec<(DVec4, bool)> = poly.into_iter().map(|p| (p, p.z == 0.0)).collect();
+    out.clear();
+    out.extend(poly.iter().map(|&p| (p, p.z == 0.0)));
     for (k, d) in planes.iter().enumerate() {
-        if poly.is_empty() {
+        if out.is_empty() {
             break;
         }
-        let mut out = Vec::with_capacity(poly.len() + 2);
+        let poly = &*out;
+        tmp.clear();
         for i in 0..poly.len() {
             let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
             let (da, db) = (d(&a.0), d(&b.0));
             if da >= 0.0 {
-                out.push(a);
+                tmp.push(a);
             }
             if (da >= 0.0) != (db >= 0.0) {
                 let t = da / (da - db);
-                out.push((a.0 + (b.0 - a.0) * t, k == 0 || (a.1 && b.1)));
+                tmp.push((a.0 + (b.0 - a.0) * t, k == 0 || (a.1 && b.1)));
             }
         }
-        poly = out;
+        std::mem::swap(out, tmp);
     }
-    poly
 }
 
 /// Snapped screen position of a clip-space point, and its 24-bit depth.
@@ -282,23 +287,35 @@ pub(super) fn volume_tris(
     pj: &Projector,
     v: &Volume,
     bbox: (DVec3, DVec3),
+    buf: &mut ClipBuffers,
 ) -> Result<(VolumeTris, NearPlane), SetupError> {
     let mut tris = Vec::new();
     let mut near_edges = Vec::new();
+    let ClipBuffers {
+        world,
+        world_tmp,
+        clip,
+        tagged,
+        tagged_tmp,
+        snapped,
+    } = buf;
     for poly in &v.polys {
-        let poly = clip_to_box(poly, bbox.0, bbox.1);
-        if poly.len() < 3 {
+        clip_to_box(poly, bbox.0, bbox.1, world, world_tmp);
+        if world.len() < 3 {
             continue;
         }
-        let cv: Vec<DVec4> = poly.iter().map(|p| pj.view_proj * *p).collect();
-        let clipped = clip_tagged(cv);
+        clip.clear();
+        clip.extend(world.iter().map(|p| pj.view_proj * *p));
+        clip_tagged(clip, tagged, tagged_tmp);
+        let clipped = &*tagged;
         if clipped.len() < 3 || clipped.iter().any(|c| c.0.w <= 0.0) {
             continue;
         }
-        let sv: Vec<([i32; 2], u32)> = clipped
-            .iter()
-            .map(|c| snap_clip(pj, c.0))
-            .collect::<Result<_, _>>()?;
+        snapped.clear();
+        for c in clipped {
+            snapped.push(snap_clip(pj, c.0)?);
+        }
+        let sv = &*snapped;
         if !clipped.iter().all(|c| c.1) {
             for i in 0..clipped.len() {
                 let k = (i + 1) % clipped.len();
@@ -307,7 +324,7 @@ pub(super) fn volume_tris(
                 }
             }
         }
-        fan_tris(&sv, &mut tris)?;
+        fan_tris(sv, &mut tris)?;
     }
     let near = near_plane(pj, v);
     if near == NearPlane::Cut {
@@ -317,6 +334,18 @@ pub(super) fn volume_tris(
         fan_tris(&sv, &mut tris)?;
     }
     Ok((VolumeTris { tris }, near))
+}
+
+/// The buffers [`volume_tris`] clips and snaps a volume's polygons in, reused from
+/// polygon to polygon and from volume to volume.
+#[derive(Default)]
+pub(super) struct ClipBuffers {
+    world: Vec<DVec4>,
+    world_tmp: Vec<DVec4>,
+    clip: Vec<DVec4>,
+    tagged: Vec<(DVec4, bool)>,
+    tagged_tmp: Vec<(DVec4, bool)>,
+    snapped: Vec<([i32; 2], u32)>,
 }
 
 #[cfg(test)]

@@ -134,22 +134,31 @@ pub fn ray_box(ls: &LoadedScene, eye: DVec3) -> (DVec3, DVec3) {
     (lo - DVec3::splat(pad), hi + DVec3::splat(pad))
 }
 
-/// Clips a homogeneous world-space polygon to an axis-aligned box.
-pub(super) fn clip_to_box(poly: &[DVec4], lo: DVec3, hi: DVec3) -> Vec<DVec4> {
-    let mut poly = poly.to_vec();
+/// Clips a homogeneous world-space polygon to an axis-aligned box, into `out` (`tmp` is a
+/// second buffer; both are reused, so nothing is allocated once they have grown).
+pub(super) fn clip_to_box(
+    poly: &[DVec4],
+    lo: DVec3,
+    hi: DVec3,
+    out: &mut Vec<DVec4>,
+    tmp: &mut Vec<DVec4>,
+) {
+    out.clear();
+    out.extend_from_slice(poly);
     for axis in 0..3 {
         for (bound, sign) in [(lo[axis], 1.0), (hi[axis], -1.0)] {
-            if poly.is_empty() {
-                return poly;
+            if out.is_empty() {
+                return;
             }
             // Inside: sign·(x_axis − bound·w) ≥ 0.
             let d = |p: &DVec4| sign * (p[axis] - bound * p.w);
-            let mut out = Vec::with_capacity(poly.len() + 1);
+            let poly = &*out;
+            tmp.clear();
             for i in 0..poly.len() {
                 let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
                 let (da, db) = (d(&a), d(&b));
                 if da >= 0.0 {
-                    out.push(a);
+                    tmp.push(a);
                 }
                 if (da >= 0.0) != (db >= 0.0) {
                     let (p, q, dp, dq) = if da >= 0.0 {
@@ -157,11 +166,10 @@ pub(super) fn clip_to_box(poly: &[DVec4], lo: DVec3, hi: DVec3) -> Vec<DVec4> {
                     } else {
                         (b, a, db, da)
                     };
-                    out.push(p + (q - p) * (dp / (dp - dq)));
+                    tmp.push(p + (q - p) * (dp / (dp - dq)));
                 }
             }
-            poly = out;
+            std::mem::swap(out, tmp);
         }
     }
-    poly
 }
