@@ -271,28 +271,42 @@ impl ColumnRows {
     /// Prepares the column steps of a triangle's wound `edges`.
     fn of(edges: &[EdgeFn; 3]) -> ColumnRows {
         let one = SUBPIXEL_ONE as i64;
+        let rows = edges.map(|e| {
+            // E at column i of row j is 256·A·i + k(j), k(j + 1) = k(j) + 256·B.
+            let (b, c) = (e.b, e.c + e.a * (one / 2));
+            let (bound, s, d) = match e.a.cmp(&0) {
+                std::cmp::Ordering::Greater => (EdgeBound::Left, 1, one * e.a),
+                std::cmp::Ordering::Less => (EdgeBound::Right, -1, -one * e.a),
+                std::cmp::Ordering::Equal => (EdgeBound::Flat(e.top_left), 1, 1),
+            };
+            EdgeRows {
+                bound,
+                b: s * b,
+                c: s * c,
+                step: FloorStep::new(s * b * one, d),
+            }
+        });
+        // A left edge first and a right one second ([`ColumnSteps::columns`]): a
+        // triangle of non-zero area has both, its edges' `A` (`−Δy`) summing to zero.
+        let l = rows.iter().position(|e| matches!(e.bound, EdgeBound::Left));
+        let r = rows
+            .iter()
+            .position(|e| matches!(e.bound, EdgeBound::Right));
+        let (l, r) = l
+            .zip(r)
+            .expect("a wound triangle has a left and a right edge");
         ColumnRows {
-            edges: edges.map(|e| {
-                // E at column i of row j is 256·A·i + k(j), k(j + 1) = k(j) + 256·B.
-                let (b, c) = (e.b, e.c + e.a * (one / 2));
-                let (bound, s, d) = match e.a.cmp(&0) {
-                    std::cmp::Ordering::Greater => (EdgeBound::Left, 1, one * e.a),
-                    std::cmp::Ordering::Less => (EdgeBound::Right, -1, -one * e.a),
-                    std::cmp::Ordering::Equal => (EdgeBound::Flat(e.top_left), 1, 1),
-                };
-                EdgeRows {
-                    bound,
-                    b: s * b,
-                    c: s * c,
-                    step: FloorStep::new(s * b * one, d),
-                }
-            }),
+            edges: [rows[l], rows[r], rows[3 - l - r]],
         }
     }
 
     /// The stepper from row `first` on.
     #[inline]
     pub(crate) fn at(&self, first: i64) -> ColumnSteps {
+        debug_assert!(matches!(
+            (self.edges[0].bound, self.edges[1].bound),
+            (EdgeBound::Left, EdgeBound::Right)
+        ));
         let one = SUBPIXEL_ONE as i64;
         let yc = first * one + one / 2;
         ColumnSteps {
@@ -313,17 +327,21 @@ impl ColumnSteps {
     /// [`TriSetup::columns`] gives on that row, if it lies in `row_min..=row_max`).
     #[inline]
     pub(crate) fn columns(&self, width: u32) -> Option<(i64, i64)> {
-        let (mut lo, mut hi) = (0i64, width as i64 - 1);
-        let mut inside = true;
-        for (bound, q) in &self.edges {
-            let q = q.value();
-            match *bound {
-                EdgeBound::Left => lo = lo.max(-q),
-                EdgeBound::Right => hi = hi.min(-q - 1),
-                EdgeBound::Flat(top_left) => inside &= q > 0 || (q == 0 && top_left),
+        // The first edge is a left one and the second a right one ([`ColumnRows::of`]).
+        let [(_, l), (_, r), (bound, q)] = &self.edges;
+        let mut lo = (-l.value()).max(0);
+        let mut hi = (-r.value() - 1).min(width as i64 - 1);
+        let q = q.value();
+        match *bound {
+            EdgeBound::Left => lo = lo.max(-q),
+            EdgeBound::Right => hi = hi.min(-q - 1),
+            EdgeBound::Flat(top_left) => {
+                if !(q > 0 || (q == 0 && top_left)) {
+                    return None;
+                }
             }
         }
-        (inside && lo <= hi).then_some((lo, hi))
+        (lo <= hi).then_some((lo, hi))
     }
 
     /// Moves one row down.
