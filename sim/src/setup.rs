@@ -288,13 +288,25 @@ impl ColumnRows {
         });
         // A left edge first and a right one second ([`ColumnSteps::columns`]): a
         // triangle of non-zero area has both, its edges' `A` (`−Δy`) summing to zero.
-        let l = rows.iter().position(|e| matches!(e.bound, EdgeBound::Left));
-        let r = rows
-            .iter()
-            .position(|e| matches!(e.bound, EdgeBound::Right));
-        let (l, r) = l
-            .zip(r)
-            .expect("a wound triangle has a left and a right edge");
+        let a = edges.map(|e| e.a);
+        let l = if a[0] > 0 {
+            0
+        } else if a[1] > 0 {
+            1
+        } else {
+            2
+        };
+        let r = if a[0] < 0 {
+            0
+        } else if a[1] < 0 {
+            1
+        } else {
+            2
+        };
+        assert!(
+            a[l] > 0 && a[r] < 0,
+            "a wound triangle has a left and a right edge"
+        );
         ColumnRows {
             edges: [rows[l], rows[r], rows[3 - l - r]],
         }
