@@ -24,12 +24,24 @@
 //! rows either. The distance to the true plane is at most `½ + 4095·½` units of 2^-12,
 //! i.e. below half a depth unit; `Z_GEOM_MIN`/`Z_GEOM_MAX` leave a margin of 16 units so
 //! an in-triangle value never leaves the 24-bit range or reaches `Z_FAR`.
+//!
+//! **Parts.** The exact plane ([`ExactPlane`], `plane.rs`), the column bounds per
+//! scanline ([`ColumnSteps`], `columns.rs`) and the shadow polygons' triangles
+//! ([`ShadowTri`], `shadow.rs`, seed 001 section 4); here, snapping and [`TriSetup`], a
+//! polygon's span words.
+
+mod columns;
+mod plane;
+mod shadow;
+
+pub(crate) use columns::ColumnSteps;
+pub(crate) use plane::ExactPlane;
+#[cfg(test)]
+pub(crate) use shadow::shadow_word;
+pub(crate) use shadow::ShadowTri;
 
 use crate::raster::edge::{check_coords, check_depths, rewind, winding, EdgeFn};
-use crate::raster::{
-    ceil_div, round_div, rows::centre_rows, FloorStep, FloorSteps, PlaneStepper, RoundDivStep,
-    RoundDivSteps,
-};
+use crate::raster::{ceil_div, rows::centre_rows, RoundDivSteps};
 use pixelproc_formats::{
     Attr, SpanWord, DI_BITS, DZ_BITS, IL_BITS, I_FRAC, MAX_COORD_PX, SUBPIXEL_ONE, Z_FRAC,
     Z_GEOM_MAX, Z_GEOM_MIN,
@@ -118,96 +130,6 @@ pub struct HostPlane {
     pub z: [u32; 3],
 }
 
-/// A plane `v(x, y) = v0 + (nx·(x − x0) + ny·(y − y0)) / area2` through three snapped
-/// points, exact rationals (`area2 > 0`). The one exact plane of the golden model: span
-/// setup, fragments, multi-scanning and the samplers all evaluate it.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct ExactPlane {
-    pub(crate) v0: i128,
-    pub(crate) x0: i128,
-    pub(crate) y0: i128,
-    pub(crate) nx: i128,
-    pub(crate) ny: i128,
-    pub(crate) area2: i128,
-}
-
-impl ExactPlane {
-    /// Plane through three points; `None` if they are collinear.
-    pub(crate) fn new(v: [[i32; 2]; 3], val: [i64; 3]) -> Option<ExactPlane> {
-        let (x0, y0) = (v[0][0] as i128, v[0][1] as i128);
-        let (dx1, dy1) = (v[1][0] as i128 - x0, v[1][1] as i128 - y0);
-        let (dx2, dy2) = (v[2][0] as i128 - x0, v[2][1] as i128 - y0);
-        let area2 = dx1 * dy2 - dx2 * dy1;
-        if area2 == 0 {
-            return None;
-        }
-        let dv1 = (val[1] - val[0]) as i128;
-        let dv2 = (val[2] - val[0]) as i128;
-        // Normalised to area2 > 0 (the value is unchanged: all terms flip with it).
-        let s = area2.signum();
-        Some(ExactPlane {
-            v0: val[0] as i128,
-            x0,
-            y0,
-            nx: s * (dv1 * dy2 - dv2 * dy1),
-            ny: s * (dx1 * dv2 - dx2 * dv1),
-            area2: s * area2,
-        })
-    }
-
-    /// `round(v(x, y) · 2^frac)` at a Q.8 point, half up.
-    fn at(&self, x_q8: i64, y_q8: i64, frac: u32) -> i64 {
-        let num = (self.v0 * self.area2
-            + self.nx * (x_q8 as i128 - self.x0)
-            + self.ny * (y_q8 as i128 - self.y0))
-            << frac;
-        round_div(num, self.area2) as i64
-    }
-
-    /// Exact incremental evaluator of `round(v(x_q8, y) · 2^frac)` down successive rows
-    /// (y += 1 px): the quotient and remainder of `2·N + area2` by `2·area2` are stepped by
-    /// the constant row increment (the raster core's [`RoundDivSteps`]), so every row's
-    /// value equals [`ExactPlane::at`] bit for bit with additions only.
-    fn rows(&self, x_q8: i64, first_row: i64, frac: u32) -> RoundDivSteps {
-        self.rows_by(x_q8, first_row, frac, &self.row_step(frac))
-    }
-
-    /// The row step of [`ExactPlane::rows`] (one division), for [`ExactPlane::rows_by`].
-    fn row_step(&self, frac: u32) -> RoundDivStep {
-        RoundDivStep::new((self.ny * SUBPIXEL_ONE as i128) << frac, self.area2)
-    }
-
-    /// [`ExactPlane::rows`] with its row step `step` ([`ExactPlane::row_step`] of the same
-    /// `frac`) prepared once.
-    #[inline]
-    fn rows_by(&self, x_q8: i64, first_row: i64, frac: u32, step: &RoundDivStep) -> RoundDivSteps {
-        let one = SUBPIXEL_ONE as i128;
-        let yc = first_row as i128 * one + one / 2;
-        let n =
-            (self.v0 * self.area2 + self.nx * (x_q8 as i128 - self.x0) + self.ny * (yc - self.y0))
-                << frac;
-        RoundDivSteps::start(n, step)
-    }
-
-    /// `round(∂v/∂x · 2^frac)` per pixel, half up.
-    fn ddx_per_px(&self, frac: u32) -> i64 {
-        round_div((self.nx * SUBPIXEL_ONE as i128) << frac, self.area2) as i64
-    }
-}
-
-/// A span word as a shadow polygon sends it: attr SP, zero intensities and slopes (the
-/// array's shadow spans test depth only). [`ShadowTri::shadow_span`] makes them directly;
-/// the tests compare.
-#[cfg(test)]
-pub(crate) fn shadow_word(w: SpanWord) -> SpanWord {
-    SpanWord {
-        attr: Attr::Sp,
-        il: [0; 3],
-        di: [0; 3],
-        ..w
-    }
-}
-
 /// The first and last scanline whose centre a triangle with vertices `v` (Q.8) may cover
 /// (unclamped).
 fn rows_of(v: &[[i32; 2]; 3]) -> (i64, i64) {
@@ -224,145 +146,6 @@ fn rows_of(v: &[[i32; 2]; 3]) -> (i64, i64) {
 #[inline]
 fn depth_fields(z0: i64, xl: i64, xr: i64, dz: i64) -> (u64, i64) {
     ((z0 + xl * dz).max(0) as u64, if xl == xr { 0 } else { dz })
-}
-
-/// Which column bound an edge sets on a scanline (the three cases of
-/// [`TriSetup::columns`]).
-#[derive(Clone, Copy, Debug)]
-enum EdgeBound {
-    /// `A > 0`: the first column, `⌈−k / 256A⌉ = −⌊k / 256A⌋`.
-    Left,
-    /// `A < 0`: the last column, `⌈k / −256A⌉ − 1 = −⌊−k / −256A⌋ − 1`.
-    Right,
-    /// `A = 0`: the whole row is in or out by the fill rule on `k` (the edge's top-left
-    /// flag).
-    Flat(bool),
-}
-
-/// [`TriSetup::columns`] on successive rows with additions only
-/// ([`TriSetup::column_rows`]): per edge, the floor quotient its bound is made of, stepped
-/// by the edge function's row increment instead of divided afresh on every row. The same
-/// columns, bit for bit.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct ColumnSteps {
-    edges: [(EdgeBound, FloorSteps); 3],
-}
-
-/// A triangle's [`ColumnSteps`] prepared once, to start at any row with one division per
-/// edge ([`ShadowTri`]'s, started once per band): per edge, its bound, the edge
-/// function's row origin `k(j) = s·(B·yc(j) + C + A·128)` (`s` the bound's sign) and the
-/// floor step of its row increment.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct ColumnRows {
-    edges: [EdgeRows; 3],
-}
-
-/// One edge of [`ColumnRows`].
-#[derive(Clone, Copy, Debug)]
-struct EdgeRows {
-    bound: EdgeBound,
-    /// `s·B` and `s·(C + A·128)`.
-    b: i64,
-    c: i64,
-    step: FloorStep,
-}
-
-impl ColumnRows {
-    /// Prepares the column steps of a triangle's wound `edges`.
-    fn of(edges: &[EdgeFn; 3]) -> ColumnRows {
-        let one = SUBPIXEL_ONE as i64;
-        let rows = edges.map(|e| {
-            // E at column i of row j is 256·A·i + k(j), k(j + 1) = k(j) + 256·B.
-            let (b, c) = (e.b, e.c + e.a * (one / 2));
-            let (bound, s, d) = match e.a.cmp(&0) {
-                std::cmp::Ordering::Greater => (EdgeBound::Left, 1, one * e.a),
-                std::cmp::Ordering::Less => (EdgeBound::Right, -1, -one * e.a),
-                std::cmp::Ordering::Equal => (EdgeBound::Flat(e.top_left), 1, 1),
-            };
-            EdgeRows {
-                bound,
-                b: s * b,
-                c: s * c,
-                step: FloorStep::new(s * b * one, d),
-            }
-        });
-        // A left edge first and a right one second ([`ColumnSteps::columns`]): a
-        // triangle of non-zero area has both, its edges' `A` (`−Δy`) summing to zero.
-        let a = edges.map(|e| e.a);
-        let l = if a[0] > 0 {
-            0
-        } else if a[1] > 0 {
-            1
-        } else {
-            2
-        };
-        let r = if a[0] < 0 {
-            0
-        } else if a[1] < 0 {
-            1
-        } else {
-            2
-        };
-        assert!(
-            a[l] > 0 && a[r] < 0,
-            "a wound triangle has a left and a right edge"
-        );
-        ColumnRows {
-            edges: [rows[l], rows[r], rows[3 - l - r]],
-        }
-    }
-
-    /// The stepper from row `first` on.
-    #[inline]
-    pub(crate) fn at(&self, first: i64) -> ColumnSteps {
-        debug_assert!(matches!(
-            (self.edges[0].bound, self.edges[1].bound),
-            (EdgeBound::Left, EdgeBound::Right)
-        ));
-        let one = SUBPIXEL_ONE as i64;
-        let yc = first * one + one / 2;
-        ColumnSteps {
-            edges: self
-                .edges
-                .map(|e| (e.bound, FloorSteps::start(e.b * yc + e.c, &e.step))),
-        }
-    }
-}
-
-impl ColumnSteps {
-    /// The stepper of a triangle's columns (its wound `edges`) from row `first` on.
-    fn new(edges: &[EdgeFn; 3], first: i64) -> ColumnSteps {
-        ColumnRows::of(edges).at(first)
-    }
-
-    /// The current row's inclusive columns, clamped to `0..width`, or `None` (what
-    /// [`TriSetup::columns`] gives on that row, if it lies in `row_min..=row_max`).
-    #[inline]
-    pub(crate) fn columns(&self, width: u32) -> Option<(i64, i64)> {
-        // The first edge is a left one and the second a right one ([`ColumnRows::of`]).
-        let [(_, l), (_, r), (bound, q)] = &self.edges;
-        let mut lo = (-l.value()).max(0);
-        let mut hi = (-r.value() - 1).min(width as i64 - 1);
-        let q = q.value();
-        match *bound {
-            EdgeBound::Left => lo = lo.max(-q),
-            EdgeBound::Right => hi = hi.min(-q - 1),
-            EdgeBound::Flat(top_left) => {
-                if !(q > 0 || (q == 0 && top_left)) {
-                    return None;
-                }
-            }
-        }
-        (lo <= hi).then_some((lo, hi))
-    }
-
-    /// Moves one row down.
-    #[inline]
-    pub(crate) fn advance(&mut self) {
-        for (_, q) in &mut self.edges {
-            q.advance();
-        }
-    }
 }
 
 /// Everything per triangle that span setup needs, computed once.
@@ -598,97 +381,6 @@ impl TriSetup {
     pub fn z_q12_at_centre(&self, i: i64, j: i64) -> i64 {
         let one = SUBPIXEL_ONE as i64;
         self.z.at(i * one + one / 2, j * one + one / 2, Z_FRAC)
-    }
-}
-
-/// A shadow polygon's triangle, set up for its SP span words (seed 001 §4: a shadow span
-/// tests depth only): the edges, the depth plane and the rows of [`TriSetup`], without
-/// its three colour planes and slopes (a shadow word's intensities are zero). A third of a
-/// `TriSetup`'s size, for the tens of thousands a light's volumes may have. Its words are
-/// [`TriSetup::span`]'s of the same triangle with attr SP and zero intensities and slopes.
-#[derive(Clone, Debug)]
-pub(crate) struct ShadowTri {
-    cols: ColumnRows,
-    z: ExactPlane,
-    /// The depth plane's row step ([`ExactPlane::row_step`]).
-    z_step: RoundDivStep,
-    /// First and last scanline whose centre may be covered (unclamped).
-    pub(crate) row_min: i64,
-    pub(crate) row_max: i64,
-    /// dZ, Q26.12 per pixel.
-    dz: i64,
-    tag: u16,
-    nclass: u8,
-    chan: u8,
-}
-
-impl ShadowTri {
-    /// Prepares a triangle without a decal host ([`TriSetup::new`]'s checks and its
-    /// `None` for a degenerate triangle).
-    pub(crate) fn new(t: &SnappedTri) -> Result<Option<ShadowTri>, SetupError> {
-        debug_assert!(t.host.is_none(), "a shadow polygon has no decal host");
-        TriSetup::check(t)?;
-        let Some(order) = winding(t.v) else {
-            return Ok(None);
-        };
-        let (v, z) = (rewind(order, t.v), rewind(order, t.z));
-        let Some(zp) = ExactPlane::new(v, z.map(|x| x as i64)) else {
-            return Ok(None);
-        };
-        let (row_min, row_max) = rows_of(&v);
-        Ok(Some(ShadowTri {
-            cols: ColumnRows::of(&EdgeFn::of_triangle(v)),
-            dz: zp.ddx_per_px(Z_FRAC),
-            z_step: zp.row_step(Z_FRAC),
-            z: zp,
-            row_min,
-            row_max,
-            tag: t.tag,
-            nclass: t.nclass,
-            chan: t.chan,
-        }))
-    }
-
-    /// The column stepper from row `first` on ([`TriSetup::column_rows`]), from the
-    /// steps prepared with the triangle.
-    #[inline]
-    pub(crate) fn column_rows(&self, first: i64) -> ColumnSteps {
-        self.cols.at(first)
-    }
-
-    /// The depth plane's row stepper from row `first` on ([`TriSetup::depth_rows`]), from
-    /// the row step prepared with the triangle.
-    #[inline]
-    pub(crate) fn depth_rows(&self, first: i64) -> RoundDivSteps {
-        self.z
-            .rows_by((SUBPIXEL_ONE / 2) as i64, first, Z_FRAC, &self.z_step)
-    }
-
-    /// The SP word of the row the steppers `cols` and `z` stand at, or `None` if the row
-    /// covers no pixel centre: `ZL = Z0 + XL·dZ` (clamped at 0 as [`TriSetup`]'s words
-    /// are), dZ zero for a one-pixel span, zero intensities and slopes.
-    #[inline]
-    pub(crate) fn shadow_span(
-        &self,
-        width: u32,
-        cols: &ColumnSteps,
-        z: &impl PlaneStepper,
-    ) -> Option<SpanWord> {
-        let (xl, xr) = cols.columns(width)?;
-        let (zl, dz) = depth_fields(z.value() as i64, xl, xr, self.dz);
-        Some(SpanWord {
-            attr: Attr::Sp,
-            xl: xl as u16,
-            xr: xr as u16,
-            zl,
-            dz,
-            il: [0; 3],
-            di: [0; 3],
-            tag: self.tag,
-            nclass: self.nclass,
-            decal: false,
-            chan: self.chan,
-        })
     }
 }
 
