@@ -380,59 +380,15 @@ mod tests {
 
     /// Each row of a [`SpanSource`] holds, in input order, exactly the words each
     /// triangle makes on it by division ([`TriSetup::span`]), though the rows are
-    /// scanned band by band in parallel and copies together: random triangles of every
-    /// size (on and off the screen, slivers that cover no pixel centre on some rows),
-    /// shade-channel copies of the same geometry, decals, a degenerate triangle and its
-    /// copy; heights that are and are not a multiple of the band. The word and pixel
-    /// counts agree.
+    /// scanned band by band in parallel and copies together: random triangles with
+    /// shade-channel copies, decals and a degenerate one
+    /// ([`crate::raster::copies_scene`]), heights that are and are not a multiple of the
+    /// band. The word and pixel counts agree.
     #[test]
     fn span_source_rows_hold_each_triangles_words_in_order() {
         let mut rng = crate::rng::Lcg64(0x5107_f00d);
         for (w, h, n) in [(96u32, 80u32, 400), (130, 37, 250), (17, 5, 60)] {
-            let mut tris = Vec::new();
-            for i in 0..n {
-                let mut r = |m: u64| (rng.step() % m) as i32;
-                let size = [2, 12, 60, 200][i % 4] * 256;
-                let (cx, cy) = (
-                    r(w as u64 * 256 + 2000) - 1000,
-                    r(h as u64 * 256 + 2000) - 1000,
-                );
-                let v = [0; 3].map(|_| {
-                    [
-                        cx + r(size as u64) - size / 2,
-                        cy + r(size as u64) - size / 2,
-                    ]
-                });
-                let z = [0; 3].map(|_| 1000 + r(1 << 20) as u32);
-                let c = [0; 3].map(|_| [0; 3].map(|_| r(1 << 20) as u32));
-                let host = (i % 9 == 4).then_some(crate::setup::HostPlane {
-                    v: [[0, 0], [w as i32 * 256, 0], [0, h as i32 * 256]],
-                    z: [5000, 6000, 7000],
-                });
-                let t = SnappedTri {
-                    v,
-                    z,
-                    c,
-                    tag: i as u16,
-                    host,
-                    nclass: (i % 5) as u8,
-                    chan: 0,
-                };
-                tris.push(t);
-                for ch in 1..=(i % 3) {
-                    tris.push(SnappedTri {
-                        c: [[ch as u32 * 77; 3]; 3],
-                        chan: ch as u8,
-                        ..t
-                    });
-                }
-            }
-            let flat = SnappedTri {
-                v: [[0, 0], [256, 256], [512, 512]],
-                ..tris[0]
-            };
-            tris.insert(3, flat);
-            tris.insert(4, SnappedTri { chan: 1, ..flat });
+            let tris = crate::raster::copies_scene(&mut rng, w, h, n);
             let src = SpanSource::new(&tris, w, h).unwrap();
             let setups: Vec<Option<TriSetup>> =
                 tris.iter().map(|t| TriSetup::new(t).unwrap()).collect();

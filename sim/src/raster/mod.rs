@@ -259,6 +259,61 @@ impl SpanSink for VisibleProbe {
     }
 }
 
+/// A test scene of `n` random triangles over a `w × h` screen and a margin of 10 pixels
+/// and more around it (every size, slivers, a decal every seventh), each followed by 0–3
+/// shade-channel copies of its geometry (other intensities, channel, class and tag), and
+/// a degenerate polygon with a copy at indices 5 and 6 (neither is scanned).
+#[cfg(test)]
+pub(crate) fn copies_scene(
+    rng: &mut crate::rng::Lcg64,
+    w: u32,
+    h: u32,
+    n: usize,
+) -> Vec<SnappedTri> {
+    let mut tris = Vec::new();
+    for i in 0..n {
+        let mut r = |m: u64| (rng.step() % m) as i32;
+        let v = [0; 3].map(|_| {
+            [
+                r((w as u64 + 24) * 256) - 10 * 256,
+                r((h as u64 + 20) * 256) - 10 * 256,
+            ]
+        });
+        let z = [0; 3].map(|_| 1000 + r(1 << 20) as u32);
+        let host = (i % 7 == 3).then_some(crate::setup::HostPlane {
+            v: [[0, 0], [w as i32 * 256, 0], [0, h as i32 * 256]],
+            z: [5000, 6000, 7000],
+        });
+        let col = |r: &mut dyn FnMut(u64) -> i32| [0; 3].map(|_| [0; 3].map(|_| r(1 << 20) as u32));
+        let t = SnappedTri {
+            v,
+            z,
+            c: col(&mut r),
+            tag: i as u16,
+            host,
+            nclass: (i % 5) as u8,
+            chan: 0,
+        };
+        tris.push(t);
+        for c in 1..=(i % 4) {
+            tris.push(SnappedTri {
+                c: col(&mut r),
+                chan: c as u8,
+                tag: (i + c) as u16,
+                nclass: (c * 3) as u8,
+                ..t
+            });
+        }
+    }
+    let flat = SnappedTri {
+        v: [[0, 0], [256, 256], [512, 512]],
+        ..tris[0]
+    };
+    tris.insert(5, flat);
+    tris.insert(6, SnappedTri { chan: 1, ..flat });
+    tris
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -313,45 +368,7 @@ mod tests {
     fn shared_geometry_groups_give_each_triangles_own_words() {
         let mut rng = crate::rng::Lcg64(0x5eed_0c0b);
         let (w, h) = (96u32, 80u32);
-        let mut tris = Vec::new();
-        for i in 0..300 {
-            let mut r = |m: u64| (rng.step() % m) as i32;
-            let v = [0; 3].map(|_| [r(120 * 256) - 10 * 256, r(100 * 256) - 10 * 256]);
-            let z = [0; 3].map(|_| 1000 + r(1 << 20) as u32);
-            let host = (i % 7 == 3).then_some(crate::setup::HostPlane {
-                v: [[0, 0], [w as i32 * 256, 0], [0, h as i32 * 256]],
-                z: [5000, 6000, 7000],
-            });
-            let col =
-                |r: &mut dyn FnMut(u64) -> i32| [0; 3].map(|_| [0; 3].map(|_| r(1 << 20) as u32));
-            let t = SnappedTri {
-                v,
-                z,
-                c: col(&mut r),
-                tag: i as u16,
-                host,
-                nclass: (i % 5) as u8,
-                chan: 0,
-            };
-            tris.push(t);
-            // 0–3 copies: other intensities, channel, class and tag.
-            for c in 1..=(i % 4) {
-                tris.push(SnappedTri {
-                    c: col(&mut r),
-                    chan: c as u8,
-                    tag: (i + c) as u16,
-                    nclass: (c * 3) as u8,
-                    ..t
-                });
-            }
-        }
-        // A degenerate polygon with a copy: neither is scanned.
-        let flat = SnappedTri {
-            v: [[0, 0], [256, 256], [512, 512]],
-            ..tris[0]
-        };
-        tris.insert(5, flat);
-        tris.insert(6, SnappedTri { chan: 1, ..flat });
+        let tris = copies_scene(&mut rng, w, h, 300);
         let r = SpanRaster::new(&tris, w, h).unwrap();
         assert!(r.group.iter().any(|&g| g >= 2), "copies are grouped");
         let mut expect: Vec<Vec<(u32, SpanWord)>> = vec![Vec::new(); h as usize];
