@@ -26,53 +26,66 @@ enum EdgeBound {
 /// [`TriSetup::columns`] on successive rows with additions only
 /// ([`TriSetup::column_rows`]): per edge, the floor quotient its bound is made of, stepped
 /// by the edge function's row increment instead of divided afresh on every row. The same
-/// columns, bit for bit.
+/// columns, bit for bit. A triangle of non-zero area has a left edge and a right one (its
+/// edges' `A`, `−Δy`, sum to zero), so only the third edge's kind varies.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ColumnSteps {
-    edges: [(EdgeBound, FloorSteps); 3],
+    left: FloorSteps,
+    right: FloorSteps,
+    third: (EdgeBound, FloorSteps),
 }
 
 /// A triangle's [`ColumnSteps`] prepared once, to start at any row with one division per
-/// edge ([`ShadowTri`]'s, started once per band): per edge, its bound, the edge
-/// function's row origin `k(j) = s·(B·yc(j) + C + A·128)` (`s` the bound's sign) and the
-/// floor step of its row increment.
+/// edge ([`ShadowTri`]'s, started once per band).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ColumnRows {
-    edges: [EdgeRows; 3],
+    left: EdgeRows,
+    right: EdgeRows,
+    third: (EdgeBound, EdgeRows),
 }
 
-/// One edge of [`ColumnRows`].
+/// One edge of [`ColumnRows`]: the edge function's row origin
+/// `k(j) = s·(B·yc(j) + C + A·128)` (`s` the sign of its bound) and the floor step of its
+/// row increment.
 #[derive(Clone, Copy, Debug)]
 struct EdgeRows {
-    bound: EdgeBound,
     /// `s·B` and `s·(C + A·128)`.
     b: i64,
     c: i64,
     step: FloorStep,
 }
 
+impl EdgeRows {
+    /// The bound edge `e` sets, and its rows.
+    #[inline]
+    fn of(e: &EdgeFn) -> (EdgeBound, EdgeRows) {
+        let one = SUBPIXEL_ONE as i64;
+        // E at column i of row j is 256·A·i + k(j), k(j + 1) = k(j) + 256·B.
+        let (b, c) = (e.b, e.c + e.a * (one / 2));
+        let (bound, s, d) = match e.a.cmp(&0) {
+            std::cmp::Ordering::Greater => (EdgeBound::Left, 1, one * e.a),
+            std::cmp::Ordering::Less => (EdgeBound::Right, -1, -one * e.a),
+            std::cmp::Ordering::Equal => (EdgeBound::Flat(e.top_left), 1, 1),
+        };
+        let rows = EdgeRows {
+            b: s * b,
+            c: s * c,
+            step: FloorStep::new(s * b * one, d),
+        };
+        (bound, rows)
+    }
+
+    /// The floor quotient's stepper from the row whose centre is at `yc` (Q.8).
+    #[inline]
+    fn start(&self, yc: i64) -> FloorSteps {
+        FloorSteps::start(self.b * yc + self.c, &self.step)
+    }
+}
+
 impl ColumnRows {
-    /// Prepares the column steps of a triangle's wound `edges`.
+    /// Prepares the column steps of a triangle's wound `edges` (of non-zero area).
     #[inline]
     pub(super) fn of(edges: &[EdgeFn; 3]) -> ColumnRows {
-        let one = SUBPIXEL_ONE as i64;
-        let rows = edges.map(|e| {
-            // E at column i of row j is 256·A·i + k(j), k(j + 1) = k(j) + 256·B.
-            let (b, c) = (e.b, e.c + e.a * (one / 2));
-            let (bound, s, d) = match e.a.cmp(&0) {
-                std::cmp::Ordering::Greater => (EdgeBound::Left, 1, one * e.a),
-                std::cmp::Ordering::Less => (EdgeBound::Right, -1, -one * e.a),
-                std::cmp::Ordering::Equal => (EdgeBound::Flat(e.top_left), 1, 1),
-            };
-            EdgeRows {
-                bound,
-                b: s * b,
-                c: s * c,
-                step: FloorStep::new(s * b * one, d),
-            }
-        });
-        // A left edge first and a right one second ([`ColumnSteps::columns`]): a
-        // triangle of non-zero area has both, its edges' `A` (`−Δy`) summing to zero.
         let a = edges.map(|e| e.a);
         let l = if a[0] > 0 {
             0
@@ -93,23 +106,21 @@ impl ColumnRows {
             "a wound triangle has a left and a right edge"
         );
         ColumnRows {
-            edges: [rows[l], rows[r], rows[3 - l - r]],
+            left: EdgeRows::of(&edges[l]).1,
+            right: EdgeRows::of(&edges[r]).1,
+            third: EdgeRows::of(&edges[3 - l - r]),
         }
     }
 
     /// The stepper from row `first` on.
     #[inline]
     pub(crate) fn at(&self, first: i64) -> ColumnSteps {
-        debug_assert!(matches!(
-            (self.edges[0].bound, self.edges[1].bound),
-            (EdgeBound::Left, EdgeBound::Right)
-        ));
         let one = SUBPIXEL_ONE as i64;
         let yc = first * one + one / 2;
         ColumnSteps {
-            edges: self
-                .edges
-                .map(|e| (e.bound, FloorSteps::start(e.b * yc + e.c, &e.step))),
+            left: self.left.start(yc),
+            right: self.right.start(yc),
+            third: (self.third.0, self.third.1.start(yc)),
         }
     }
 }
@@ -125,10 +136,9 @@ impl ColumnSteps {
     /// [`TriSetup::columns`] gives on that row, if it lies in `row_min..=row_max`).
     #[inline]
     pub(crate) fn columns(&self, width: u32) -> Option<(i64, i64)> {
-        // The first edge is a left one and the second a right one ([`ColumnRows::of`]).
-        let [(_, l), (_, r), (bound, q)] = &self.edges;
-        let mut lo = (-l.value()).max(0);
-        let mut hi = (-r.value() - 1).min(width as i64 - 1);
+        let mut lo = (-self.left.value()).max(0);
+        let mut hi = (-self.right.value() - 1).min(width as i64 - 1);
+        let (bound, q) = &self.third;
         let q = q.value();
         match *bound {
             EdgeBound::Left => lo = lo.max(-q),
@@ -145,8 +155,8 @@ impl ColumnSteps {
     /// Moves one row down.
     #[inline]
     pub(crate) fn advance(&mut self) {
-        for (_, q) in &mut self.edges {
-            q.advance();
-        }
+        self.left.advance();
+        self.right.advance();
+        self.third.1.advance();
     }
 }
