@@ -256,13 +256,26 @@ impl RowFlags {
 pub struct BandFlags {
     planes: FlagPlanes,
     width: usize,
-    /// Per row: the current volume's words toggled so far, and their least first and
-    /// greatest last column.
+    /// Per row: the current volume's words so far, and the least first and greatest last
+    /// column of those that may toggle (not [`BandFlags::count_behind`]'s).
     open: Vec<(u32, u16, u16)>,
     /// The columns `lo..hi` outside which every row's flags are 0 (since the last clear,
     /// no ended volume's word reached them and no IF inverted them).
     cols: (usize, usize),
+    /// The greatest ZB over all the band's rows on runs of columns, for
+    /// [`BandFlags::zb_max`]: level `k` (at `k·blocks`) holds, for each block `i` of
+    /// [`ZB_BLOCK`] columns, the greatest on blocks `i .. i + 2^k`.
+    zb_max: Vec<u32>,
+    /// Blocks of [`ZB_BLOCK`] columns on a row.
+    blocks: usize,
+    /// The least of the blocks' greatest ZB: no [`BandFlags::zb_max`] is less.
+    zb_least_block: u32,
+    /// The greatest ZB per column over the band's rows (the table's source).
+    zb_cols: Vec<i32>,
 }
+
+/// Columns per block of [`BandFlags::zb_max`]'s table.
+const ZB_BLOCK: usize = 8;
 
 /// A row's current volume before its first word.
 const NO_WORDS: (u32, u16, u16) = (0, u16::MAX, 0);
@@ -287,6 +300,65 @@ impl BandFlags {
         self.open.clear();
         self.open.resize(band.len() / width, NO_WORDS);
         self.cols = (0, 0);
+        self.zb_max_table();
+    }
+
+    /// Fills [`BandFlags::zb_max`]'s table from the band's ZB: the greatest per column,
+    /// per block of columns, then per run of `2^k` blocks.
+    fn zb_max_table(&mut self) {
+        let (w, t, cols) = (self.width, &mut self.zb_max, &mut self.zb_cols);
+        cols.clear();
+        cols.resize(w, 0);
+        // As i32, whose greatest of two vectorises without SSE4.1: ZB ≤ Z_FAR < 2^24 (it
+        // starts there and only ever takes a smaller depth).
+        debug_assert!(self
+            .planes
+            .zb
+            .iter()
+            .all(|&z| z <= pixelproc_formats::Z_FAR));
+        for row in self.planes.zb.chunks_exact(w) {
+            for (m, &z) in cols.iter_mut().zip(row) {
+                *m = (*m).max(z as i32);
+            }
+        }
+        let n = w.div_ceil(ZB_BLOCK);
+        self.blocks = n;
+        t.clear();
+        t.extend(
+            cols.chunks(ZB_BLOCK)
+                .map(|c| c.iter().fold(0, |m, &z| m.max(z as u32))),
+        );
+        self.zb_least_block = t.iter().fold(u32::MAX, |m, &z| m.min(z));
+        let mut run = 1;
+        while 2 * run <= n {
+            let k = t.len() - n;
+            for i in 0..n {
+                let far = t[k + (i + run).min(n - 1)];
+                t.push(t[k + i].max(far));
+            }
+            run *= 2;
+        }
+    }
+
+    /// At least the greatest ZB on columns `lo..=hi` (`lo ≤ hi < width`) of the band's
+    /// rows: a word whose depth is at least this on every pixel toggles none of them.
+    #[inline]
+    pub fn zb_max(&self, lo: usize, hi: usize) -> u32 {
+        debug_assert!(lo <= hi && hi < self.width, "columns {lo}..={hi}");
+        let (a, b) = (lo / ZB_BLOCK, hi / ZB_BLOCK);
+        // Two runs of 2^k blocks that together cover blocks a..=b exactly.
+        let k = (b - a + 1).ilog2() as usize;
+        let level = k * self.blocks;
+        let t = &self.zb_max;
+        t[level + a].max(t[level + b + 1 - (1 << k)])
+    }
+
+    /// Whether a word on columns `lo..=hi` whose depth (`Z >> Z_FRAC`) is at least
+    /// `depth` on every pixel lies behind ZB there on all the band's rows, so toggles
+    /// nothing ([`BandFlags::zb_max`], tested only when its least value allows).
+    #[inline]
+    pub fn behind(&self, lo: usize, hi: usize, depth: i64) -> bool {
+        depth >= self.zb_least_block as i64 && depth >= self.zb_max(lo, hi) as i64
     }
 
     /// The band's rows.
@@ -338,7 +410,17 @@ impl BandFlags {
         );
     }
 
-    /// Ends the current volume on row `r` and tells how many words it toggled there. With
+    /// An SP word of the current volume on row `r` of the band that lies behind ZB on
+    /// every pixel, so toggles nothing: counted as [`BandFlags::toggle`] counts it, but
+    /// it neither changes a flag nor widens the columns its volume's end takes in (on
+    /// them `FSF ∨ DSF = FSF` already, as on every pixel no word toggled).
+    #[inline]
+    pub fn count_behind(&mut self, r: usize) {
+        self.open[r].0 += 1;
+    }
+
+    /// Ends the current volume on row `r` and tells how many words it had there (those
+    /// [`BandFlags::count_behind`] counted included). With
     /// `inside` (the row's first span is IF) DSF is inverted on the whole row and FSF
     /// takes DSF on the whole row; otherwise FSF takes DSF on the words' columns (nothing
     /// without words).
@@ -350,11 +432,12 @@ impl BandFlags {
             dsf.iter_mut().for_each(|d| *d ^= 1);
             self.reach(0, self.width);
             (0, self.width)
-        } else if made > 0 {
+        } else if lo <= hi {
             self.reach(lo as usize, hi as usize + 1);
             (lo as usize, hi as usize + 1)
         } else {
-            return 0;
+            // No word, or only words behind ZB ([`BandFlags::count_behind`]).
+            return made;
         };
         self.planes.absorb(row + a, row + b);
         made
@@ -428,6 +511,51 @@ impl PixelArray {
 mod tests {
     use super::*;
     use crate::rng::Lcg64;
+
+    /// [`BandFlags::zb_max`] is the greatest ZB over the band's rows on exactly the
+    /// blocks of [`ZB_BLOCK`] columns that hold columns `lo..=hi` (so at least the
+    /// greatest on the columns themselves), and [`BandFlags::behind`] compares with it:
+    /// every column range of random bands, by a search of the processors.
+    #[test]
+    fn zb_max_is_the_greatest_on_the_blocks_of_the_columns() {
+        let mut rng = Lcg64(0x2b_3a7);
+        let mut r = |m: u64| rng.step() % m;
+        let mut flags = BandFlags::default();
+        for case in 0..60 {
+            let (w, n) = (1 + r(70) as usize, 1 + r(17) as usize);
+            // Small depths (many ties) or any up to Z_FAR.
+            let top = if case % 2 == 0 {
+                9
+            } else {
+                pixelproc_formats::Z_FAR as u64 + 1
+            };
+            let band: Vec<ProcState> = (0..w * n)
+                .map(|_| ProcState {
+                    zb: r(top) as u32,
+                    ..Default::default()
+                })
+                .collect();
+            flags.load(&band, w);
+            for lo in 0..w {
+                for hi in lo..w {
+                    let cols = lo / ZB_BLOCK * ZB_BLOCK..((hi / ZB_BLOCK + 1) * ZB_BLOCK).min(w);
+                    let want = (0..n)
+                        .flat_map(|j| band[j * w + cols.start..j * w + cols.end].iter())
+                        .map(|s| s.zb)
+                        .max()
+                        .unwrap();
+                    assert_eq!(
+                        flags.zb_max(lo, hi),
+                        want,
+                        "case {case}: {lo}..={hi} of {w}"
+                    );
+                    for d in [want as i64 - 1, want as i64, want as i64 + 1] {
+                        assert_eq!(flags.behind(lo, hi, d), d >= want as i64, "{lo}..={hi}");
+                    }
+                }
+            }
+        }
+    }
 
     /// [`BandFlags`], volume by volume, leaves every processor as [`RowFlags::run`] leaves
     /// it after the same commands row by row: random ZB, counters and masks, flags clear

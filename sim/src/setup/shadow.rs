@@ -6,7 +6,7 @@ use super::plane::ExactPlane;
 use super::{depth_fields, rows_of, SetupError, SnappedTri, TriSetup};
 use crate::raster::edge::{rewind, winding, EdgeFn};
 use crate::raster::{PlaneStepper, RoundDivStep, RoundDivSteps};
-use pixelproc_formats::{Attr, SpanWord, SUBPIXEL_ONE, Z_FRAC};
+use pixelproc_formats::{Attr, SpanWord, SUBPIXEL_BITS, SUBPIXEL_ONE, Z_FRAC};
 
 /// A shadow polygon's triangle, set up for its SP span words (seed 001 §4: a shadow span
 /// tests depth only): the edges, the depth plane and the rows of [`TriSetup`], without
@@ -25,6 +25,11 @@ pub(crate) struct ShadowTri {
     pub(crate) row_max: i64,
     /// dZ, Q26.12 per pixel.
     dz: i64,
+    /// `2^Z_FRAC` times the least vertex depth.
+    z_min: i64,
+    /// The columns whose centres lie within the vertices' `x` (Q.8), unclamped: from
+    /// `⌈(x_min − 128) / 256⌉` to `⌊(x_max − 128) / 256⌋`.
+    col_box: (i64, i64),
     tag: u16,
     nclass: u8,
     chan: u8,
@@ -51,10 +56,31 @@ impl ShadowTri {
             z: zp,
             row_min,
             row_max,
+            z_min: (z.into_iter().min().unwrap_or(0) as i64) << Z_FRAC,
+            col_box: centre_columns(&v),
             tag: t.tag,
             nclass: t.nclass,
             chan: t.chan,
         }))
+    }
+
+    /// The columns `lo..=hi` (within `0..width`) that hold every pixel of the triangle's
+    /// words, and a lower bound of the depth `Z >> Z_FRAC` the array compares with ZB on
+    /// each of those pixels; `None` if the triangle sends no word on any row.
+    ///
+    /// The bound: a covered pixel centre lies in the closed triangle, so the exact plane
+    /// `Q` there (Q.12) is at least `2^12` times the least vertex depth. A word's pixel `p`
+    /// gets `Z = max(0, Z0 + XL·dZ) + (p − XL)·dZ ≥ Z0 + p·dZ` (its one-pixel `dZ = 0`
+    /// included), where `Z0` and `dZ` are `Q` at column 0's centre and its slope per
+    /// pixel, each rounded to within ½: so `Z ≥ Q(p) − ½ − p/2 > 2^12·z_min − hi − 2`.
+    #[inline]
+    pub(crate) fn depth_floor(&self, width: u32) -> Option<(usize, usize, i64)> {
+        let lo = self.col_box.0.max(0);
+        let hi = self.col_box.1.min(width as i64 - 1);
+        if lo > hi {
+            return None;
+        }
+        Some((lo as usize, hi as usize, (self.z_min - hi - 2) >> Z_FRAC))
     }
 
     /// The column stepper from row `first` on ([`TriSetup::column_rows`]), from the
@@ -100,6 +126,19 @@ impl ShadowTri {
     }
 }
 
+/// The columns whose centres `(c + ½)·256` lie within the `x` of the vertices `v` (Q.8),
+/// unclamped: every column a triangle through them can cover.
+fn centre_columns(v: &[[i32; 2]; 3]) -> (i64, i64) {
+    let x = v.map(|p| p[0] as i64 - (SUBPIXEL_ONE / 2) as i64);
+    let (lo, hi) = (x.into_iter().min(), x.into_iter().max());
+    let one = SUBPIXEL_ONE as i64;
+    // ⌈lo / 256⌉ and ⌊hi / 256⌋.
+    (
+        (lo.unwrap_or(0) + one - 1) >> SUBPIXEL_BITS,
+        hi.unwrap_or(0) >> SUBPIXEL_BITS,
+    )
+}
+
 /// A span word as a shadow polygon sends it: attr SP, zero intensities and slopes (the
 /// array's shadow spans test depth only). [`ShadowTri::shadow_span`] makes them directly;
 /// the tests compare.
@@ -110,5 +149,94 @@ pub(crate) fn shadow_word(w: SpanWord) -> SpanWord {
         il: [0; 3],
         di: [0; 3],
         ..w
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::setup::snap_coord;
+    use pixelproc_formats::{Z_GEOM_MAX, Z_GEOM_MIN};
+
+    /// [`ShadowTri::depth_floor`] bounds every pixel of every word the triangle sends:
+    /// the word's columns lie in its range, and the depth the array compares with ZB,
+    /// `(ZL + (p − XL)·dZ) >> Z_FRAC`, is at least its floor, which is at most two below
+    /// the least vertex depth (one on lines up to 4094 pixels). The words are
+    /// [`TriSetup::span`]'s, by division on each row: random triangles on the pixel
+    /// lattice, near the screen and anywhere in the coordinate range, with depths near
+    /// each other or across the whole range, on lines of 1 to 4096 pixels.
+    #[test]
+    fn depth_floor_bounds_every_pixel_of_every_word() {
+        let mut rng = crate::rng::XorShift64Star(0x0dee_9f10);
+        let lim = pixelproc_formats::MAX_COORD_PX as f64;
+        let (mut pixels, mut none, mut tight) = (0u64, 0, 0);
+        for case in 0..4000 {
+            let v: [[f64; 2]; 3] = std::array::from_fn(|_| match case % 3 {
+                0 => [
+                    (rng.unit() * 80.0).round() / 2.0,
+                    (rng.unit() * 60.0).round() / 2.0,
+                ],
+                1 => [rng.unit() * 300.0 - 10.0, rng.unit() * 50.0 - 10.0],
+                _ => [
+                    (rng.unit() * 2.0 - 1.0) * lim,
+                    (rng.unit() * 2.0 - 1.0) * lim,
+                ],
+            });
+            let span = (Z_GEOM_MAX - Z_GEOM_MIN) as f64;
+            let z0 = Z_GEOM_MIN + (rng.unit() * span) as u32;
+            let z: [u32; 3] = std::array::from_fn(|_| match case % 4 {
+                // Steep: the vertices anywhere in the range.
+                0 => Z_GEOM_MIN + (rng.unit() * span) as u32,
+                // Nearly flat, or flat.
+                1 => z0,
+                _ => (z0 + (rng.unit() * 40.0) as u32).min(Z_GEOM_MAX),
+            });
+            let t = SnappedTri {
+                v: v.map(|p| p.map(|x| snap_coord(x).unwrap())),
+                z,
+                ..Default::default()
+            };
+            let (Some(s), Some(full)) = (ShadowTri::new(&t).unwrap(), TriSetup::new(&t).unwrap())
+            else {
+                continue;
+            };
+            let width = [1u32, 16, 40, 300, 1920, 4096][case % 6];
+            let floor = s.depth_floor(width);
+            let zmin = *z.iter().min().unwrap() as i64;
+            if let Some((_, hi, d)) = floor {
+                let most = if hi + 2 <= 1 << Z_FRAC { 1 } else { 2 };
+                assert!(
+                    d >= zmin - most,
+                    "case {case}: floor {d}, least vertex {zmin}"
+                );
+            }
+            let mut least = i64::MAX;
+            let rows = full.row_min.max(-2)..=full.row_max.min(400);
+            for w in rows.filter_map(|j| full.span(j, width)) {
+                let Some((lo, hi, d)) = floor else {
+                    panic!("case {case}: a word {w:?} where the floor says none");
+                };
+                assert!(
+                    lo <= w.xl as usize && w.xr as usize <= hi,
+                    "case {case}: {w:?} outside {lo}..={hi}"
+                );
+                for p in w.xl as i64..=w.xr as i64 {
+                    let zp = (w.zl as i64 + (p - w.xl as i64) * w.dz) >> Z_FRAC;
+                    assert!(
+                        zp >= d,
+                        "case {case}: pixel {p} at {zp}, floor {d} ({v:?}, {z:?})"
+                    );
+                    least = least.min(zp);
+                    pixels += 1;
+                }
+            }
+            none += floor.is_none() as u32;
+            tight += floor.is_some_and(|(_, _, d)| least <= d + 1) as u32;
+        }
+        assert!(pixels > 1_000_000, "{pixels} pixels");
+        assert!(
+            none > 100 && tight > 100,
+            "{none} without a column, {tight} tight"
+        );
     }
 }

@@ -207,19 +207,44 @@ pub(super) struct VolumeTris {
     tris: Vec<ShadowTri>,
 }
 
+/// Where [`VolumeTris::band_words`] puts a band's words.
+pub(super) trait WordSink {
+    /// Row `j`'s next word.
+    fn word(&mut self, j: i64, w: SpanWord);
+
+    /// Whether a triangle whose words lie on columns `lo..=hi` with a depth (`Z >>
+    /// Z_FRAC`) of at least `depth` on every pixel ([`ShadowTri::depth_floor`]) is behind
+    /// everything on the band's rows, so that its words need only be counted
+    /// ([`WordSink::behind`]).
+    fn is_behind(&self, _lo: usize, _hi: usize, _depth: i64) -> bool {
+        false
+    }
+
+    /// Row `j`'s next word, which lies behind everything ([`WordSink::is_behind`]).
+    fn behind(&mut self, j: i64);
+}
+
+/// A closure takes every word.
+impl<F: FnMut(i64, SpanWord)> WordSink for F {
+    #[inline]
+    fn word(&mut self, j: i64, w: SpanWord) {
+        self(j, w)
+    }
+
+    fn behind(&mut self, _j: i64) {
+        unreachable!("a closure takes every word")
+    }
+}
+
 impl VolumeTris {
-    /// Gives the SP words of rows `j0..=j1` to `push(row, word)`, triangle after triangle,
-    /// each triangle's rows top to bottom: on every row, the words come in triangle order.
+    /// Gives the SP words of rows `j0..=j1` to `sink`, triangle after triangle, each
+    /// triangle's rows top to bottom: on every row, the words come in triangle order.
     /// Each triangle's columns and depth plane are stepped exactly
     /// ([`ShadowTri::column_rows`], [`ShadowTri::depth_rows`]) from the first of those rows
-    /// it covers, so its set-up is read once per band rather than once per row.
-    pub(super) fn band_words(
-        &self,
-        j0: i64,
-        j1: i64,
-        width: u32,
-        mut push: impl FnMut(i64, SpanWord),
-    ) {
+    /// it covers, so its set-up is read once per band rather than once per row. A
+    /// triangle the sink finds behind everything has its columns stepped only, for the
+    /// rows it has a word on.
+    pub(super) fn band_words(&self, j0: i64, j1: i64, width: u32, sink: &mut impl WordSink) {
         /// One triangle's rows `first..=last`, `z` standing at `first`.
         #[inline(always)]
         fn rows(
@@ -227,12 +252,12 @@ impl VolumeTris {
             (first, last): (i64, i64),
             width: u32,
             mut z: impl PlaneStepper,
-            push: &mut impl FnMut(i64, SpanWord),
+            sink: &mut impl WordSink,
         ) {
             let mut cols = t.column_rows(first);
             for j in first..=last {
                 if let Some(w) = t.shadow_span(width, &cols, &z) {
-                    push(j, w);
+                    sink.word(j, w);
                 }
                 cols.advance();
                 z.advance();
@@ -243,11 +268,24 @@ impl VolumeTris {
             if first > last {
                 continue;
             }
+            let Some((lo, hi, depth)) = t.depth_floor(width) else {
+                continue;
+            };
+            if sink.is_behind(lo, hi, depth) {
+                let mut cols = t.column_rows(first);
+                for j in first..=last {
+                    if cols.columns(width).is_some() {
+                        sink.behind(j);
+                    }
+                    cols.advance();
+                }
+                continue;
+            }
             // The depth stepper in 64 bits when its values stay there (nearly always).
             let z = t.depth_rows(first);
             match z.narrow((last - first) as u64) {
-                Some(z) => rows(t, (first, last), width, z, &mut push),
-                None => rows(t, (first, last), width, z, &mut push),
+                Some(z) => rows(t, (first, last), width, z, sink),
+                None => rows(t, (first, last), width, z, sink),
             }
         }
     }
@@ -397,7 +435,7 @@ mod tests {
                     let j1 = (j0 + band - 1).min(h - 1);
                     for (i, (v, full)) in vols.iter().enumerate() {
                         let mut rows = vec![Vec::new(); (j1 - j0 + 1) as usize];
-                        v.band_words(j0, j1, w, |j, s| rows[(j - j0) as usize].push(s));
+                        v.band_words(j0, j1, w, &mut |j, s| rows[(j - j0) as usize].push(s));
                         for (j, got) in (j0..).zip(rows) {
                             let want: Vec<SpanWord> = full
                                 .iter()
