@@ -216,7 +216,7 @@ pub(super) trait WordSink {
     /// Z_FRAC`) of at least `depth` on every pixel ([`ShadowTri::depth_floor`]) is behind
     /// everything on the band's rows, so that its words need only be counted
     /// ([`WordSink::behind`]).
-    fn is_behind(&self, _lo: usize, _hi: usize, _depth: i64) -> bool {
+    fn is_behind(&mut self, _lo: usize, _hi: usize, _depth: i64) -> bool {
         false
     }
 
