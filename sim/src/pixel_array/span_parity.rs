@@ -266,7 +266,8 @@ pub struct BandFlags {
     /// [`BandFlags::zb_max`]: level `k` (at `k·blocks`) holds, for each block `i` of
     /// [`ZB_BLOCK`] columns, the greatest on blocks `i .. i + 2^k`.
     zb_max: Vec<u32>,
-    /// Blocks of [`ZB_BLOCK`] columns on a row.
+    /// Blocks of [`ZB_BLOCK`] columns on a row; 0 until the table is made (on the first
+    /// [`BandFlags::behind`] after [`BandFlags::load`]).
     blocks: usize,
     /// The least of the blocks' greatest ZB: no [`BandFlags::zb_max`] is less.
     zb_least_block: u32,
@@ -300,7 +301,7 @@ impl BandFlags {
         self.open.clear();
         self.open.resize(band.len() / width, NO_WORDS);
         self.cols = (0, 0);
-        self.zb_max_table();
+        self.blocks = 0;
     }
 
     /// Fills [`BandFlags::zb_max`]'s table from the band's ZB: the greatest per column,
@@ -342,8 +343,31 @@ impl BandFlags {
 
     /// At least the greatest ZB on columns `lo..=hi` (`lo ≤ hi < width`) of the band's
     /// rows: a word whose depth is at least this on every pixel toggles none of them.
+    pub fn zb_max(&mut self, lo: usize, hi: usize) -> u32 {
+        self.make_table();
+        self.zb_max_of(lo, hi)
+    }
+
+    /// Whether a word on columns `lo..=hi` whose depth (`Z >> Z_FRAC`) is at least
+    /// `depth` on every pixel lies behind ZB there on all the band's rows, so toggles
+    /// nothing ([`BandFlags::zb_max`], looked up only when its least value allows).
     #[inline]
-    pub fn zb_max(&self, lo: usize, hi: usize) -> u32 {
+    pub fn behind(&mut self, lo: usize, hi: usize, depth: i64) -> bool {
+        self.make_table();
+        depth >= self.zb_least_block as i64 && depth >= self.zb_max_of(lo, hi) as i64
+    }
+
+    /// Makes [`BandFlags::zb_max`]'s table, the first time it is needed after a load.
+    #[inline]
+    fn make_table(&mut self) {
+        if self.blocks == 0 {
+            self.zb_max_table();
+        }
+    }
+
+    /// [`BandFlags::zb_max`] from the table.
+    #[inline]
+    fn zb_max_of(&self, lo: usize, hi: usize) -> u32 {
         debug_assert!(lo <= hi && hi < self.width, "columns {lo}..={hi}");
         let (a, b) = (lo / ZB_BLOCK, hi / ZB_BLOCK);
         // Two runs of 2^k blocks that together cover blocks a..=b exactly.
@@ -351,14 +375,6 @@ impl BandFlags {
         let level = k * self.blocks;
         let t = &self.zb_max;
         t[level + a].max(t[level + b + 1 - (1 << k)])
-    }
-
-    /// Whether a word on columns `lo..=hi` whose depth (`Z >> Z_FRAC`) is at least
-    /// `depth` on every pixel lies behind ZB there on all the band's rows, so toggles
-    /// nothing ([`BandFlags::zb_max`], tested only when its least value allows).
-    #[inline]
-    pub fn behind(&self, lo: usize, hi: usize, depth: i64) -> bool {
-        depth >= self.zb_least_block as i64 && depth >= self.zb_max(lo, hi) as i64
     }
 
     /// The band's rows.
