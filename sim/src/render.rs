@@ -373,7 +373,7 @@ impl RowScratch {
 mod tests {
     use super::*;
     use crate::frontend::Projector;
-    use crate::scene::{load_builtin, Light};
+    use crate::scene::load_builtin;
     use crate::setup::TriSetup;
     use crate::shadow::{occluders, shadow_lights, Shading, ShadowForm};
     use crate::stream::SceneStream;
@@ -428,16 +428,7 @@ mod tests {
             let mut ls = load_builtin("default").unwrap();
             ls.scene.width = 96;
             ls.scene.height = h;
-            let p0 = ls.scene.lights[0].position;
-            for (dx, radius) in [(-3.0, 0.0), (2.0, 0.8)] {
-                ls.scene.lights.push(Light {
-                    position: [p0[0] + dx, p0[1], p0[2] + 1.0],
-                    intensity: 0.5,
-                    shadows: true,
-                    radius,
-                    samples: Some(3),
-                });
-            }
+            crate::shadow::add_test_lights(&mut ls);
             let which: Vec<usize> = (0..ls.scene.lights.len()).collect();
             let s = SceneStream::of_scene(&ls, &which, form, Shading::Exact).unwrap();
             assert!(

@@ -384,6 +384,29 @@ impl TriSetup {
     }
 }
 
+/// Three random vertices (pixels) of kind `kind`: 0 on the half-pixel lattice of a small
+/// screen (flat edges, centres on edges), 1 anywhere around a screen `wide` pixels wide,
+/// 2 anywhere in the coordinate range.
+#[cfg(test)]
+pub(crate) fn random_vertices(
+    rng: &mut crate::rng::XorShift64Star,
+    kind: usize,
+    wide: f64,
+) -> [[f64; 2]; 3] {
+    let lim = pixelproc_formats::MAX_COORD_PX as f64;
+    std::array::from_fn(|_| match kind {
+        0 => [
+            (rng.unit() * 80.0).round() / 2.0,
+            (rng.unit() * 60.0).round() / 2.0,
+        ],
+        1 => [rng.unit() * wide - 10.0, rng.unit() * 50.0 - 10.0],
+        _ => [
+            (rng.unit() * 2.0 - 1.0) * lim,
+            (rng.unit() * 2.0 - 1.0) * lim,
+        ],
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -416,21 +439,9 @@ mod tests {
     #[test]
     fn stepped_columns_equal_divided_columns_on_every_row() {
         let mut rng = crate::rng::XorShift64Star(0x000c_01d5_7e95);
-        let lim = pixelproc_formats::MAX_COORD_PX as f64;
         let (mut rows, mut some) = (0, 0);
         for case in 0..3000 {
-            let v: [[f64; 2]; 3] = std::array::from_fn(|_| match case % 3 {
-                // Half-pixel lattice within a small screen: flat edges, centres on edges.
-                0 => [
-                    (rng.unit() * 80.0).round() / 2.0,
-                    (rng.unit() * 60.0).round() / 2.0,
-                ],
-                1 => [rng.unit() * 60.0 - 10.0, rng.unit() * 50.0 - 10.0],
-                _ => [
-                    (rng.unit() * 2.0 - 1.0) * lim,
-                    (rng.unit() * 2.0 - 1.0) * lim,
-                ],
-            });
+            let v = random_vertices(&mut rng, case % 3, 60.0);
             let Some(t) = TriSetup::new(&tri(v)).unwrap() else {
                 continue;
             };

@@ -155,7 +155,7 @@ pub(crate) fn shadow_word(w: SpanWord) -> SpanWord {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::setup::snap_coord;
+    use crate::setup::{random_vertices, snap_coord};
     use pixelproc_formats::{Z_GEOM_MAX, Z_GEOM_MIN};
 
     /// [`ShadowTri::depth_floor`] bounds every pixel of every word the triangle sends:
@@ -168,20 +168,9 @@ mod tests {
     #[test]
     fn depth_floor_bounds_every_pixel_of_every_word() {
         let mut rng = crate::rng::XorShift64Star(0x0dee_9f10);
-        let lim = pixelproc_formats::MAX_COORD_PX as f64;
         let (mut pixels, mut none, mut tight) = (0u64, 0, 0);
         for case in 0..4000 {
-            let v: [[f64; 2]; 3] = std::array::from_fn(|_| match case % 3 {
-                0 => [
-                    (rng.unit() * 80.0).round() / 2.0,
-                    (rng.unit() * 60.0).round() / 2.0,
-                ],
-                1 => [rng.unit() * 300.0 - 10.0, rng.unit() * 50.0 - 10.0],
-                _ => [
-                    (rng.unit() * 2.0 - 1.0) * lim,
-                    (rng.unit() * 2.0 - 1.0) * lim,
-                ],
-            });
+            let v = random_vertices(&mut rng, case % 3, 300.0);
             let span = (Z_GEOM_MAX - Z_GEOM_MIN) as f64;
             let z0 = Z_GEOM_MIN + (rng.unit() * span) as u32;
             let z: [u32; 3] = std::array::from_fn(|_| match case % 4 {

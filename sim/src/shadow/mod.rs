@@ -679,6 +679,22 @@ fn end_volume_row(
     }
 }
 
+/// Adds two shadowing lights beside the scene's first, a point light and an area light
+/// of three samples (the tests' scenes with several light samples).
+#[cfg(test)]
+pub(crate) fn add_test_lights(ls: &mut LoadedScene) {
+    let p0 = ls.scene.lights[0].position;
+    for (dx, radius) in [(-3.0, 0.0), (2.0, 0.8)] {
+        ls.scene.lights.push(crate::scene::Light {
+            position: [p0[0] + dx, p0[1], p0[2] + 1.0],
+            intensity: 0.5,
+            shadows: true,
+            radius,
+            samples: Some(3),
+        });
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -692,7 +708,7 @@ mod tests {
     fn triangles_behind_zb_counted_leave_what_their_words_leave() {
         use crate::frontend::Projector;
         use crate::render::render_frame;
-        use crate::scene::{load_builtin, Light};
+        use crate::scene::load_builtin;
         use crate::stream::SceneStream;
         let cases = [
             ("boxes", ShadowForm::Ev),
@@ -703,16 +719,7 @@ mod tests {
             let mut ls = load_builtin(scene).unwrap();
             let (w, h) = (192, 108);
             (ls.scene.width, ls.scene.height) = (w as u32, h as u32);
-            let p0 = ls.scene.lights[0].position;
-            for (dx, radius) in [(-3.0, 0.0), (2.0, 0.8)] {
-                ls.scene.lights.push(Light {
-                    position: [p0[0] + dx, p0[1], p0[2] + 1.0],
-                    intensity: 0.5,
-                    shadows: true,
-                    radius,
-                    samples: Some(3),
-                });
-            }
+            add_test_lights(&mut ls);
             let which: Vec<usize> = (0..ls.scene.lights.len()).collect();
             let s = SceneStream::of_scene(&ls, &which, form, Shading::Exact).unwrap();
             let frame = render_frame(&s.spans, s.bg, 16, &[]);
