@@ -584,9 +584,9 @@ mod tests {
     /// triangles on one plane, one tag) at random depths and slants (every fifth level, at
     /// one of three depths, so that depths tie), some of them the front and back of a thin
     /// slab (one tag, a gap that is sometimes under a pixel's depth range, so their ranges
-    /// overlap), a few triangles of any shape, tags shared between walls, flat and shaded
-    /// colours, and with `decals` a decal on some walls.
-    fn layered_scene(rng: &mut crate::rng::Lcg64, decals: bool) -> Vec<SnappedTri> {
+    /// overlap), a few triangles of any shape, `tags` tags shared between walls, flat and
+    /// shaded colours, and with `decals` a decal on some walls.
+    fn layered_scene(rng: &mut crate::rng::Lcg64, decals: bool, tags: u64) -> Vec<SnappedTri> {
         use pixelproc_formats::{Z_GEOM_MAX, Z_GEOM_MIN};
         let mut tris = Vec::new();
         let span = (Z_GEOM_MAX - Z_GEOM_MIN) as f64;
@@ -599,7 +599,7 @@ mod tests {
             }
         };
         for w in 0..30 {
-            let tag = (rng.step() % 12) as u16;
+            let tag = (rng.step() % tags) as u16;
             let (x0, y0) = (
                 (rng.unit() * 40.0 - 10.0) * 256.0,
                 (rng.unit() * 30.0 - 8.0) * 256.0,
@@ -692,7 +692,16 @@ mod tests {
     /// left out.
     #[test]
     fn leaving_hidden_fragments_out_changes_no_output() {
-        hidden_left_out_changes_nothing(0x1dde_7f00, (40, 30), 1, 48, 6);
+        hidden_left_out_changes_nothing(0x1dde_7f00, (40, 30), 1, 12, 48, 6);
+    }
+
+    /// As [`leaving_hidden_fragments_out_changes_no_output`] with every wall of one tag (a
+    /// mesh of many layers, as one model loaded from one file is): each triangle has many
+    /// other triangles of its tag on its pixels, most of them apart from it in depth, a
+    /// few (the slabs' other face) not.
+    #[test]
+    fn leaving_hidden_fragments_of_one_tag_out_changes_no_output() {
+        hidden_left_out_changes_nothing(0x1dde_7f00, (40, 30), 1, 1, 48, 10);
     }
 
     /// As [`leaving_hidden_fragments_out_changes_no_output`] on rows several blocks of
@@ -700,23 +709,24 @@ mod tests {
     /// blocks are left out at once.
     #[test]
     fn leaving_hidden_blocks_out_changes_no_output() {
-        hidden_left_out_changes_nothing(0xb10c_4ed0, (240, 30), 6, 24, 5);
+        hidden_left_out_changes_nothing(0xb10c_4ed0, (240, 30), 6, 12, 24, 5);
     }
 
-    /// Renders `cases` layered scenes (x stretched by `sx`) on a `w`×`h` frame with and
-    /// without leaving hidden fragments out, and asserts that every output is the same and
-    /// that more than one fragment in `one_in` was left out.
+    /// Renders `cases` layered scenes of `tags` tags (x stretched by `sx`) on a `w`×`h`
+    /// frame with and without leaving hidden fragments out, and asserts that every output
+    /// is the same and that more than one fragment in `one_in` was left out.
     fn hidden_left_out_changes_nothing(
         seed: u64,
         (w, h): (u32, u32),
         sx: i32,
+        tags: u64,
         cases: usize,
         one_in: u64,
     ) {
         let mut rng = crate::rng::Lcg64(seed);
         let (mut made, mut left_out) = (0u64, 0u64);
         for case in 0..cases {
-            let mut tris = layered_scene(&mut rng, case % 4 == 3);
+            let mut tris = layered_scene(&mut rng, case % 4 == 3, tags);
             for t in &mut tris {
                 t.v.iter_mut().for_each(|p| p[0] *= sx);
                 if let Some(hp) = &mut t.host {

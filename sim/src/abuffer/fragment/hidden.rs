@@ -73,6 +73,9 @@ pub(super) struct HiddenRow {
     by_tag: Vec<(u16, i64, i64, u32)>,
     /// Per `by_tag` entry, the farthest touched pixel of its tag's entries up to it.
     reach: Vec<i64>,
+    /// Each triangle's fragment ranges `zc ± half` bounded over its whole touched run, in
+    /// `masks` order: two triangles whose boxes are apart are apart on every pixel.
+    spans: Vec<(i64, i64)>,
 }
 
 impl HiddenRow {
@@ -122,6 +125,14 @@ impl HiddenRow {
                 .chunks(HIDE_BLOCK as usize)
                 .map(|b| b.iter().copied().max().unwrap_or(i64::MAX)),
         );
+        self.spans.clear();
+        self.spans
+            .extend(masks.iter().zip(&self.zs).map(|((k, rm), z)| {
+                let (a, b) = rm.cov.touched;
+                let half = setups[*k as usize].half_range(row.size);
+                let (lo, hi) = z.bounds(0, (b - a) as u64);
+                (saturate_plane(lo) - half, saturate_plane(hi) + half)
+            }));
         self.by_tag.clear();
         self.by_tag
             .extend(masks.iter().enumerate().map(|(x, (k, rm))| {
@@ -160,6 +171,7 @@ impl HiddenRow {
             by_tag: &self.by_tag,
             reach: &self.reach,
             zs: &self.zs,
+            spans: &self.spans,
             row,
         };
         let mut behind = Behind {
@@ -282,9 +294,12 @@ impl<F: FnMut() -> bool> Hiding for Behind<'_, F> {
     }
 }
 
-/// Most other triangles of its tag the tag test looks at for one triangle; with more it
-/// fails (keeps the fragments), which bounds its cost where a tag is a mesh of many
-/// overlapping parts.
+/// Most other triangles of its tag the tag test compares with one triangle pixel by pixel
+/// ([`apart_closely`]); with more it fails (keeps the fragments), which bounds its cost.
+/// Triangles whose ranges are apart by their bounds ([`HiddenRow`]'s `spans` over their
+/// whole runs, then [`apart_bounded`] on the common pixels) are not counted: in a mesh of
+/// many layers, each apart from the next, only the few that come near the triangle's
+/// depth are.
 const TAG_TEST_MAX: usize = 6;
 
 /// The tag test on one row: the row's triangles in (tag, first touched
@@ -294,6 +309,8 @@ struct TagTest<'a> {
     by_tag: &'a [(u16, i64, i64, u32)],
     reach: &'a [i64],
     zs: &'a [RoundDivSteps],
+    /// [`HiddenRow`]'s `spans`.
+    spans: &'a [(i64, i64)],
     row: &'a Row<'a>,
 }
 
@@ -315,33 +332,48 @@ impl TagTest<'_> {
             .take_while(|&q| by[q].0 == e.0 && self.reach[q] >= fa)
             .map(|q| &by[q]);
         let t = &setups[masks[x].0 as usize];
+        let ts = self.spans[x];
         let mut met = 0;
         later.chain(earlier).filter(|u| u.2 >= fa).all(|u| {
-            met += 1;
-            if met > TAG_TEST_MAX {
-                return false;
-            }
             let y = u.3 as usize;
-            apart(
-                (t, self.zs[x], e.1),
-                (&setups[masks[y].0 as usize], self.zs[y], u.1),
-                (fa.max(u.1), fb.min(u.2)),
-                self.row.j,
-                self.row.size,
-            )
+            let us = self.spans[y];
+            if ts.1 < us.0 || us.1 < ts.0 {
+                // Apart over the whole runs, so on the common pixels.
+                return true;
+            }
+            let o = &setups[masks[y].0 as usize];
+            let run = (fa.max(u.1), fb.min(u.2));
+            let size = self.row.size;
+            if apart_bounded((t, self.zs[x], e.1), (o, self.zs[y], u.1), run, size) {
+                return true;
+            }
+            met += 1;
+            met <= TAG_TEST_MAX && apart_closely(t, o, run, self.row.j, size)
         })
     }
 }
 
 /// Whether the depth ranges of the fragments of triangles `t` and `o` (each with its
 /// depth stepper `z` from its first touched pixel `a`) stay apart on pixels `p..=q` of
-/// row `j`. First bounded over the whole run ([`RoundDivSteps::bounds`]); if those bounds
-/// meet, pixel by pixel.
+/// row `j`: [`apart_bounded`], else [`apart_closely`].
+#[cfg(test)]
 fn apart(
+    t: (&FragSetup, RoundDivSteps, i64),
+    o: (&FragSetup, RoundDivSteps, i64),
+    run: (i64, i64),
+    j: i64,
+    size: MaskSize,
+) -> bool {
+    apart_bounded(t, o, run, size) || apart_closely(t.0, o.0, run, j, size)
+}
+
+/// [`apart`] from each stepper's bounds over the whole run
+/// ([`RoundDivSteps::bounds`]): `true` when those bounds are apart, `false` when they do
+/// not tell.
+fn apart_bounded(
     (t, tz, ta): (&FragSetup, RoundDivSteps, i64),
     (o, oz, oa): (&FragSetup, RoundDivSteps, i64),
     (p, q): (i64, i64),
-    j: i64,
     size: MaskSize,
 ) -> bool {
     let (th, oh) = (t.half_range(size), o.half_range(size));
@@ -350,9 +382,13 @@ fn apart(
         (saturate_plane(lo) - half, saturate_plane(hi) + half)
     };
     let (tb, ob) = (band(tz, ta, th), band(oz, oa, oh));
-    if tb.1 < ob.0 || ob.1 < tb.0 {
-        return true;
-    }
+    tb.1 < ob.0 || ob.1 < tb.0
+}
+
+/// [`apart`] from the depths at the run's ends ([`apart_by_ends`]) where they settle it,
+/// else pixel by pixel: exact.
+fn apart_closely(t: &FragSetup, o: &FragSetup, (p, q): (i64, i64), j: i64, size: MaskSize) -> bool {
+    let (th, oh) = (t.half_range(size), o.half_range(size));
     let steps = (q - p + 1) as u64;
     let (tz, oz) = (t.depth_steps(p, j), o.depth_steps(p, j));
     if steps >= ENDS_MIN {
