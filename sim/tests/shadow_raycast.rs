@@ -128,18 +128,17 @@ fn load(json: &str) -> LoadedScene {
 /// Compares the model's per-light shadow bits with the ray cast on every pixel whose 3×3
 /// neighbourhood agrees (same visible mesh, same ray-cast shadow bits). Returns
 /// (compared, shadowed among them).
-fn check(json: &str, form: ShadowForm) -> (usize, usize) {
-    let ls = load(json);
+fn check(ls: &LoadedScene, form: ShadowForm) -> (usize, usize) {
     let ov = Overrides {
         shadow_form: Some(form),
         ..Default::default()
     };
-    let fx = Effects::resolve(&ls, &ov).unwrap();
-    let out = render(&ls, &fx).unwrap();
+    let fx = Effects::resolve(ls, &ov).unwrap();
+    let out = render(ls, &fx).unwrap();
     let frame = out.frame.expect("shadows run the array");
-    let wld = world(&ls);
+    let wld = world(ls);
     let pos: Vec<V3> = ls.scene.lights.iter().map(|l| l.position).collect();
-    let rc = ray_cast(&ls, &wld, &pos);
+    let rc = ray_cast(ls, &wld, &pos);
     let (w, h) = (ls.scene.width as usize, ls.scene.height as usize);
     let key = |k: usize| rc[k].as_ref().map(|(t, s)| (wld.tris[*t].1, s.clone()));
     let (mut compared, mut shadowed) = (0, 0);
@@ -181,8 +180,12 @@ const CAM: &str = r#"{"eye":[3,6,9],"target":[0,0.5,0],"up":[0,1,0],"fov_y_deg":
 const GROUND_MESH: &str = r#"{"obj":"ground.obj","color":[0.7,0.7,0.7]}"#;
 
 fn both_forms(json: &str) -> (usize, usize) {
-    let a = check(json, ShadowForm::Ev);
-    let b = check(json, ShadowForm::Check);
+    both_forms_loaded(&load(json))
+}
+
+fn both_forms_loaded(ls: &LoadedScene) -> (usize, usize) {
+    let a = check(ls, ShadowForm::Ev);
+    let b = check(ls, ShadowForm::Check);
     assert_eq!(a, b);
     a
 }
@@ -341,5 +344,52 @@ fn tiling_and_shadow_form_do_not_change_a_bit() {
             );
             assert_eq!(r.1, reference.1);
         }
+    }
+}
+
+/// A heightfield of `n`×`n` quads (two triangles each) over ±`half`: one open mesh, so
+/// every face casts its own volume, and faces meet at edges the volumes pass through.
+fn terrain(n: usize, half: f64) -> String {
+    let mut s = String::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let x = (i as f64 / n as f64 - 0.5) * 2.0 * half;
+            let z = (j as f64 / n as f64 - 0.5) * 2.0 * half;
+            let y = 0.6 * (x * 1.1).sin() * (z * 0.9).cos() + 0.3 * (x * 0.4 + z * 0.7).sin();
+            s += &format!("v {x} {y} {z}\n");
+        }
+    }
+    for j in 0..n {
+        for i in 0..n {
+            let a = j * (n + 1) + i + 1;
+            let (b, c) = (a + 1, a + n + 1);
+            let d = c + 1;
+            s += &format!("f {a} {c} {b}\nf {b} {c} {d}\n");
+        }
+    }
+    s
+}
+
+/// A hilly terrain (one open mesh of 2,048 faces, each its own volume) shadowing itself,
+/// under a high and a low light: every pixel whose neighbourhood agrees matches the ray
+/// cast, in both shadow forms.
+#[test]
+fn terrain_shadows_itself() {
+    for light in ["[8,5,2]", "[-6,2.5,-3]"] {
+        let j = format!(
+            r#"{{"width":400,"height":300,"background":[0.2,0.2,0.2],"camera":{{"eye":[0,3.5,7],"target":[0,0,0],"up":[0,1,0],"fov_y_deg":50}},"lights":[{{"position":{light}}}],"meshes":[{{"obj":"terrain.obj","color":[0.5,0.6,0.4]}}]}}"#
+        );
+        let files = [("terrain.obj".to_string(), terrain(32, 5.0))];
+        let ls = scene::load_with(
+            scene::parse(&j, "t").unwrap(),
+            &MeshSource::Embedded(files.into_iter().collect()),
+            "t",
+        )
+        .unwrap();
+        let (n, s) = both_forms_loaded(&ls);
+        assert!(
+            n > 60000 && s > 2000,
+            "light {light}: compared {n}, shadowed {s}"
+        );
     }
 }
