@@ -196,6 +196,14 @@ impl Projector {
 
     /// Clips a convex polygon against near, far and the guard band.
     pub fn clip_polygon(&self, poly: Vec<ClipVert>) -> Vec<ClipVert> {
+        if poly
+            .iter()
+            .all(|v| CLIP_PLANES.iter().all(|d| d(&v.p) >= 0.0))
+        {
+            // Every vertex inside every plane ([`unclipped`]): each pass below would keep
+            // the polygon as it is, vertex for vertex.
+            return poly;
+        }
         let mut poly = poly;
         for d in CLIP_PLANES {
             if poly.is_empty() {
