@@ -106,9 +106,24 @@ impl SpanRaster {
     pub fn new(tris: &[SnappedTri], width: u32, height: u32) -> Result<SpanRaster, SetupError> {
         tris.iter().try_for_each(TriSetup::check)?;
         // An indexed collect writes each setup in place: no intermediate lists or
-        // filtered copy of these large records.
-        let set: Vec<Option<TriSetup>> = tris.par_iter().map(TriSetup::of_checked).collect();
-        let live = set.iter().filter(|s| s.is_some()).count();
+        // filtered copy of these large records. A triangle whose box holds no pixel
+        // centre sends no word: it is not set up (most triangles of a mesh finer than
+        // the pixels), and counted as set up if it is not degenerate.
+        let set: Vec<Option<TriSetup>> = tris
+            .par_iter()
+            .map(|t| {
+                if misses_centres(t) {
+                    None
+                } else {
+                    TriSetup::of_checked(t)
+                }
+            })
+            .collect();
+        let live = tris
+            .iter()
+            .zip(&set)
+            .filter(|(t, s)| s.is_some() || (misses_centres(t) && TriSetup::is_live(t)))
+            .count();
         let mut group = vec![0u8; tris.len()];
         let mut lead = 0;
         for k in 1..tris.len() {
@@ -216,6 +231,20 @@ impl SpanRaster {
             self.scan_band(b, sink);
         }
     }
+}
+
+/// Whether no pixel centre lies in the closed box of a triangle's vertices (Q.8): then
+/// none lies in the triangle, and it sends no span word.
+fn misses_centres(t: &SnappedTri) -> bool {
+    let span = |k: usize| {
+        let c = t.v.map(|p| p[k] as i64);
+        let (lo, hi) = rows::centre_rows(
+            c.into_iter().min().unwrap_or(0),
+            c.into_iter().max().unwrap_or(0),
+        );
+        lo > hi
+    };
+    span(0) || span(1)
 }
 
 /// The visibility probe: replays the array's depth test ([`depth::passes`]) on the span
@@ -389,5 +418,81 @@ mod tests {
         for (j, (g, e)) in got.0.iter().zip(&expect).enumerate() {
             assert_eq!(g, e, "row {j}");
         }
+    }
+
+    /// A mesh finer than the pixels: triangles of 0.05 to 3 px (many hold no pixel
+    /// centre, some lie on a centre's row or column, some are degenerate, some are decals
+    /// on a host with or without area) send every word each one's own setup sends, in
+    /// input order, and are counted as set up exactly when [`TriSetup::new`] sets them up,
+    /// though most are never set up.
+    #[test]
+    fn triangles_without_a_pixel_centre_send_what_their_setups_send() {
+        let mut rng = crate::rng::Lcg64(0x0ce7_7e55);
+        let (w, h) = (40u32, 30u32);
+        let mut tris = Vec::new();
+        for k in 0..6000 {
+            let size = [13, 64, 256, 768][k % 4];
+            let (x, y) = (
+                (rng.step() % (w as u64 * 256)) as i32,
+                (rng.step() % (h as u64 * 256)) as i32,
+            );
+            // Every seventh on a centre's row or column.
+            let (x, y) = if k % 7 == 0 { (x | 128, y) } else { (x, y) };
+            let p = |rng: &mut crate::rng::Lcg64| {
+                [
+                    x + (rng.step() % size) as i32,
+                    y + (rng.step() % size) as i32,
+                ]
+            };
+            let mut v = [p(&mut rng), p(&mut rng), p(&mut rng)];
+            if k % 11 == 0 {
+                v[2] = v[1]; // degenerate
+            }
+            let z = [0; 3].map(|_| 16 + (rng.step() % 1_000_000) as u32);
+            let host = (k % 5 == 0).then(|| crate::setup::HostPlane {
+                // A host around the decal, or one without area.
+                v: if k % 10 == 0 {
+                    [v[0], v[0], v[1]]
+                } else {
+                    [[x - 512, y - 512], [x + 1536, y - 512], [x - 512, y + 1536]]
+                },
+                z,
+            });
+            tris.push(SnappedTri {
+                v,
+                z,
+                c: [[(k as u32 % 200) << 12; 3]; 3],
+                host,
+                ..Default::default()
+            });
+        }
+        let r = SpanRaster::new(&tris, w, h).unwrap();
+        let setups: Vec<_> = tris.iter().map(|t| TriSetup::new(t).unwrap()).collect();
+        assert_eq!(r.triangles(), setups.iter().filter(|s| s.is_some()).count());
+        let unset = setups
+            .iter()
+            .zip(&r.set)
+            .filter(|(a, b)| a.is_some() && b.is_none());
+        assert!(unset.count() > 2000, "most triangles are not set up");
+        for t in &tris {
+            assert_eq!(TriSetup::is_live(t), TriSetup::of_checked(t).is_some());
+        }
+        let mut expect: Vec<Vec<(u32, SpanWord)>> = vec![Vec::new(); h as usize];
+        for (k, s) in setups.iter().enumerate() {
+            if let Some(s) = s {
+                s.for_each_span(w, h, |j, sw| expect[j as usize].push((k as u32, sw)));
+            }
+        }
+        struct Rows(Vec<Vec<(u32, SpanWord)>>);
+        impl SpanSink for Rows {
+            fn span(&mut self, prim: u32, row: u32, w: &SpanWord) {
+                self.0[row as usize].push((prim, *w));
+            }
+        }
+        let mut got = Rows(vec![Vec::new(); h as usize]);
+        r.scan(&mut got);
+        let words = expect.iter().map(Vec::len).sum::<usize>();
+        assert!(words > 600, "{words} words");
+        assert_eq!(got.0, expect);
     }
 }

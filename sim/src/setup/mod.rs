@@ -183,6 +183,16 @@ impl TriSetup {
         check_coords(t.v.iter().chain(t.host.iter().flat_map(|h| h.v.iter())))
     }
 
+    /// Whether [`TriSetup::of_checked`] gives a setup, without making it: the triangle
+    /// and the plane its depth comes from (its decal host's, if any) have area.
+    pub fn is_live(t: &SnappedTri) -> bool {
+        let area = |v: [[i32; 2]; 3]| {
+            let d = |k: usize, c: usize| v[k][c] as i128 - v[0][c] as i128;
+            d(1, 0) * d(2, 1) - d(2, 0) * d(1, 1) != 0
+        };
+        winding(t.v).is_some() && t.host.as_ref().map_or(area(t.v), |h| area(h.v))
+    }
+
     /// [`TriSetup::new`] of a triangle that passed [`TriSetup::check`].
     pub fn of_checked(t: &SnappedTri) -> Option<TriSetup> {
         let order = winding(t.v)?;
