@@ -15,6 +15,7 @@ use crate::setup::{snap_coord, snap_intensity, HostPlane, SetupError, SnappedTri
 use glam::{DMat4, DVec3, DVec4};
 use pixelproc_formats::{Z_GEOM_MAX, Z_GEOM_MIN};
 use rayon::prelude::*;
+use smallvec::SmallVec;
 use thiserror::Error;
 
 /// Guard band in units of w: clip-space |x|, |y| ≤ GUARD·w.
@@ -384,6 +385,9 @@ struct WorldTri {
     a: [DVec3; 3],
 }
 
+/// A world triangle's snapped pieces: one where it is not clipped, without allocating.
+type Pieces = SmallVec<[SnappedTri; 1]>;
+
 /// Clips, projects and snaps a world triangle into zero or more snapped triangles
 /// (a fan of the clipped polygon).
 fn emit(
@@ -392,27 +396,20 @@ fn emit(
     tag: u16,
     host: Option<HostPlane>,
     nclass: u8,
-) -> Result<Vec<SnappedTri>, SetupError> {
-    let poly: Vec<ClipVert> = (0..3)
-        .map(|i| ClipVert {
-            p: pj.clip(wt.p[i]),
-            a: wt.a[i],
-        })
-        .collect();
-    let poly = pj.clip_polygon(poly);
-    let mut out = Vec::new();
-    if poly.len() < 3 {
-        return Ok(out);
-    }
-    let mut sv = Vec::with_capacity(poly.len());
-    for cv in &poly {
+) -> Result<Pieces, SetupError> {
+    let corners = [0, 1, 2].map(|i| ClipVert {
+        p: pj.clip(wt.p[i]),
+        a: wt.a[i],
+    });
+    let snap = |cv: &ClipVert| -> Result<_, SetupError> {
         let (x, y, z) = pj.to_screen(cv.p);
         let c = [cv.a.x, cv.a.y, cv.a.z].map(snap_intensity);
-        sv.push((snap_vertex(x, y)?, depth24(z), c));
-    }
-    for i in 1..sv.len() - 1 {
-        let (a, b, c) = (sv[0], sv[i], sv[i + 1]);
-        out.push(SnappedTri {
+        Ok((snap_vertex(x, y)?, depth24(z), c))
+    };
+    let piece = |a: ([i32; 2], u32, [u32; 3]),
+                 b: ([i32; 2], u32, [u32; 3]),
+                 c: ([i32; 2], u32, [u32; 3])| {
+        SnappedTri {
             chan: 0,
             v: [a.0, b.0, c.0],
             z: [a.1, b.1, c.1],
@@ -420,7 +417,21 @@ fn emit(
             tag,
             host,
             nclass,
-        });
+        }
+    };
+    if unclipped(&corners.map(|c| c.p)) {
+        // What `clip_polygon` returns for it: the triangle as it is.
+        let [a, b, c] = [snap(&corners[0])?, snap(&corners[1])?, snap(&corners[2])?];
+        return Ok(smallvec::smallvec![piece(a, b, c)]);
+    }
+    let poly = pj.clip_polygon(corners.to_vec());
+    let mut out = Pieces::new();
+    if poly.len() < 3 {
+        return Ok(out);
+    }
+    let sv = poly.iter().map(snap).collect::<Result<Vec<_>, _>>()?;
+    for i in 1..sv.len() - 1 {
+        out.push(piece(sv[0], sv[i], sv[i + 1]));
     }
     Ok(out)
 }
@@ -454,9 +465,9 @@ struct Face {
 /// A world triangle's snapped pieces, and per piece its shade-channel copies.
 struct ShadedFace {
     /// The pieces, in fan order.
-    tris: Vec<SnappedTri>,
+    tris: Pieces,
     /// Piece `i`'s copies are `copies[i·K .. (i + 1)·K]` (`K` shade channels, `chan` set).
-    copies: Vec<SnappedTri>,
+    copies: Pieces,
 }
 
 /// World triangle `p` lit by `shade(vertex, None)` and, per shade channel, its copy lit by
@@ -501,7 +512,7 @@ fn shade_face_clipped(
     shade: &impl Fn(usize, Option<usize>) -> DVec3,
     channels: &[usize],
     f: &Face,
-    tris: Vec<SnappedTri>,
+    tris: Pieces,
 ) -> Result<ShadedFace, SetupError> {
     let lit = |skip: Option<usize>| WorldTri {
         p,
@@ -513,7 +524,7 @@ fn shade_face_clipped(
         debug_assert_eq!(ct.len(), tris.len());
         per_chan.push(ct);
     }
-    let mut copies = Vec::with_capacity(tris.len() * channels.len());
+    let mut copies = Pieces::with_capacity(tris.len() * channels.len());
     for (i, st) in tris.iter().enumerate() {
         for (c, ct) in per_chan.iter().enumerate() {
             let mut t = ct[i];
