@@ -400,22 +400,11 @@ mod tests {
         let tris = copies_scene(&mut rng, w, h, 300);
         let r = SpanRaster::new(&tris, w, h).unwrap();
         assert!(r.group.iter().any(|&g| g >= 2), "copies are grouped");
-        let mut expect: Vec<Vec<(u32, SpanWord)>> = vec![Vec::new(); h as usize];
-        for (k, t) in tris.iter().enumerate() {
-            if let Some(s) = TriSetup::new(t).unwrap() {
-                s.for_each_span(w, h, |j, sw| expect[j as usize].push((k as u32, sw)));
-            }
-        }
-        struct Rows(Vec<Vec<(u32, SpanWord)>>);
-        impl SpanSink for Rows {
-            fn span(&mut self, prim: u32, row: u32, w: &SpanWord) {
-                self.0[row as usize].push((prim, *w));
-            }
-        }
-        let mut got = Rows(vec![Vec::new(); h as usize]);
-        r.scan(&mut got);
+        let setups: Vec<_> = tris.iter().map(|t| TriSetup::new(t).unwrap()).collect();
+        let expect = own_words(&setups, w, h);
+        let got = scanned_words(&r, h);
         assert!(expect.iter().map(Vec::len).sum::<usize>() > 5_000);
-        for (j, (g, e)) in got.0.iter().zip(&expect).enumerate() {
+        for (j, (g, e)) in got.iter().zip(&expect).enumerate() {
             assert_eq!(g, e, "row {j}");
         }
     }
@@ -477,12 +466,26 @@ mod tests {
         for t in &tris {
             assert_eq!(TriSetup::is_live(t), TriSetup::of_checked(t).is_some());
         }
-        let mut expect: Vec<Vec<(u32, SpanWord)>> = vec![Vec::new(); h as usize];
+        let expect = own_words(&setups, w, h);
+        let words = expect.iter().map(Vec::len).sum::<usize>();
+        assert!(words > 600, "{words} words");
+        assert_eq!(scanned_words(&r, h), expect);
+    }
+
+    /// Per row, the words of each triangle's own setup ([`TriSetup::for_each_span`]),
+    /// with its input index, in input order.
+    fn own_words(setups: &[Option<TriSetup>], w: u32, h: u32) -> Vec<Vec<(u32, SpanWord)>> {
+        let mut rows = vec![Vec::new(); h as usize];
         for (k, s) in setups.iter().enumerate() {
             if let Some(s) = s {
-                s.for_each_span(w, h, |j, sw| expect[j as usize].push((k as u32, sw)));
+                s.for_each_span(w, h, |j, sw| rows[j as usize].push((k as u32, sw)));
             }
         }
+        rows
+    }
+
+    /// Per row, the words [`SpanRaster::scan`] sends, with their triangles' indices.
+    fn scanned_words(r: &SpanRaster, h: u32) -> Vec<Vec<(u32, SpanWord)>> {
         struct Rows(Vec<Vec<(u32, SpanWord)>>);
         impl SpanSink for Rows {
             fn span(&mut self, prim: u32, row: u32, w: &SpanWord) {
@@ -491,8 +494,6 @@ mod tests {
         }
         let mut got = Rows(vec![Vec::new(); h as usize]);
         r.scan(&mut got);
-        let words = expect.iter().map(Vec::len).sum::<usize>();
-        assert!(words > 600, "{words} words");
-        assert_eq!(got.0, expect);
+        got.0
     }
 }
