@@ -410,7 +410,7 @@ mod tests {
     }
 
     /// A mesh finer than the pixels: triangles of 0.05 to 3 px (many hold no pixel
-    /// centre, some lie on a centre's row or column, some are degenerate, some are decals
+    /// centre, some have vertices on a centre or its row or column, some are degenerate, some are decals
     /// on a host with or without area) send every word each one's own setup sends, in
     /// input order, and are counted as set up exactly when [`TriSetup::new`] sets them up,
     /// though most are never set up.
@@ -425,8 +425,6 @@ mod tests {
                 (rng.step() % (w as u64 * 256)) as i32,
                 (rng.step() % (h as u64 * 256)) as i32,
             );
-            // Every seventh on a centre's row or column.
-            let (x, y) = if k % 7 == 0 { (x | 128, y) } else { (x, y) };
             let p = |rng: &mut crate::rng::Lcg64| {
                 [
                     x + (rng.step() % size) as i32,
@@ -434,6 +432,15 @@ mod tests {
                 ]
             };
             let mut v = [p(&mut rng), p(&mut rng), p(&mut rng)];
+            if k % 7 == 0 {
+                // A vertex on a pixel centre's column, another on a centre's row, and
+                // every other time the first on a centre itself.
+                v[0][0] = (v[0][0] & !255) | 128;
+                v[1][1] = (v[1][1] & !255) | 128;
+                if k % 14 == 0 {
+                    v[0][1] = (v[0][1] & !255) | 128;
+                }
+            }
             if k % 11 == 0 {
                 v[2] = v[1]; // degenerate
             }
