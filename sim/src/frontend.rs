@@ -148,8 +148,9 @@ const CLIP_PLANES: [fn(&DVec4) -> f64; 6] = [
 
 /// Whether [`Projector::clip_polygon`] keeps a polygon with every vertex at `p` as it is:
 /// each vertex inside every plane, by the same test (false for a NaN).
-fn unclipped(p: &[DVec4]) -> bool {
-    p.iter().all(|p| CLIP_PLANES.iter().all(|d| d(p) >= 0.0))
+fn unclipped<'a>(p: impl IntoIterator<Item = &'a DVec4>) -> bool {
+    p.into_iter()
+        .all(|p| CLIP_PLANES.iter().all(|d| d(p) >= 0.0))
 }
 
 impl Projector {
@@ -197,12 +198,8 @@ impl Projector {
 
     /// Clips a convex polygon against near, far and the guard band.
     pub fn clip_polygon(&self, poly: Vec<ClipVert>) -> Vec<ClipVert> {
-        if poly
-            .iter()
-            .all(|v| CLIP_PLANES.iter().all(|d| d(&v.p) >= 0.0))
-        {
-            // Every vertex inside every plane ([`unclipped`]): each pass below would keep
-            // the polygon as it is, vertex for vertex.
+        if unclipped(poly.iter().map(|v| &v.p)) {
+            // Each pass below would keep the polygon as it is, vertex for vertex.
             return poly;
         }
         let mut poly = poly;
@@ -389,14 +386,15 @@ struct WorldTri {
 type Pieces = SmallVec<[SnappedTri; 1]>;
 
 /// Clips, projects and snaps a world triangle into zero or more snapped triangles
-/// (a fan of the clipped polygon).
+/// (a fan of the clipped polygon), and says whether it was [`unclipped`] (then its one
+/// piece is its three corners, in order).
 fn emit(
     pj: &Projector,
     wt: &WorldTri,
     tag: u16,
     host: Option<HostPlane>,
     nclass: u8,
-) -> Result<Pieces, SetupError> {
+) -> Result<(Pieces, bool), SetupError> {
     let corners = [0, 1, 2].map(|i| ClipVert {
         p: pj.clip(wt.p[i]),
         a: wt.a[i],
@@ -419,21 +417,21 @@ fn emit(
             nclass,
         }
     };
-    if unclipped(&corners.map(|c| c.p)) {
+    if unclipped(corners.iter().map(|c| &c.p)) {
         // What `clip_polygon` returns for it: the triangle as it is.
         let [a, b, c] = [snap(&corners[0])?, snap(&corners[1])?, snap(&corners[2])?];
-        return Ok(smallvec::smallvec![piece(a, b, c)]);
+        return Ok((smallvec::smallvec![piece(a, b, c)], true));
     }
     let poly = pj.clip_polygon(corners.to_vec());
     let mut out = Pieces::new();
     if poly.len() < 3 {
-        return Ok(out);
+        return Ok((out, false));
     }
     let sv = poly.iter().map(snap).collect::<Result<Vec<_>, _>>()?;
     for i in 1..sv.len() - 1 {
         out.push(piece(sv[0], sv[i], sv[i + 1]));
     }
-    Ok(out)
+    Ok((out, false))
 }
 
 /// [`project_shaded`] of a 3-D scene through the projector `pj` (e.g. one rendering an
@@ -483,8 +481,8 @@ fn shade_face(
         p,
         a: [0, 1, 2].map(|k| shade(k, skip)),
     };
-    let tris = emit(pj, &lit(None), f.tag, f.host, f.nclass)?;
-    if !channels.is_empty() && tris.len() == 1 && unclipped(&p.map(|x| pj.clip(x))) {
+    let (tris, whole) = emit(pj, &lit(None), f.tag, f.host, f.nclass)?;
+    if !channels.is_empty() && whole {
         // Not clipped: `emit` snaps the three vertices as they are, in order, into one
         // triangle, so a copy's geometry is the polygon's and only its intensities
         // (snapped the same way) differ.
@@ -520,7 +518,7 @@ fn shade_face_clipped(
     };
     let mut per_chan = Vec::with_capacity(channels.len());
     for &l in channels {
-        let ct = emit(pj, &lit(Some(l)), f.tag, f.host, f.nclass)?;
+        let (ct, _) = emit(pj, &lit(Some(l)), f.tag, f.host, f.nclass)?;
         debug_assert_eq!(ct.len(), tris.len());
         per_chan.push(ct);
     }
@@ -777,7 +775,7 @@ mod tests {
                 p,
                 a: [0, 1, 2].map(|k| shade(k, None)),
             };
-            let tris = emit(&pj, &lit, f.tag, f.host, f.nclass).unwrap();
+            let (tris, _) = emit(&pj, &lit, f.tag, f.host, f.nclass).unwrap();
             let want = shade_face_clipped(&pj, p, &shade, channels, &f, tris).unwrap();
             assert_eq!(got.tris, want.tris, "case {i}");
             assert_eq!(got.copies, want.copies, "case {i}");
