@@ -119,11 +119,7 @@ impl SpanRaster {
                 }
             })
             .collect();
-        let live = tris
-            .iter()
-            .zip(&set)
-            .filter(|(t, s)| s.is_some() || (misses_centres(t) && TriSetup::is_live(t)))
-            .count();
+        let live = tris.par_iter().filter(|t| TriSetup::is_live(t)).count();
         let mut group = vec![0u8; tris.len()];
         let mut lead = 0;
         for k in 1..tris.len() {
