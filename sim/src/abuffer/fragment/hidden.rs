@@ -260,6 +260,27 @@ struct Behind<'a, F: FnMut() -> bool> {
     test: F,
 }
 
+impl<F: FnMut() -> bool> Behind<'_, F> {
+    /// The tag test's outcome, run the first time it is asked for.
+    #[inline(always)]
+    fn alone(&mut self) -> bool {
+        match self.alone {
+            Some(a) => a,
+            None => self.run_test(),
+        }
+    }
+
+    /// Runs the tag test once, out of the emitting loop (inlined there, the loop asked a
+    /// call to the memo for every fully covered pixel).
+    #[cold]
+    #[inline(never)]
+    fn run_test(&mut self) -> bool {
+        let a = (self.test)();
+        self.alone = Some(a);
+        a
+    }
+}
+
 impl<F: FnMut() -> bool> Hiding for Behind<'_, F> {
     const BLOCKS: bool = true;
     #[inline(always)]
@@ -269,7 +290,7 @@ impl<F: FnMut() -> bool> Hiding for Behind<'_, F> {
         if zlo - self.half <= self.front_max[(i / HIDE_BLOCK) as usize] {
             return false;
         }
-        if !*self.alone.get_or_insert_with(&mut self.test) {
+        if !self.alone() {
             return false;
         }
         let i = i as usize;
@@ -285,7 +306,7 @@ impl<F: FnMut() -> bool> Hiding for Behind<'_, F> {
         if zc - self.half <= self.front[i] {
             return false;
         }
-        if !*self.alone.get_or_insert_with(&mut self.test) {
+        if !self.alone() {
             return false;
         }
         self.hidden[i] += 1;
