@@ -185,12 +185,12 @@ impl RoundDivSteps64 {
     /// the remainder reaches `den` (an advance, or a prepared jump).
     #[inline]
     fn step(&mut self, dq: i64, dr: i64) {
-        self.q += dq;
-        self.r += dr;
-        if self.r >= self.den {
-            self.r -= self.den;
-            self.q += 1;
-        }
+        // Without a branch, as [`RoundDivSteps`]'s: a depth or colour plane's carry
+        // follows no pattern a predictor learns.
+        let r = self.r + dr;
+        let carry = r >= self.den;
+        self.q += dq + carry as i64;
+        self.r = std::hint::select_unpredictable(carry, r - self.den, r);
     }
 
     /// Whether the current value and those of the next `steps` advances all lie in
