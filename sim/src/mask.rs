@@ -266,7 +266,8 @@ impl MaskEdges {
                     q[x] += step[x].0;
                     rem[x] += step[x].1;
                     let wrap = rem[x] >= d[x];
-                    rem[x] -= if wrap { d[x] } else { 0 };
+                    // As likely as not on an edge's subpixel rows: no branch.
+                    rem[x] -= std::hint::select_unpredictable(wrap, d[x], 0);
                     q[x] += wrap as i64;
                     lo = lo.max(if left[x] { -q[x] } else { i64::MIN / 4 });
                     hi = hi.min(if right[x] { -q[x] - 1 } else { i64::MAX / 4 });
