@@ -270,8 +270,8 @@ impl<F: FnMut() -> bool> Behind<'_, F> {
         }
     }
 
-    /// Runs the tag test once, out of the emitting loop (inlined there, the loop asked a
-    /// call to the memo for every fully covered pixel).
+    /// Runs the tag test and remembers its outcome: kept out of the emitting loop, which
+    /// only reads the memo.
     #[cold]
     #[inline(never)]
     fn run_test(&mut self) -> bool {
