@@ -459,6 +459,41 @@ mod tests {
         hidden_left_out_changes_nothing(0xb10c_4ed0, (240, 30), 6, 12, 24, 5);
     }
 
+    /// Two walls of a few large triangles each, one behind the other, across a frame 400
+    /// pixels wide: rows two layers deep, far fewer than five rows' widths of fully
+    /// covered pixels, whose few triangles still pay for the hidden-fragment tests
+    /// (`HiddenRow::worth`). The back wall's fully covered fragments are left out, and
+    /// nothing changes.
+    #[test]
+    fn a_few_large_triangles_two_layers_deep_leave_hidden_fragments_out() {
+        let (w, h) = (400u32, 24u32);
+        let wall = |x0: i32, x1: i32, z: u32, tag: u16| {
+            let v = [[x0, -256], [x1, -256], [x1, 30 * 256], [x0, 30 * 256]];
+            [[0, 1, 2], [0, 2, 3]].map(|[a, b, c]| SnappedTri {
+                v: [v[a], v[b], v[c]],
+                z: [z; 3],
+                c: [[(40 + 100 * tag as u32) << 12; 3]; 3],
+                tag,
+                ..Default::default()
+            })
+        };
+        let mut tris = Vec::new();
+        tris.extend(wall(-256, 401 * 256, 6_000_000, 1));
+        tris.extend(wall(20 * 256, 380 * 256, 2_000_000, 2));
+        for p in [
+            AbufferParams::default(),
+            AbufferParams {
+                size: MaskSize::S8X8,
+                ..AbufferParams::default()
+            },
+        ] {
+            let (made, left_out) = hidden_left_out(&tris, (w, h), &p);
+            // The back wall behind the front one: 360 of its 400 pixels per row, so
+            // nearly half of all fragments.
+            assert!(left_out * 5 > made * 2, "{left_out} of {made} left out");
+        }
+    }
+
     /// Renders `cases` layered scenes of `tags` tags (x stretched by `sx`) on a `w`×`h`
     /// frame with and without leaving hidden fragments out, and asserts that every output
     /// is the same and that more than one fragment in `one_in` was left out.
@@ -485,37 +520,47 @@ mod tests {
                 depth: DepthSelect::ALL[(case / 2) % 4],
                 ..AbufferParams::default()
             };
-            let all = render_frame(&tris, w, h, [9, 99, 199], &p, AbufferAovs::ALL, false);
-            let got = render_frame(&tris, w, h, [9, 99, 199], &p, AbufferAovs::ALL, true);
-            let (all, got) = (all.unwrap(), got.unwrap());
-            assert_eq!(got.rgb, all.rgb, "case {case}");
-            assert_eq!(got.coverage, all.coverage, "case {case}");
-            assert_eq!(got.fragments, all.fragments, "case {case}");
-            assert_eq!(got.visible, all.visible, "case {case}");
-            assert_eq!(got.stats, all.stats, "case {case}");
-            // How many the rows left out.
-            let sel = DepthSelector::new(p.size);
-            let hidden = Hidden {
-                sel: &sel,
-                variant: p.depth,
-            };
-            let (setups, bands) = frag_setups(&tris, w, h, p.size).unwrap();
-            let mut rf = RowFrags::default();
-            let mut band = BandMasks::default();
-            for b in 0..bands.len() {
-                let (j0, j1) = bands.rows(b);
-                band.fill((j0, j1), w, &setups, bands.members(b));
-                for j in j0..=j1 {
-                    rf.build_from(j, w, &setups, band.row(j), p.size, Some(hidden));
-                    left_out += (0..w as usize).map(|i| rf.hidden_at(i) as u64).sum::<u64>();
-                }
-            }
-            made += all.stats.fragments;
+            let (m, l) = hidden_left_out(&tris, (w, h), &p);
+            made += m;
+            left_out += l;
         }
         assert!(
             left_out * one_in > made,
             "{left_out} of {made} fragments left out"
         );
+    }
+
+    /// Renders `tris` on a `w`×`h` frame with and without leaving hidden fragments out,
+    /// asserts that every output is the same, and returns the fragments of the frame and
+    /// how many of them the rows left out.
+    fn hidden_left_out(tris: &[SnappedTri], (w, h): (u32, u32), p: &AbufferParams) -> (u64, u64) {
+        let all = render_frame(tris, w, h, [9, 99, 199], p, AbufferAovs::ALL, false);
+        let got = render_frame(tris, w, h, [9, 99, 199], p, AbufferAovs::ALL, true);
+        let (all, got) = (all.unwrap(), got.unwrap());
+        assert_eq!(got.rgb, all.rgb);
+        assert_eq!(got.coverage, all.coverage);
+        assert_eq!(got.fragments, all.fragments);
+        assert_eq!(got.visible, all.visible);
+        assert_eq!(got.stats, all.stats);
+        // How many the rows left out.
+        let sel = DepthSelector::new(p.size);
+        let hidden = Hidden {
+            sel: &sel,
+            variant: p.depth,
+        };
+        let (setups, bands) = frag_setups(tris, w, h, p.size).unwrap();
+        let mut rf = RowFrags::default();
+        let mut band = BandMasks::default();
+        let mut left_out = 0;
+        for b in 0..bands.len() {
+            let (j0, j1) = bands.rows(b);
+            band.fill((j0, j1), w, &setups, bands.members(b));
+            for j in j0..=j1 {
+                rf.build_from(j, w, &setups, band.row(j), p.size, Some(hidden));
+                left_out += (0..w as usize).map(|i| rf.hidden_at(i) as u64).sum::<u64>();
+            }
+        }
+        (all.stats.fragments, left_out)
     }
 
     #[test]
