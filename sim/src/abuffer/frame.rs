@@ -130,6 +130,14 @@ fn render_frame(
     // Bands of rows in parallel: each band's masks are made once for its rows.
     let bh = bands.band() as usize;
     let nb = bands.len();
+    let frame = Frame {
+        width,
+        setups: &setups,
+        sel: &sel,
+        hidden,
+        params,
+        bg,
+    };
     let stats = rgb
         .par_chunks_mut((w * 3 * bh).max(1))
         .zip(rows_of(&mut coverage, w * bh, nb))
@@ -143,21 +151,13 @@ fn render_frame(
             let mut st = AbufferStats::default();
             for j in j0..=j1 {
                 let r = (j - j0) as usize;
-                let rgb_row = &mut rgb_band[w * 3 * r..w * 3 * (r + 1)];
-                st.add(&render_row(
-                    j,
-                    width,
-                    (&setups, sc.band.row(j)),
-                    (&sel, hidden),
-                    params,
-                    bg,
-                    rgb_row,
-                    band_row(cov_band, w, r),
-                    band_row(frag_band, w, r),
-                    band_row(vis_band, w, r),
-                    &mut sc.rows,
-                    &mut sc.pixel,
-                ));
+                let out = RowOut {
+                    rgb: &mut rgb_band[w * 3 * r..w * 3 * (r + 1)],
+                    coverage: band_row(cov_band, w, r),
+                    fragments: band_row(frag_band, w, r),
+                    visible: band_row(vis_band, w, r),
+                };
+                st.add(&frame.render_row(j, sc.band.row(j), out, &mut sc.rows, &mut sc.pixel));
             }
             st
         })
@@ -199,88 +199,117 @@ fn compare_variants(
     }
 }
 
-/// Renders one row; returns its statistics. An output row that is empty is not made.
-#[allow(clippy::too_many_arguments)]
-fn render_row(
-    j: i64,
+/// What every row of a frame reads: its width, the triangles' setups, the depth
+/// selection, whether rows leave hidden fragments out, the parameters and the background.
+struct Frame<'a> {
     width: u32,
-    (setups, masks): (&[FragSetup], &[(u32, RowMasks)]),
-    (sel, hidden): (&DepthSelector, Option<Hidden<'_>>),
-    params: &AbufferParams,
+    setups: &'a [FragSetup],
+    sel: &'a DepthSelector,
+    hidden: Option<Hidden<'a>>,
+    params: &'a AbufferParams,
     bg: [u8; 3],
-    rgb_row: &mut [u8],
-    cov_row: &mut [u16],
-    frag_row: &mut [u16],
-    vis_row: &mut [i32],
-    rows: &mut RowFrags,
-    pixel: &mut scratch::PixelScratch,
-) -> AbufferStats {
-    let size = params.size;
-    let full = size.full();
-    let mut st = AbufferStats::default();
-    rows.build_from(j, width, setups, masks, size, hidden);
-    (st.depth_evals, st.search_steps) = rows.hidden_counts();
-    for px in rgb_row.chunks_exact_mut(3) {
-        let [r, g, b] = bg;
-        px[0] = r;
-        px[1] = g;
-        px[2] = b;
-    }
-    let hidden_row = rows.hidden_row();
-    for iu in 0..width as usize {
-        let frags = rows.pixel(iu);
-        // The pixel's fragments: those made and the hidden ones left out.
-        let n = frags.len() + hidden_row.get(iu).map_or(0, |&h| h as usize);
-        if n == 0 {
-            continue;
+}
+
+/// One row of the frame's outputs; a per-pixel output not asked for is empty.
+struct RowOut<'a> {
+    rgb: &'a mut [u8],
+    coverage: &'a mut [u16],
+    fragments: &'a mut [u16],
+    visible: &'a mut [i32],
+}
+
+impl Frame<'_> {
+    /// Renders row `j` from its masks (setup index and masks of every triangle that
+    /// touches it, scene order) into `out`; returns its statistics.
+    fn render_row(
+        &self,
+        j: i64,
+        masks: &[(u32, RowMasks)],
+        out: RowOut<'_>,
+        rows: &mut RowFrags,
+        pixel: &mut scratch::PixelScratch,
+    ) -> AbufferStats {
+        let Frame {
+            width,
+            setups,
+            sel,
+            hidden,
+            params,
+            bg,
+        } = *self;
+        let RowOut {
+            rgb: rgb_row,
+            coverage: cov_row,
+            fragments: frag_row,
+            visible: vis_row,
+        } = out;
+        let size = params.size;
+        let full = size.full();
+        let mut st = AbufferStats::default();
+        rows.build_from(j, width, setups, masks, size, hidden);
+        (st.depth_evals, st.search_steps) = rows.hidden_counts();
+        for px in rgb_row.chunks_exact_mut(3) {
+            let [r, g, b] = bg;
+            px[0] = r;
+            px[1] = g;
+            px[2] = b;
         }
-        st.fragments += n as u64;
-        if let Some(f) = frag_row.get_mut(iu) {
-            *f = n as u16;
-        }
-        if n == 1 && frags[0].mask == full {
-            // Fast path: one triangle covers the whole pixel.
-            let f = &frags[0];
-            rgb_row[3 * iu..3 * iu + 3].copy_from_slice(&pixel::resolve_bits(
-                frags,
-                &[full],
-                0,
-                bg,
-                size,
-            ));
+        let hidden_row = rows.hidden_row();
+        for iu in 0..width as usize {
+            let frags = rows.pixel(iu);
+            // The pixel's fragments: those made and the hidden ones left out.
+            let n = frags.len() + hidden_row.get(iu).map_or(0, |&h| h as usize);
+            if n == 0 {
+                continue;
+            }
+            st.fragments += n as u64;
+            if let Some(f) = frag_row.get_mut(iu) {
+                *f = n as u16;
+            }
+            if n == 1 && frags[0].mask == full {
+                // Fast path: one triangle covers the whole pixel.
+                let f = &frags[0];
+                rgb_row[3 * iu..3 * iu + 3].copy_from_slice(&pixel::resolve_bits(
+                    frags,
+                    &[full],
+                    0,
+                    bg,
+                    size,
+                ));
+                if let Some(c) = cov_row.get_mut(iu) {
+                    *c = size.bits() as u16;
+                }
+                if let Some(v) = vis_row.get_mut(iu) {
+                    *v = f.prim as i32;
+                }
+                st.fast_pixels += 1;
+                continue;
+            }
+            let out = if frags.len() == n {
+                pixel.process(frags, sel, params.depth, params.interpenetrating, bg, size)
+            } else {
+                pixel.process_without_hidden(frags, sel, params.depth, bg, size)
+            };
+            rgb_row[3 * iu..3 * iu + 3].copy_from_slice(&out.rgb);
             if let Some(c) = cov_row.get_mut(iu) {
-                *c = size.bits() as u16;
+                *c = out.covered.count_ones() as u16;
             }
             if let Some(v) = vis_row.get_mut(iu) {
-                *v = f.prim as i32;
+                *v = pixel::dominant_bits(frags, pixel.visible(), out.free);
             }
-            st.fast_pixels += 1;
-            continue;
-        }
-        let out = if frags.len() == n {
-            pixel.process(frags, sel, params.depth, params.interpenetrating, bg, size)
-        } else {
-            pixel.process_without_hidden(frags, sel, params.depth, bg, size)
-        };
-        rgb_row[3 * iu..3 * iu + 3].copy_from_slice(&out.rgb);
-        if let Some(c) = cov_row.get_mut(iu) {
-            *c = out.covered.count_ones() as u16;
-        }
-        if let Some(v) = vis_row.get_mut(iu) {
-            *v = pixel::dominant_bits(frags, pixel.visible(), out.free);
-        }
-        st.merges += out.merges as u64;
-        st.depth_evals += out.evals as u64;
-        st.search_steps += out.steps as u64;
-        if n >= 2 {
-            st.multi_pixels += 1;
-            st.sorted_fragments += n as u64;
-            if params.compare_variants {
-                compare_variants(frags, sel, params.interpenetrating, bg, size, &mut st);
+            st.merges += out.merges as u64;
+            st.depth_evals += out.evals as u64;
+            st.search_steps += out.steps as u64;
+            if n >= 2 {
+                st.multi_pixels += 1;
+                st.sorted_fragments += n as u64;
+                if params.compare_variants {
+                    compare_variants(frags, sel, params.interpenetrating, bg, size, &mut st);
+                }
             }
         }
+        st
     }
-    st
 }
 
 /// Buffers one rendering thread reuses from row to row.
