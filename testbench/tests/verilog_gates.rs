@@ -5,7 +5,7 @@
 //! Under `CI=true` a missing tool fails the test; by hand it is reported as skipped.
 
 use pixelproc_rtl::verilog::{write_mask_search_verilog, write_verilog_dir, TopConfig};
-use pixelproc_testbench::external::{skip_or_fail, tool_available};
+use pixelproc_testbench::external::{skip_or_fail, tool_available, tools_or_skip};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -144,11 +144,8 @@ fn yosys_passes(script: &str, what: &str) {
 /// open would be an undriven wire, which `check -assert` refuses), no latch or loop.
 #[test]
 fn the_pin_harness_drives_every_input_of_the_core() {
-    for tool in ["yosys", "python3"] {
-        if !tool_available(tool) {
-            skip_or_fail(tool).unwrap();
-            return;
-        }
+    if !tools_or_skip(&["yosys", "python3"]) {
+        return;
     }
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let dir = tempfile::tempdir().unwrap();

@@ -80,6 +80,18 @@ pub fn skip_or_fail(tool: &str) -> Result<Outcome, TbError> {
     }
 }
 
+/// Whether every tool of `tools` is available; for the first missing one, what
+/// [`skip_or_fail`] does (prints `SKIPPED: ...`, or panics under `CI=true`), and `false`.
+pub fn tools_or_skip(tools: &[&str]) -> bool {
+    match tools.iter().find(|t| !tool_available(t)) {
+        Some(t) => {
+            skip_or_fail(t).unwrap();
+            false
+        }
+        None => true,
+    }
+}
+
 /// A mutant of Verilog `text` for a test that must catch it: `from` replaced by `to`.
 /// Panics (naming the mutant `what`) unless `from` occurs exactly once, so a mutant that
 /// silently stops applying after an export change fails the test instead of passing it.
