@@ -32,12 +32,12 @@ generic_flow() {
 }
 
 # ecp5_flow V TOP OUT: synth_ecp5 into OUT/TOP.ecp5.{json,log}, with the ECP5 definitions
-# of the shading table's bank, the registered multiplier and the gated adder
-# (synth/ecp5/pixelproc_bank_ram.v, synth/ecp5/pixelproc_mul_reg.v,
-# synth/ecp5/pixelproc_gated_add.v, read over the export's generic ones); sets lut, ff and ccu (LUT4, TRELLIS_FF and CCU2C counts, empty if
+# of the shading table's bank and of the registered multiplier
+# (synth/ecp5/pixelproc_bank_ram.v, synth/ecp5/pixelproc_mul_reg.v, read over the
+# export's generic ones); sets lut, ff and ccu (LUT4, TRELLIS_FF and CCU2C counts, empty if
 # absent).
 ecp5_flow() {
-  yosys -p "read_verilog $1; read_verilog -overwrite $(dirname "${BASH_SOURCE[0]}")/ecp5/pixelproc_bank_ram.v $(dirname "${BASH_SOURCE[0]}")/ecp5/pixelproc_mul_reg.v $(dirname "${BASH_SOURCE[0]}")/ecp5/pixelproc_gated_add.v; synth_ecp5 -top $2 -json $3/$2.ecp5.json; stat" > "$3/$2.ecp5.log" 2>&1 || true
+  yosys -p "read_verilog $1; read_verilog -overwrite $(dirname "${BASH_SOURCE[0]}")/ecp5/pixelproc_bank_ram.v $(dirname "${BASH_SOURCE[0]}")/ecp5/pixelproc_mul_reg.v; synth_ecp5 -top $2 -json $3/$2.ecp5.json; stat" > "$3/$2.ecp5.log" 2>&1 || true
   lut=$(grep -E '^\s+LUT4\s' "$3/$2.ecp5.log" | tail -1 | awk '{print $2}' || true)
   ff=$(grep -E 'TRELLIS_FF' "$3/$2.ecp5.log" | tail -1 | awk '{print $2}' || true)
   ccu=$(grep -E 'CCU2C' "$3/$2.ecp5.log" | tail -1 | awk '{print $2}' || true)

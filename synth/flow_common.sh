@@ -33,10 +33,9 @@ check_export() {
 
 # The ECP5 definitions of the modules the export carries generically, read over the
 # generic ones at the end of the export (`read_verilog -overwrite`): the shading table's
-# bank (one DP16KD with its output register), the registered multiplier (one
-# MULT18X18D with its input and output registers) and the gated adder (one CCU2C chain
-# whose LUTs take the gate).
-ECP5_CELLS="synth/ecp5/pixelproc_bank_ram.v synth/ecp5/pixelproc_mul_reg.v synth/ecp5/pixelproc_gated_add.v"
+# bank (one DP16KD with its output register) and the registered multiplier (one
+# MULT18X18D with its input and output registers).
+ECP5_CELLS="synth/ecp5/pixelproc_bank_ram.v synth/ecp5/pixelproc_mul_reg.v"
 
 # synth_ecp5_core OUT [TOP EXTRA.v]: Yosys synth_ecp5 of OUT/v/pixelproc_top.v (with
 # $ECP5_CELLS) into OUT/top.json; with TOP and EXTRA.v, EXTRA.v is read too and TOP is

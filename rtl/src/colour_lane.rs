@@ -7,7 +7,6 @@
 //! processor would write, `clamp(i >> 12, 0, 255)`. Purely combinational: the registers
 //! stay in the processor, so the lane adds no latency.
 
-use crate::gated_add::GatedAdd;
 use crate::pixel_processor::IACC_W;
 use pixelproc_formats::{INTENSITY_FRAC_BITS, SPAN_DI_R};
 use rust_hdl::prelude::*;
@@ -37,8 +36,6 @@ pub struct ColourLane {
     /// The channel value: negative -> 0, `>= 256.0` -> 255, else bits `[19:12]`.
     pub ch: Signal<Out, Bits<CH_W>>,
     di_x: Signal<Local, Bits<IACC_W>>,
-    /// `i + dI` if `step`, else `i`, with the gate in the adder's carry chain.
-    add: GatedAdd<IACC_W>,
     k_sext: Constant<Bits<IACC_W>>,
     k_zero_over: Constant<Bits<OVER_W>>,
     k_max: Constant<Bits<CH_W>>,
@@ -55,7 +52,6 @@ impl ColourLane {
             o_i: Default::default(),
             ch: Default::default(),
             di_x: Default::default(),
-            add: Default::default(),
             k_sext: Constant::new((((1u64 << IACC_W) - 1) ^ ((1u64 << DI_W) - 1)).to_bits()),
             k_zero_over: Constant::new(0u64.to_bits()),
             k_max: Constant::new(((1u64 << CH_W) - 1).to_bits()),
@@ -78,10 +74,10 @@ impl Logic for ColourLane {
         if self.di.val().get_bit(20) {
             self.di_x.next = self.di_x.val() | self.k_sext.val();
         }
-        self.add.a.next = self.i.val();
-        self.add.b.next = self.di_x.val();
-        self.add.en.next = self.step.val();
-        self.o_i.next = self.add.s.val();
+        self.o_i.next = self.i.val();
+        if self.step.val() {
+            self.o_i.next = self.i.val() + self.di_x.val();
+        }
         self.ch.next = self.i.val().get_bits::<CH_W>(12);
         if self.i.val().get_bits::<OVER_W>(20) != self.k_zero_over.val() {
             self.ch.next = self.k_max.val();

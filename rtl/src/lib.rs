@@ -19,7 +19,6 @@ pub mod bank_ram;
 pub mod colour_lane;
 pub mod core_top;
 pub mod entry_channel;
-pub mod gated_add;
 pub mod layout;
 pub mod lut_ram;
 pub mod mask_search;

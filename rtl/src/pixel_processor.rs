@@ -17,9 +17,7 @@
 //! - `o_z = z + dZ`, `o_i_c = i_c + dI_c` if `col >= XL`, else unchanged,
 //!
 //! so a token holding `ZL + max(0, col − XL)·dZ` at column `col` holds the same quantity
-//! at column `col + 1`: one adder per quantity per processor, no multiplier. Each adder
-//! takes its increment gated by `col >= XL` ([`GatedAdd`]), so that on an ECP5 the gate
-//! sits in the carry chain's own LUTs rather than in a LUT per bit beside it.
+//! at column `col + 1`: one adder per quantity per processor, no multiplier.
 //!
 //! **Decide, then write (two stages).** In stage A the processor also *decides*: range
 //! test, `Z < ZB` / `Z <= ZB`, intensity clamp. The decision is registered (stage B) and
@@ -66,7 +64,6 @@
 //! Latency: state registers update two rising edges after the token register is loaded.
 
 use crate::colour_lane::{ColourLane, CH_W, DI_W};
-use crate::gated_add::GatedAdd;
 use crate::layout::{HeadFields, ReadoutFields, HEAD_W, READOUT_W};
 use crate::opcodes::*;
 use crate::span_parity::SpanParity;
@@ -158,9 +155,6 @@ pub struct PixelProcessor {
     tok_le: DFF<Bit>,
     /// Step and clamp of the red, green and blue channels.
     lanes: [ColourLane; 3],
-    /// `o_z = Z + dZ` where the span has reached the column, else `Z`: the gate in the
-    /// adder's carry chain ([`GatedAdd`]).
-    step_z: GatedAdd<ZACC_W>,
     /// The opcode in stage B, for the span-parity block (its CLEAR_LINE and RESET also
     /// arrive decoded: `b_clr`, `b_rst`), held inverted (`op ^ 0b111`). A register of the
     /// opcode itself samples what the next processor's token register samples, and
@@ -289,7 +283,6 @@ impl PixelProcessor {
             tok_di: Default::default(),
             tok_le: Default::default(),
             lanes: std::array::from_fn(|_| ColourLane::new()),
-            step_z: Default::default(),
             b_op: Default::default(),
             k_op_inv: Constant::new(((1u64 << OP_BITS) - 1).to_bits()),
             b_attr: Default::default(),
@@ -455,10 +448,10 @@ impl Logic for PixelProcessor {
         self.o_dz.next = self.tok_dz.q.val();
         self.o_di.next = self.tok_di.q.val();
         self.o_le.next = self.tok_le.q.val();
-        self.step_z.a.next = self.tok_z.q.val();
-        self.step_z.b.next = self.dz_x.val();
-        self.step_z.en.next = self.right_of_xl.val();
-        self.o_z.next = self.step_z.s.val();
+        self.o_z.next = self.tok_z.q.val();
+        if self.right_of_xl.val() {
+            self.o_z.next = self.tok_z.q.val() + self.dz_x.val();
+        }
         // ---- Stage B: select the depth test registered at the last edge, then apply the
         // decision. `zb_next` is the value ZB takes at the coming edge.
         self.pass_b.next = self.b_p_held.q.val();

@@ -61,18 +61,17 @@ fn strip_wrapper_notes(verilog: &str) -> String {
 }
 
 /// The modules blocks instantiate through a `Wrapper` and their generic definitions:
-/// `pixelproc_bank_ram` ([`crate::bank_ram`]), `pixelproc_mul_reg` ([`crate::mul_reg`])
-/// and `pixelproc_gated_add` ([`crate::gated_add`]).
-const WRAPPED: [(&str, &str); 3] = [
+/// `pixelproc_bank_ram` ([`crate::bank_ram`]) and `pixelproc_mul_reg`
+/// ([`crate::mul_reg`]).
+const WRAPPED: [(&str, &str); 2] = [
     (crate::bank_ram::MODULE, crate::bank_ram::GENERIC_VERILOG),
     (crate::mul_reg::MODULE, crate::mul_reg::GENERIC_VERILOG),
-    (crate::gated_add::MODULE, crate::gated_add::GENERIC_VERILOG),
 ];
 
 /// `verilog` with the generic definition of each wrapped module (`WRAPPED`) appended
 /// once if a module instantiates it, so that the file stays self-contained. The ECP5 flow
 /// reads its own definitions (`synth/ecp5/pixelproc_bank_ram.v`,
-/// `synth/ecp5/pixelproc_mul_reg.v`, `synth/ecp5/pixelproc_gated_add.v`) over these.
+/// `synth/ecp5/pixelproc_mul_reg.v`) over these.
 pub fn with_wrapped_modules(verilog: &str) -> String {
     let mut out = verilog.to_string();
     for (m, generic) in WRAPPED {

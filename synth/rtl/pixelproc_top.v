@@ -1754,10 +1754,6 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
     reg  lanes$2$step;
     wire  [33:0] lanes$2$o_i;
     wire  [7:0] lanes$2$ch;
-    reg  [43:0] step_z$a;
-    reg  [43:0] step_z$b;
-    reg  step_z$en;
-    wire  [43:0] step_z$s;
     reg  [2:0] b_op$d;
     wire  [2:0] b_op$q;
     reg  b_op$clock;
@@ -1932,12 +1928,6 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         .step(lanes$2$step),
         .o_i(lanes$2$o_i),
         .ch(lanes$2$ch)
-    );
-    pixelproc_top$array$procs$step_z step_z(
-        .a(step_z$a),
-        .b(step_z$b),
-        .en(step_z$en),
-        .s(step_z$s)
     );
     pixelproc_top$array$e1_op b_op(
         .d(b_op$d),
@@ -2187,10 +2177,10 @@ module pixelproc_top$array$procs(clock,t_head,t_z,t_dz,t_i,t_di,t_le,rd_sel,rdo,
         o_dz = tok_dz$q;
         o_di = tok_di$q;
         o_le = tok_le$q;
-        step_z$a = tok_z$q;
-        step_z$b = dz_x;
-        step_z$en = right_of_xl;
-        o_z = step_z$s;
+        o_z = tok_z$q;
+        if (right_of_xl) begin
+            o_z = tok_z$q + dz_x;
+        end
         pass_b = b_p_held$q;
         if (b_sel_new$q) begin
             pass_b = b_p_new$q;
@@ -2376,22 +2366,8 @@ module pixelproc_top$array$procs$lanes(i,di,step,o_i,ch);
     localparam  k_max = 8'hff;
     localparam  k_zero = 8'h0;
     
-    // Stub signals
-    reg  [33:0] add$a;
-    reg  [33:0] add$b;
-    reg  add$en;
-    wire  [33:0] add$s;
-    
     // Local signals
     reg  [33:0] di_x;
-    
-    // Sub module instances
-    pixelproc_top$array$procs$lanes$add add(
-        .a(add$a),
-        .b(add$b),
-        .en(add$en),
-        .s(add$s)
-    );
     
     // Update code
     always @(*) begin
@@ -2399,10 +2375,10 @@ module pixelproc_top$array$procs$lanes(i,di,step,o_i,ch);
         if (di[32'h14]) begin
             di_x = di_x | k_sext;
         end
-        add$a = i;
-        add$b = di_x;
-        add$en = step;
-        o_i = add$s;
+        o_i = i;
+        if (step) begin
+            o_i = i + di_x;
+        end
         ch = i[(32'hc)+:(8)];
         if (i[(32'h14)+:(13)] != k_zero_over) begin
             ch = k_max;
@@ -2413,20 +2389,6 @@ module pixelproc_top$array$procs$lanes(i,di,step,o_i,ch);
     end
     
 endmodule // pixelproc_top$array$procs$lanes
-
-
-
-module pixelproc_top$array$procs$lanes$add(a,b,en,s);
-    
-    // Module arguments
-    input wire  [33:0] a;
-    input wire  [33:0] b;
-    input wire  en;
-    output wire  [33:0] s;
-    
-    // Update code (wrapper)
-    pixelproc_gated_add #(.W(34)) add(.a(a), .b(b), .en(en), .s(s));
-endmodule // pixelproc_top$array$procs$lanes$add
 
 
 module pixelproc_top$array$procs$parity(clock,rst,op,attr,covered,z_lt,light,dsf,fsf,count,mask);
@@ -2543,19 +2505,6 @@ module pixelproc_top$array$procs$parity(clock,rst,op,attr,covered,z_lt,light,dsf
     end
     
 endmodule // pixelproc_top$array$procs$parity
-
-
-module pixelproc_top$array$procs$step_z(a,b,en,s);
-    
-    // Module arguments
-    input wire  [43:0] a;
-    input wire  [43:0] b;
-    input wire  en;
-    output wire  [43:0] s;
-    
-    // Update code (wrapper)
-    pixelproc_gated_add #(.W(44)) add(.a(a), .b(b), .en(en), .s(s));
-endmodule // pixelproc_top$array$procs$step_z
 
 
 module pixelproc_top$array$procs$tok_di(d,q,clock);
@@ -5210,19 +5159,3 @@ module pixelproc_mul_reg(clock, a, b, p);
         p <= {16'h0, a_r} * {16'h0, b_r};
     end
 endmodule // pixelproc_mul_reg
-
-// pixelproc_gated_add: a W-bit adder whose second operand is gated, s = a + (en ? b : 0)
-// modulo 2^W. Combinational.
-//
-// This is the generic (behavioural) implementation, the one the exported core carries
-// and every simulator and generic synthesis reads. The ECP5 flow replaces it with
-// synth/ecp5/pixelproc_gated_add.v (one carry chain of CCU2C whose LUTs take the gate),
-// which behaves the same.
-module pixelproc_gated_add #(parameter W = 8) (a, b, en, s);
-    input wire [W-1:0] a;
-    input wire [W-1:0] b;
-    input wire en;
-    output wire [W-1:0] s;
-
-    assign s = a + (b & {W{en}});
-endmodule // pixelproc_gated_add

@@ -22,7 +22,7 @@
 //! `N = 64` is an extrapolation, an optimistic one: `N = 64` with shadows routes at
 //! 118.43 MHz on pins (`docs/fpga_results/ecp5_n64_pins.md`; 128.35 MHz placed with HeAP's
 //! timing weight 40, `docs/fpga_results/ecp5_n64_pins_heap40.md`). With shadows the routed
-//! `N = 8` figure is 153.54 MHz (`docs/fpga_results/ecp5_n8.md`).
+//! `N = 8` figure is 152.84 MHz (`docs/fpga_results/ecp5_n8.md`).
 
 pub mod abuffer;
 pub mod array;

@@ -33,7 +33,7 @@ use std::process::Command as Proc;
 
 /// The clock the frame time is given at by default, MHz: the routed Fmax of the core
 /// (N = 8 with shadows, ECP5, `docs/fpga_results/ecp5_n8.md`; a test keeps the two equal).
-pub const DEFAULT_CLOCK_MHZ: f64 = 153.54;
+pub const DEFAULT_CLOCK_MHZ: f64 = 152.84;
 
 /// What to run.
 #[derive(Clone, Debug)]
