@@ -3,9 +3,7 @@
 //! read over the generic ones; the report's processor is the interior one): every
 //! flip-flop of a processor falls in a named part (a renamed register would otherwise
 //! drop out of the table unseen), the token holds the flip-flops its fields' widths add
-//! up to, and its steps take no LUT4 beside their
-//! carry chains (`synth/ecp5/pixelproc_gated_add.v`: the gate inside the CCU2C's LUTs;
-//! 123 LUT4 per processor when Yosys mapped a multiplexer per bit).
+//! up to, and its steps are the carry chains their widths make.
 //!
 //! Needs yosys and python3. A missing tool prints `SKIPPED: ...`, and fails under
 //! `CI=true`.
@@ -33,7 +31,7 @@ fn row(report: &str, part: &str) -> Vec<f64> {
 }
 
 #[test]
-fn every_processor_register_has_a_part_and_the_token_steps_take_no_lut() {
+fn every_processor_register_has_a_part_and_the_token_its_widths() {
     if !tools_or_skip(&["yosys", "python3"]) {
         return;
     }
@@ -44,7 +42,7 @@ fn every_processor_register_has_a_part_and_the_token_steps_take_no_lut() {
         shadows: true,
     };
     write_verilog_dir(dir.path(), top).unwrap();
-    let ecp5: Vec<String> = ["bank_ram", "mul_reg", "gated_add"]
+    let ecp5: Vec<String> = ["bank_ram", "mul_reg"]
         .iter()
         .map(|m| {
             root.join(format!("synth/ecp5/pixelproc_{m}.v"))
@@ -89,7 +87,6 @@ fn every_processor_register_has_a_part_and_the_token_steps_take_no_lut() {
         "token flip-flops {} per processor, its fields {fields} bits:\n{report}",
         token[3]
     );
-    assert!(token[0] < 2.0, "token LUT4 {}:\n{report}", token[0]);
     // The steps' carry chains, two bits per CCU2C: Z, three intensities, two range
     // differences.
     assert_eq!(
