@@ -19,12 +19,13 @@ processors. Every flip-flop of processor p carries a net name `array.procs$p.<re
 A combinational cell (LUT4, CCU2C, PFUMX, L6MUX21) belongs to the flip-flops its outputs
 reach through other combinational cells: to one part when they all are that part's,
 shared equally otherwise (a LUT feeding a decision and a state register counts half to
-each). Cells reaching only flip-flops outside the processors (the array's readout groups,
-the shading step) are the array's readout gather or the fixed part: the gather (cells
-reaching `rd_*` or the readout group registers, from processors' outputs) is shown per
-processor, divided by WIDTH. A flip-flop Yosys merged from two processors' registers (a
-processor's opcode in stage B and the next one's token opcode) counts once, to the first
-name. The split is Yosys's netlist before nextpnr's packing.
+each). Cells reaching no processor's flip-flop are the array's readout gather (those
+reaching its readout group registers `rd_g`, from the processors' readout words), shown
+per processor (divided by WIDTH), or the fixed part. The report's processor is an interior
+one (the mean of processors 1 .. WIDTH-2; WIDTH >= 3). A flip-flop Yosys merged from
+registers of two processors that hold the same value (the token's attribute and stage B
+of the processor before) counts once, to the earlier processor's register. The split is
+Yosys's netlist before nextpnr's packing.
 """
 import collections
 import json
@@ -56,8 +57,13 @@ def part_of(reg):
 
 
 def main(path, width, out, command, tools):
+    if not width.isdigit() or int(width) < 3:
+        raise SystemExit(f"processor_cost.py: WIDTH must be an integer of at least 3, got '{width}'")
     width = int(width)
-    m = json.load(open(path))["modules"]["pixelproc_top"]
+    try:
+        m = json.load(open(path))["modules"]["pixelproc_top"]
+    except (OSError, ValueError, KeyError) as e:
+        raise SystemExit(f"processor_cost.py: {path} is not a Yosys JSON netlist of pixelproc_top ({e})")
     names = collections.defaultdict(list)
     for n, v in sorted(m["netnames"].items()):
         for b in v["bits"]:
@@ -95,6 +101,10 @@ def main(path, width, out, command, tools):
         if own is None:
             own = ("gather",) if any(GATHER.match(n) for n in names.get(q, [])) else ("fixed",)
         owner[c] = own
+    found = {o[1] for o in owner.values() if o[0] == "proc"}
+    if found != set(range(width)):
+        raise SystemExit(f"processor_cost.py: the netlist has processors {min(found, default=0)}.."
+                         f"{max(found, default=-1)} ({len(found)}), not the {width} given")
     # Forward reach of every combinational cell to flip-flops (memoised over the DAG).
     reach = {}
 
@@ -146,7 +156,7 @@ def main(path, width, out, command, tools):
             total[k] += 1
     # An interior processor (1 .. N-2): processor 0's token comes from the entry stage, and
     # the last one's token goes nowhere (synthesis removes what only it would feed).
-    interior = range(1, width - 1) if width >= 3 else range(width)
+    interior = range(1, width - 1)
     rows = PARTS + (["unclassified"] if unclassified else [])
     cost = {p: {k: sum(per[(i, p)][k] for i in interior) / len(interior) for k in KINDS} for p in rows}
     cost["gather"] = {k: per["gather"][k] / width for k in KINDS}
