@@ -11,6 +11,7 @@
 use pixelproc_rtl::layout::HEAD_W;
 use pixelproc_rtl::pixel_processor::{DI3_W, I3_W, REL_W, ZACC_W};
 use pixelproc_rtl::verilog::{write_verilog_dir, TopConfig};
+use pixelproc_rtl::{bank_ram, mul_reg};
 use pixelproc_testbench::external::tools_or_skip;
 use std::path::Path;
 use std::process::Command;
@@ -42,13 +43,11 @@ fn every_processor_register_has_a_part_and_the_token_its_widths() {
         shadows: true,
     };
     write_verilog_dir(dir.path(), top).unwrap();
-    let ecp5: Vec<String> = ["bank_ram", "mul_reg"]
+    // The ECP5 definitions of the wrapped modules, `synth/ecp5/<module>.v` (what the flow
+    // reads over the generic ones).
+    let ecp5: Vec<String> = [bank_ram::MODULE, mul_reg::MODULE]
         .iter()
-        .map(|m| {
-            root.join(format!("synth/ecp5/pixelproc_{m}.v"))
-                .display()
-                .to_string()
-        })
+        .map(|m| root.join(format!("synth/ecp5/{m}.v")).display().to_string())
         .collect();
     let script = format!(
         "read_verilog pixelproc_top.v; read_verilog -overwrite {}; \
