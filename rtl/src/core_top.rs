@@ -63,6 +63,10 @@ use pixelproc_formats::regs::RGB_BITS;
 use pixelproc_formats::SPAN_XL;
 use rust_hdl::prelude::*;
 
+// The core reads a fetched beat's kind from the input FIFO's `next_tag`: its low bits.
+const _: () =
+    assert!(crate::stream_fifo::TAG_BITS == KIND_BITS && crate::layout::BEAT_KIND.lsb == 0);
+
 /// Width of a column number.
 const X_W: usize = SPAN_XL.width;
 /// Clocks a readout job waits before its first address (see the module header).
@@ -107,18 +111,21 @@ pub struct PixelprocCore<const IA: usize, const IA1: usize> {
     /// Beats in the command FIFO (status for a host or DMA).
     pub in_level: Signal<Out, Bits<IA1>>,
     /// The command FIFO.
-    pub in_fifo: StreamFifo<Bits<BEAT_W>, IA, IA1>,
+    pub in_fifo: StreamFifo<BEAT_W, IA, IA1>,
     /// The pixel-processor array.
     pub array: PixelProcessorArray,
     /// The shading unit.
     pub shade: ShadeUnit,
     /// The pixel FIFO.
-    pub out_fifo: StreamFifo<Bits<PIX_W>, OUT_FIFO_ABITS, 5>,
+    pub out_fifo: StreamFifo<PIX_W, OUT_FIFO_ABITS, 5>,
     base_r: DFF<Bits<X_W>>,
     pend_v: DFF<Bit>,
     pend_last: DFF<Bits<X_W>>,
     pend_sof: DFF<Bit>,
     job_v: DFF<Bit>,
+    /// `hold = frame(head) ∧ job_v` whenever the input FIFO presents a beat: the input
+    /// stall, from one flip-flop (module header, "Controller").
+    hold: DFF<Bit>,
     job_wait: DFF<Bits<3>>,
     job_last: DFF<Bits<X_W>>,
     job_sof: DFF<Bit>,
@@ -137,6 +144,8 @@ pub struct PixelprocCore<const IA: usize, const IA1: usize> {
     l_table: Signal<Local, Bit>,
     l_arr: Signal<Local, Bit>,
     l_issue: Signal<Local, Bit>,
+    l_jv: Signal<Local, Bit>,
+    l_nkind: Signal<Local, Bits<KIND_BITS>>,
     l_go: Signal<Local, Bit>,
     l_cp1: Signal<Local, Bits<6>>,
     l_cm1: Signal<Local, Bits<6>>,
@@ -210,6 +219,9 @@ impl<const IA: usize, const IA1: usize> PixelprocCore<IA, IA1> {
             pend_last: Default::default(),
             pend_sof: Default::default(),
             job_v: Default::default(),
+            hold: Default::default(),
+            l_jv: Default::default(),
+            l_nkind: Default::default(),
             job_wait: Default::default(),
             job_last: Default::default(),
             job_sof: Default::default(),
@@ -309,9 +321,10 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, base_r, pend_v, pend_last, pend_sof, job_v, job_wait, job_last, job_sof,
-            ra, t1, t2, t3, inflight, credit, err
+            self, clock, base_r, pend_v, pend_last, pend_sof, job_v, hold, job_wait, job_last,
+            job_sof, ra, t1, t2, t3, inflight, credit, err
         );
+        self.l_jv.next = self.job_v.q.val();
         self.in_fifo.clock.next = self.clock.val();
         self.array.clock.next = self.clock.val();
         self.shade.clock.next = self.clock.val();
@@ -337,8 +350,13 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
         self.l_arr.next = (self.l_kind.val() < self.k_eight.val())
             & (self.l_kind.val() != self.k_cl4.val())
             & (self.l_kind.val() != self.k_rst4.val());
-        self.in_fifo.out_ready.next = !(self.l_frame.val() & self.job_v.q.val()) & !self.rst.val();
-        self.l_issue.next = self.in_fifo.out_valid.val() & self.in_fifo.out_ready.val();
+        // The stall `frame(head) ∧ job_v` is the register `hold` (set below from both
+        // values after the edge), so the FIFO's fetch, the clock enable of its 260-bit head
+        // register, reads three flip-flops. `rst` is left out of the FIFO's `out_ready`:
+        // the FIFO's own reset overrides every register a pop or fetch would change (and
+        // the head register holds nothing while `dv` is 0); it stays in the issue.
+        self.in_fifo.out_ready.next = !self.hold.q.val();
+        self.l_issue.next = self.in_fifo.out_valid.val() & !self.hold.q.val() & !self.rst.val();
         // ---- The array's command port.
         self.array.cmd_valid.next = self.l_issue.val() & (self.l_arr.val() | self.l_frame.val());
         self.array.cmd_op.next = self.l_kind.val().get_bits::<OP_BITS>(0);
@@ -369,7 +387,7 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
         }
         if self.l_issue.val() & self.l_frame.val() {
             if self.pend_v.q.val() {
-                self.job_v.d.next = true;
+                self.l_jv.next = true;
                 self.job_wait.d.next = self.k_wait.val();
                 self.job_last.d.next = self.pend_last.q.val();
                 self.job_sof.d.next = self.pend_sof.q.val();
@@ -398,7 +416,7 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
             self.ra.d.next = self.ra.q.val() + self.k_one12.val();
             self.l_t1.next = self.l_t1.val() | self.k_one3.val();
             if self.ra.q.val() == self.job_last.q.val() {
-                self.job_v.d.next = false;
+                self.l_jv.next = false;
                 self.l_t1.next = self.l_t1.val() | self.k_two3.val();
             }
             if (self.ra.q.val() == self.k_zero12.val()) & self.job_sof.q.val() {
@@ -499,7 +517,7 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
         self.proto_err.next = self.err.q.val();
         if self.rst.val() {
             self.pend_v.d.next = false;
-            self.job_v.d.next = false;
+            self.l_jv.next = false;
             self.job_wait.d.next = self.k_zero3.val();
             self.t1.d.next = self.k_zero3.val();
             self.t2.d.next = self.k_zero3.val();
@@ -510,6 +528,18 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
             self.base_r.d.next = self.k_zero12.val();
             self.ra.d.next = self.k_zero12.val();
         }
+        // ---- The stall after this edge: `job_v` after it, and the kind of the head beat
+        // after it (the fetched beat on a fetch, else the held one). While the FIFO
+        // presents nothing (`dv = 0`) `hold` is not used, and a fetch, which sets `dv`,
+        // loads it with the beat's own kind.
+        self.job_v.d.next = self.l_jv.val();
+        self.l_nkind.next = self.l_kind.val();
+        if self.in_fifo.fetching.val() {
+            self.l_nkind.next = self.in_fifo.next_tag.val();
+        }
+        self.hold.d.next = self.l_jv.val()
+            & ((self.l_nkind.val() == self.k_tile.val())
+                | (self.l_nkind.val() == self.k_end.val()));
     }
 }
 

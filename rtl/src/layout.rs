@@ -188,13 +188,14 @@ field_slices! {
     }
 }
 
-/// Width of a command beat as the core's input FIFO stores it: `tdata` (256) then the
-/// beat kind (4).
-pub const BEAT_W: usize = BEAT_DATA_BITS + KIND_BITS;
-/// Beat field: `tdata`.
-pub const BEAT_DATA: Field = Field::first("tdata", BEAT_DATA_BITS);
+/// Width of a command beat as the core's input FIFO stores it: the beat kind (4) in the low
+/// bits, where the FIFO's look-ahead port `next_tag` reads it, then `tdata` (256).
+pub const BEAT_W: usize = KIND_BITS + BEAT_DATA_BITS;
 /// Beat field: the kind (`tuser`).
-pub const BEAT_KIND: Field = BEAT_DATA.then("kind", KIND_BITS);
+pub const BEAT_KIND: Field = Field::first("kind", KIND_BITS);
+/// Beat field: `tdata`.
+pub const BEAT_DATA: Field = BEAT_KIND.then("tdata", BEAT_DATA_BITS);
+const _: () = assert!(BEAT_DATA.end() == BEAT_W);
 /// Pixel-stream beat field: RGB888 (`tdata`).
 pub const PIX_RGB: Field = Field::first("rgb", 24);
 /// Pixel-stream beat field: `tuser`.

@@ -10,9 +10,10 @@
 //! |---|---|---|---|
 //! | `clock` | in | 1 | rising edge |
 //! | `rst` | in | 1 | synchronous: empties the FIFO; `in_ready` is 0 while it is 1 |
-//! | `in_valid`, `in_data`, `in_ready` | in, in, out | 1, `D`, 1 | write side |
-//! | `out_valid`, `out_data`, `out_ready` | out, out, in | 1, `D`, 1 | read side |
+//! | `in_valid`, `in_data`, `in_ready` | in, in, out | 1, `W`, 1 | write side |
+//! | `out_valid`, `out_data`, `out_ready` | out, out, in | 1, `W`, 1 | read side |
 //! | `level` | out | `A1` | entries held, the presented one included (0 ..= 2^`A`) |
+//! | `fetching`, `next_tag` | out, out | 1, [`TAG_BITS`] | the head register loads the RAM's entry at `rd` at the next edge (`fetch` below); `next_tag` is that entry's low bits |
 //!
 //! # Behaviour, one rising edge (the golden twin is `pixelproc_sim::core_model::Fifo`)
 //!
@@ -74,10 +75,17 @@
 use crate::lut_ram::SlicedLutRam;
 use rust_hdl::prelude::*;
 
-/// The FIFO: `D` data, `2^A` entries, `A1 = A + 1` (pointer width). Each pointer is
+/// Width of [`StreamFifo::next_tag`]: the low bits of the entry a fetch loads. They are
+/// read from a RAM of their own (`tag_ram`, written with the same data bits at the same
+/// address as the FIFO's RAM): a second reader of the FIFO's RAM beside the head register
+/// led Yosys 0.23's `memory_dff` to leave most of the head register's bits without a
+/// driver in generic synthesis (`synth`; `synth_ecp5` was not affected).
+pub const TAG_BITS: usize = 4;
+
+/// The FIFO: `W` data bits, `2^A` entries, `A1 = A + 1` (pointer width). Each pointer is
 /// held as an `A`-bit address and a wrap bit, so the RAM addresses need no truncation.
 #[derive(LogicBlock)]
-pub struct StreamFifo<D: Synth, const A: usize, const A1: usize> {
+pub struct StreamFifo<const W: usize, const A: usize, const A1: usize> {
     /// Clock.
     pub clock: Signal<In, Clock>,
     /// Synchronous reset.
@@ -85,19 +93,30 @@ pub struct StreamFifo<D: Synth, const A: usize, const A1: usize> {
     /// Write side: a beat is offered.
     pub in_valid: Signal<In, Bit>,
     /// Write side: the beat.
-    pub in_data: Signal<In, D>,
+    pub in_data: Signal<In, Bits<W>>,
     /// Write side: the FIFO takes the beat at the next edge if `in_valid`.
     pub in_ready: Signal<Out, Bit>,
     /// Read side: `out_data` holds the head entry.
     pub out_valid: Signal<Out, Bit>,
     /// Read side: the head entry.
-    pub out_data: Signal<Out, D>,
+    pub out_data: Signal<Out, Bits<W>>,
     /// Read side: the consumer takes the head entry at the next edge if `out_valid`.
     pub out_ready: Signal<In, Bit>,
     /// Entries held.
     pub level: Signal<Out, Bits<A1>>,
-    ram: SlicedLutRam<D, A>,
-    head: DFF<D>,
+    /// Read side: the head register loads `next_data` at the next edge (a *fetch*: the
+    /// RAM holds an entry and the head register is empty or being popped). A consumer
+    /// that keeps its own registers about the head entry loads them on the same edge.
+    pub fetching: Signal<Out, Bit>,
+    /// Read side: the low [`TAG_BITS`] bits of the entry a fetch loads into the head
+    /// register (the RAM's read at the read pointer), for a consumer that decodes the
+    /// entry's kind a clock ahead (the core's command beats keep their kind there).
+    pub next_tag: Signal<Out, Bits<TAG_BITS>>,
+    ram: SlicedLutRam<Bits<W>, A>,
+    /// A copy of every entry's low [`TAG_BITS`] bits, written and read with `ram`, for
+    /// `next_tag` (see [`TAG_BITS`]).
+    tag_ram: SlicedLutRam<Bits<TAG_BITS>, A>,
+    head: DFF<Bits<W>>,
     wa: DFF<Bits<A>>,
     ww: DFF<Bit>,
     ra: DFF<Bits<A>>,
@@ -124,19 +143,19 @@ pub struct StreamFifo<D: Synth, const A: usize, const A1: usize> {
     k_every_edge: Constant<Bit>,
 }
 
-impl<D: Synth, const A: usize, const A1: usize> Default for StreamFifo<D, A, A1> {
+impl<const W: usize, const A: usize, const A1: usize> Default for StreamFifo<W, A, A1> {
     fn default() -> Self {
         Self::with_slices(1)
     }
 }
 
-impl<D: Synth, const A: usize, const A1: usize> StreamFifo<D, A, A1> {
+impl<const W: usize, const A: usize, const A1: usize> StreamFifo<W, A, A1> {
     /// A FIFO whose RAM is cut into `slices` slices by data bits, each with its own copy
     /// of the pointers ([`SlicedLutRam`]); `Default` is one slice.
     pub fn with_slices(slices: usize) -> Self {
         assert!(
-            A1 == A + 1 && A >= 1 && A < 16,
-            "StreamFifo needs A1 = A + 1"
+            A1 == A + 1 && A >= 1 && A < 16 && W >= TAG_BITS,
+            "StreamFifo needs A1 = A + 1 and at least TAG_BITS data bits"
         );
         StreamFifo {
             clock: Default::default(),
@@ -148,7 +167,10 @@ impl<D: Synth, const A: usize, const A1: usize> StreamFifo<D, A, A1> {
             out_data: Default::default(),
             out_ready: Default::default(),
             level: Default::default(),
+            fetching: Default::default(),
+            next_tag: Default::default(),
             ram: SlicedLutRam::new(slices),
+            tag_ram: SlicedLutRam::new(1),
             head: Default::default(),
             wa: Default::default(),
             ww: Default::default(),
@@ -200,11 +222,12 @@ impl<D: Synth, const A: usize, const A1: usize> StreamFifo<D, A, A1> {
     }
 }
 
-impl<D: Synth, const A: usize, const A1: usize> Logic for StreamFifo<D, A, A1> {
+impl<const W: usize, const A: usize, const A1: usize> Logic for StreamFifo<W, A, A1> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, clock, head, wa, ww, ra, rw, dv, full, ne, lv);
         self.ram.clock.next = self.clock.val();
+        self.tag_ram.clock.next = self.clock.val();
         self.level.next = self.lv.q.val();
         self.in_ready.next = !self.full.q.val() & !self.rst.val();
         self.l_pop.next = self.dv.q.val() & self.out_ready.val();
@@ -232,6 +255,8 @@ impl<D: Synth, const A: usize, const A1: usize> Logic for StreamFifo<D, A, A1> {
         self.dv.d.next = self.l_fetch.val() | (self.dv.q.val() & !self.l_pop.val());
         self.out_valid.next = self.dv.q.val();
         self.out_data.next = self.head.q.val();
+        self.fetching.next = self.l_fetch.val();
+        self.next_tag.next = self.tag_ram.read_data.val();
         // `ne = (wr != rd)`: a push leaves an entry behind the read pointer; a fetch
         // without a push empties the RAM part iff it held one entry, `wr - rd = 1`, read
         // from registers: `wr - rd = lv - dv` (`lv` is `wr - rd + dv` after every edge),
@@ -273,6 +298,10 @@ impl<D: Synth, const A: usize, const A1: usize> Logic for StreamFifo<D, A, A1> {
         self.ra.d.next = self.l_ra_next.val();
         self.ram.next_write_address.next = self.l_wa_next.val();
         self.ram.next_read_address.next = self.l_ra_next.val();
+        self.tag_ram.write_data.next = self.in_data.val().get_bits::<TAG_BITS>(0);
+        self.tag_ram.write_enable.next = self.l_push.val() | self.k_every_edge.val();
+        self.tag_ram.next_write_address.next = self.l_wa_next.val();
+        self.tag_ram.next_read_address.next = self.l_ra_next.val();
     }
 }
 
@@ -294,12 +323,12 @@ mod tests {
         seed: u64,
         every_edge: bool,
     ) {
-        let mut uut = StreamFifo::<Bits<W>, A, A1>::with_slices(slices);
+        let mut uut = StreamFifo::<W, A, A1>::with_slices(slices);
         if every_edge {
             uut = uut.writing_every_edge();
         }
         uut.connect_all();
-        let edge = |uut: &mut StreamFifo<Bits<W>, A, A1>| {
+        let edge = |uut: &mut StreamFifo<W, A, A1>| {
             uut.clock.next = Clock { clk: true };
             assert!(simulate(uut, 50));
             uut.clock.next = Clock { clk: false };

@@ -57,6 +57,8 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     wire  [259:0] in_fifo$out_data;
     reg  in_fifo$out_ready;
     wire  [5:0] in_fifo$level;
+    wire  in_fifo$fetching;
+    wire  [3:0] in_fifo$next_tag;
     reg  array$clock;
     reg  array$rst;
     reg  array$cmd_valid;
@@ -94,6 +96,8 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     wire  [75:0] out_fifo$out_data;
     reg  out_fifo$out_ready;
     wire  [4:0] out_fifo$level;
+    wire  out_fifo$fetching;
+    wire  [3:0] out_fifo$next_tag;
     reg  [11:0] base_r$d;
     wire  [11:0] base_r$q;
     reg  base_r$clock;
@@ -109,6 +113,9 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     reg  job_v$d;
     wire  job_v$q;
     reg  job_v$clock;
+    reg  hold$d;
+    wire  hold$q;
+    reg  hold$clock;
     reg  [2:0] job_wait$d;
     wire  [2:0] job_wait$q;
     reg  job_wait$clock;
@@ -149,6 +156,8 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     reg  l_table;
     reg  l_arr;
     reg  l_issue;
+    reg  l_jv;
+    reg  [3:0] l_nkind;
     reg  l_go;
     reg  [5:0] l_cp1;
     reg  [5:0] l_cm1;
@@ -172,7 +181,9 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         .out_valid(in_fifo$out_valid),
         .out_data(in_fifo$out_data),
         .out_ready(in_fifo$out_ready),
-        .level(in_fifo$level)
+        .level(in_fifo$level),
+        .fetching(in_fifo$fetching),
+        .next_tag(in_fifo$next_tag)
     );
     pixelproc_top$array array(
         .clock(array$clock),
@@ -215,7 +226,9 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         .out_valid(out_fifo$out_valid),
         .out_data(out_fifo$out_data),
         .out_ready(out_fifo$out_ready),
-        .level(out_fifo$level)
+        .level(out_fifo$level),
+        .fetching(out_fifo$fetching),
+        .next_tag(out_fifo$next_tag)
     );
     pixelproc_top$array$e1_base base_r(
         .d(base_r$d),
@@ -241,6 +254,11 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         .d(job_v$d),
         .q(job_v$q),
         .clock(job_v$clock)
+    );
+    pixelproc_top$array$e1_span hold(
+        .d(hold$d),
+        .q(hold$q),
+        .clock(hold$clock)
     );
     pixelproc_top$array$e1_op job_wait(
         .d(job_wait$d),
@@ -300,6 +318,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         pend_last$clock = clock;
         pend_sof$clock = clock;
         job_v$clock = clock;
+        hold$clock = clock;
         job_wait$clock = clock;
         job_last$clock = clock;
         job_sof$clock = clock;
@@ -315,6 +334,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         pend_last$d = pend_last$q;
         pend_sof$d = pend_sof$q;
         job_v$d = job_v$q;
+        hold$d = hold$q;
         job_wait$d = job_wait$q;
         job_last$d = job_last$q;
         job_sof$d = job_sof$q;
@@ -325,6 +345,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         inflight$d = inflight$q;
         credit$d = credit$q;
         err$d = err$q;
+        l_jv = job_v$q;
         in_fifo$clock = clock;
         array$clock = clock;
         shade$clock = clock;
@@ -334,20 +355,20 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         shade$rst = rst;
         out_fifo$rst = rst;
         l_beat = k_zero_beat;
-        l_beat[(32'h0)+:(256)] = s_axis_tdata;
-        l_beat[(32'h100)+:(4)] = s_axis_tuser;
+        l_beat[(32'h4)+:(256)] = s_axis_tdata;
+        l_beat[(32'h0)+:(4)] = s_axis_tuser;
         in_fifo$in_data = l_beat;
         in_fifo$in_valid = s_axis_tvalid;
         s_axis_tready = in_fifo$in_ready;
         in_level = in_fifo$level;
-        l_data = in_fifo$out_data[(32'h0)+:(256)];
-        l_kind = in_fifo$out_data[(32'h100)+:(4)];
+        l_data = in_fifo$out_data[(32'h4)+:(256)];
+        l_kind = in_fifo$out_data[(32'h0)+:(4)];
         l_tile = l_kind == k_tile;
         l_frame = l_tile | (l_kind == k_end);
         l_table = l_kind == k_table;
         l_arr = (l_kind < k_eight) & (l_kind != k_cl4) & (l_kind != k_rst4);
-        in_fifo$out_ready = ~(l_frame & job_v$q) & ~rst;
-        l_issue = in_fifo$out_valid & in_fifo$out_ready;
+        in_fifo$out_ready = ~hold$q;
+        l_issue = in_fifo$out_valid & ~hold$q & ~rst;
         array$cmd_valid = l_issue & (l_arr | l_frame);
         array$cmd_op = l_kind[(32'h0)+:(3)];
         if (l_frame) begin
@@ -367,7 +388,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         end
         if (l_issue & l_frame) begin
             if (pend_v$q) begin
-                job_v$d = 1'b1;
+                l_jv = 1'b1;
                 job_wait$d = k_wait;
                 job_last$d = pend_last$q;
                 job_sof$d = pend_sof$q;
@@ -390,7 +411,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
             ra$d = ra$q + k_one12;
             l_t1 = l_t1 | k_one3;
             if (ra$q == job_last$q) begin
-                job_v$d = 1'b0;
+                l_jv = 1'b0;
                 l_t1 = l_t1 | k_two3;
             end
             if ((ra$q == k_zero12) & job_sof$q) begin
@@ -462,7 +483,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         proto_err = err$q;
         if (rst) begin
             pend_v$d = 1'b0;
-            job_v$d = 1'b0;
+            l_jv = 1'b0;
             job_wait$d = k_zero3;
             t1$d = k_zero3;
             t2$d = k_zero3;
@@ -473,6 +494,12 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
             base_r$d = k_zero12;
             ra$d = k_zero12;
         end
+        job_v$d = l_jv;
+        l_nkind = l_kind;
+        if (in_fifo$fetching) begin
+            l_nkind = in_fifo$next_tag;
+        end
+        hold$d = l_jv & ((l_nkind == k_tile) | (l_nkind == k_end));
     end
     
 endmodule // pixelproc_top
@@ -2564,7 +2591,7 @@ module pixelproc_top$credit(d,q,clock);
 endmodule // pixelproc_top$credit
 
 
-module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_data,out_ready,level);
+module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_data,out_ready,level,fetching,next_tag);
     
     // Module arguments
     input wire  clock;
@@ -2576,6 +2603,8 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
     output reg  [259:0] out_data;
     input wire  out_ready;
     output reg  [5:0] level;
+    output reg  fetching;
+    output reg  [3:0] next_tag;
     
     // Constant declarations
     localparam  k_one = 6'b1;
@@ -2594,6 +2623,12 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
     reg  [4:0] ram$next_write_address;
     reg  [4:0] ram$next_read_address;
     wire  [259:0] ram$read_data;
+    reg  tag_ram$clock;
+    reg  tag_ram$write_enable;
+    reg  [3:0] tag_ram$write_data;
+    reg  [4:0] tag_ram$next_write_address;
+    reg  [4:0] tag_ram$next_read_address;
+    wire  [3:0] tag_ram$read_data;
     reg  [259:0] head$d;
     wire  [259:0] head$q;
     reg  head$clock;
@@ -2639,6 +2674,14 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         .next_write_address(ram$next_write_address),
         .next_read_address(ram$next_read_address),
         .read_data(ram$read_data)
+    );
+    pixelproc_top$in_fifo$tag_ram tag_ram(
+        .clock(tag_ram$clock),
+        .write_enable(tag_ram$write_enable),
+        .write_data(tag_ram$write_data),
+        .next_write_address(tag_ram$next_write_address),
+        .next_read_address(tag_ram$next_read_address),
+        .read_data(tag_ram$read_data)
     );
     pixelproc_top$in_fifo$head head(
         .d(head$d),
@@ -2707,6 +2750,7 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         ne$d = ne$q;
         lv$d = lv$q;
         ram$clock = clock;
+        tag_ram$clock = clock;
         level = lv$q;
         in_ready = ~full$q & ~rst;
         l_pop = dv$q & out_ready;
@@ -2732,6 +2776,8 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         dv$d = l_fetch | (dv$q & ~l_pop);
         out_valid = dv$q;
         out_data = head$q;
+        fetching = l_fetch;
+        next_tag = tag_ram$read_data;
         l_one = lv$q == k_one;
         if (dv$q) begin
             l_one = lv$q == k_two;
@@ -2765,6 +2811,10 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         ra$d = l_ra_next;
         ram$next_write_address = l_wa_next;
         ram$next_read_address = l_ra_next;
+        tag_ram$write_data = in_data[(32'h0)+:(4)];
+        tag_ram$write_enable = l_push | k_every_edge;
+        tag_ram$next_write_address = l_wa_next;
+        tag_ram$next_read_address = l_ra_next;
     end
     
 endmodule // pixelproc_top$in_fifo
@@ -2929,7 +2979,44 @@ module pixelproc_top$in_fifo$ram(clock,write_enable,write_data,next_write_addres
 endmodule // pixelproc_top$in_fifo$ram
 
 
-module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_data,out_ready,level);
+module pixelproc_top$in_fifo$tag_ram(clock,write_enable,write_data,next_write_address,next_read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [3:0] write_data;
+    input wire  [4:0] next_write_address;
+    input wire  [4:0] next_read_address;
+    output reg  [3:0] read_data;
+    
+    // Update code (custom)
+    // slice 0: bits 3:0, with its own copies of the two addresses
+    (* keep *) reg [4:0] ra_0;
+    (* keep *) reg [4:0] wa_0;
+    reg [3:0] mem_0 [0:31];
+    wire [3:0] rd_0 = mem_0[ra_0];
+    
+    initial begin
+       ra_0 = 5'd0;
+       wa_0 = 5'd0;
+    end
+    
+    always @(*) read_data = {rd_0};
+    
+    (* keep *) always @(posedge clock) begin
+       ra_0 <= next_read_address;
+       wa_0 <= next_write_address;
+    end
+    
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem_0[wa_0] <= write_data[3:0];
+       end
+    end
+endmodule // pixelproc_top$in_fifo$tag_ram
+
+
+module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_data,out_ready,level,fetching,next_tag);
     
     // Module arguments
     input wire  clock;
@@ -2941,6 +3028,8 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
     output reg  [75:0] out_data;
     input wire  out_ready;
     output reg  [4:0] level;
+    output reg  fetching;
+    output reg  [3:0] next_tag;
     
     // Constant declarations
     localparam  k_one = 5'b1;
@@ -2959,6 +3048,12 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
     reg  [3:0] ram$next_write_address;
     reg  [3:0] ram$next_read_address;
     wire  [75:0] ram$read_data;
+    reg  tag_ram$clock;
+    reg  tag_ram$write_enable;
+    reg  [3:0] tag_ram$write_data;
+    reg  [3:0] tag_ram$next_write_address;
+    reg  [3:0] tag_ram$next_read_address;
+    wire  [3:0] tag_ram$read_data;
     reg  [75:0] head$d;
     wire  [75:0] head$q;
     reg  head$clock;
@@ -3004,6 +3099,14 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         .next_write_address(ram$next_write_address),
         .next_read_address(ram$next_read_address),
         .read_data(ram$read_data)
+    );
+    pixelproc_top$out_fifo$tag_ram tag_ram(
+        .clock(tag_ram$clock),
+        .write_enable(tag_ram$write_enable),
+        .write_data(tag_ram$write_data),
+        .next_write_address(tag_ram$next_write_address),
+        .next_read_address(tag_ram$next_read_address),
+        .read_data(tag_ram$read_data)
     );
     pixelproc_top$out_fifo$head head(
         .d(head$d),
@@ -3072,6 +3175,7 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         ne$d = ne$q;
         lv$d = lv$q;
         ram$clock = clock;
+        tag_ram$clock = clock;
         level = lv$q;
         in_ready = ~full$q & ~rst;
         l_pop = dv$q & out_ready;
@@ -3097,6 +3201,8 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         dv$d = l_fetch | (dv$q & ~l_pop);
         out_valid = dv$q;
         out_data = head$q;
+        fetching = l_fetch;
+        next_tag = tag_ram$read_data;
         l_one = lv$q == k_one;
         if (dv$q) begin
             l_one = lv$q == k_two;
@@ -3130,6 +3236,10 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         ra$d = l_ra_next;
         ram$next_write_address = l_wa_next;
         ram$next_read_address = l_ra_next;
+        tag_ram$write_data = in_data[(32'h0)+:(4)];
+        tag_ram$write_enable = l_push | k_every_edge;
+        tag_ram$next_write_address = l_wa_next;
+        tag_ram$next_read_address = l_ra_next;
     end
     
 endmodule // pixelproc_top$out_fifo
@@ -3208,6 +3318,43 @@ module pixelproc_top$out_fifo$ram(clock,write_enable,write_data,next_write_addre
        end
     end
 endmodule // pixelproc_top$out_fifo$ram
+
+
+module pixelproc_top$out_fifo$tag_ram(clock,write_enable,write_data,next_write_address,next_read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [3:0] write_data;
+    input wire  [3:0] next_write_address;
+    input wire  [3:0] next_read_address;
+    output reg  [3:0] read_data;
+    
+    // Update code (custom)
+    // slice 0: bits 3:0, with its own copies of the two addresses
+    (* keep *) reg [3:0] ra_0;
+    (* keep *) reg [3:0] wa_0;
+    reg [3:0] mem_0 [0:15];
+    wire [3:0] rd_0 = mem_0[ra_0];
+    
+    initial begin
+       ra_0 = 4'd0;
+       wa_0 = 4'd0;
+    end
+    
+    always @(*) read_data = {rd_0};
+    
+    (* keep *) always @(posedge clock) begin
+       ra_0 <= next_read_address;
+       wa_0 <= next_write_address;
+    end
+    
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem_0[wa_0] <= write_data[3:0];
+       end
+    end
+endmodule // pixelproc_top$out_fifo$tag_ram
 
 
 module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_data,out_valid,out_word,out_meta);
