@@ -128,11 +128,12 @@ pub fn shade_addr(nclass: u8, mask: u8, count: u8) -> u32 {
 
 /// Register stages of the core's shading step, from the readout word to the shaded pixel:
 /// the readout word as it arrives, the table read (every bank), each bank's entry
-/// registered at its block RAM with `max(0, c − s)`, the addressed bank's entry within each group of 8 banks, the
+/// registered at its block RAM with `max(0, c − s)`, each bank's entry again in a fabric
+/// register, the addressed bank's entry within each group of 8 banks, the
 /// addressed group's entry (the multipliers' operands), the two products, the products
 /// again beside the rounding, and the clamp and subtraction (`rtl::shade_unit`, the golden
 /// `core_model`).
-pub const SHADE_STAGES: usize = 8;
+pub const SHADE_STAGES: usize = 9;
 
 /// Edges a TABLE write spends in the shading step's write registers before its bank
 /// takes it: a TABLE beat issued at edge `E` is in the table at edge `E + 1`, and a

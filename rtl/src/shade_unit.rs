@@ -78,7 +78,7 @@ pub const META_W: usize = 2;
 /// Rising edges from a pixel on the inputs to the same pixel on the outputs
 /// (`pixelproc_formats::core_stream::SHADE_STAGES`, which the golden core model uses).
 pub const LATENCY: usize = pixelproc_formats::core_stream::SHADE_STAGES;
-const _: () = assert!(LATENCY == 8);
+const _: () = assert!(LATENCY == 9);
 
 /// Address bits of one table bank (2^10 × 18 bits: one ECP5 DP16KD).
 pub const BANK_BITS: usize = crate::bank_ram::BANK_BITS;
@@ -188,6 +188,14 @@ pub struct ShadeUnit {
     s2_meta: DFF<Bits<META_W>>,
     s2_hi: DFF<Bits<HI_W>>,
     s2_d: DFF<Bits<24>>,
+    /// Stage 2b: every bank's entry again, in a fabric register beside its block RAM,
+    /// and the pixel with it.
+    s2b_e: Vec<DFF<Bits<ENTRY_W>>>,
+    s2b_v: DFF<Bit>,
+    s2b_word: DFF<Bits<READOUT_W>>,
+    s2b_meta: DFF<Bits<META_W>>,
+    s2b_hi: DFF<Bits<HI_W>>,
+    s2b_d: DFF<Bits<24>>,
     s3_v: DFF<Bit>,
     s3_word: DFF<Bits<READOUT_W>>,
     s3_meta: DFF<Bits<META_W>>,
@@ -299,6 +307,12 @@ impl ShadeUnit {
             s2_meta: Default::default(),
             s2_hi: Default::default(),
             s2_d: Default::default(),
+            s2b_e: (0..banks).map(|_| Default::default()).collect(),
+            s2b_v: Default::default(),
+            s2b_word: Default::default(),
+            s2b_meta: Default::default(),
+            s2b_hi: Default::default(),
+            s2b_d: Default::default(),
             s3_v: Default::default(),
             s3_word: Default::default(),
             s3_meta: Default::default(),
@@ -365,9 +379,9 @@ impl Logic for ShadeUnit {
     fn update(&mut self) {
         dff_setup!(
             self, clock, s0_v, s0_word, s0_meta, s1_v, s1_word, s1_meta, s1_hi, s2_v, s2_word,
-            s2_meta, s2_hi, s2_d, s3_v, s3_word, s3_meta, s3_d, s3_grp, s3_over, s4_v, s4_word,
-            s4_meta, s5_v, s5_word, s5_meta, s6_v, s6_word, s6_meta, s6_lit, s6_drop, s7_v,
-            s7_word, s7_meta
+            s2_meta, s2_hi, s2_d, s2b_v, s2b_word, s2b_meta, s2b_hi, s2b_d, s3_v, s3_word, s3_meta,
+            s3_d, s3_grp, s3_over, s4_v, s4_word, s4_meta, s5_v, s5_word, s5_meta, s6_v, s6_word,
+            s6_meta, s6_lit, s6_drop, s7_v, s7_word, s7_meta
         );
         // ---- Stage 0: register the pixel as it arrives (the core's readout word comes
         // from the array's group registers, spread over the die with the processors: this
@@ -439,6 +453,18 @@ impl Logic for ShadeUnit {
         self.s2_meta.d.next = self.s1_meta.q.val();
         self.s2_hi.d.next = self.s1_hi.q.val();
         self.s2_d.d.next = self.l_dd.val();
+        // ---- Stage 2b: every bank's entry into a fabric register (the route from a block
+        // RAM's output register to its group's 8-way select was the core's critical path
+        // at N = 16 and 32 on an ECP5, `docs/fpga.md`), the pixel alongside.
+        for b in 0..self.s2b_e.len() {
+            self.s2b_e[b].clock.next = self.clock.val();
+            self.s2b_e[b].d.next = self.banks[b].read_data.val();
+        }
+        self.s2b_v.d.next = self.s2_v.q.val();
+        self.s2b_word.d.next = self.s2_word.q.val();
+        self.s2b_meta.d.next = self.s2_meta.q.val();
+        self.s2b_hi.d.next = self.s2_hi.q.val();
+        self.s2b_d.d.next = self.s2_d.q.val();
         // ---- Stage 3: within each group of 8 banks the addressed bank's entry (a 32-way
         // multiplexer in one clock, from block RAMs spread over the die, was the core's
         // critical path), the group bits, and whether the override (background, or no
@@ -449,19 +475,19 @@ impl Logic for ShadeUnit {
             self.s3_e[g].clock.next = self.clock.val();
             self.l_eg.next = self.k_zero_e.val();
             for j in 0..8 {
-                if self.s2_hi.q.val().get_bits::<3>(0).index() == j {
-                    self.l_eg.next = self.banks[8 * g + j].read_data.val();
+                if self.s2b_hi.q.val().get_bits::<3>(0).index() == j {
+                    self.l_eg.next = self.s2b_e[8 * g + j].q.val();
                 }
             }
             self.s3_e[g].d.next = self.l_eg.val();
         }
-        self.s3_grp.d.next = self.s2_hi.q.val().get_bits::<GROUP_W>(3);
+        self.s3_grp.d.next = self.s2b_hi.q.val().get_bits::<GROUP_W>(3);
         self.s3_over.d.next =
-            !self.k_on.val() | (self.s2_word.q.val().get_value_zb() == self.k_far.val());
-        self.s3_v.d.next = self.s2_v.q.val();
-        self.s3_word.d.next = self.s2_word.q.val();
-        self.s3_meta.d.next = self.s2_meta.q.val();
-        self.s3_d.d.next = self.s2_d.q.val();
+            !self.k_on.val() | (self.s2b_word.q.val().get_value_zb() == self.k_far.val());
+        self.s3_v.d.next = self.s2b_v.q.val();
+        self.s3_word.d.next = self.s2b_word.q.val();
+        self.s3_meta.d.next = self.s2b_meta.q.val();
+        self.s3_d.d.next = self.s2b_d.q.val();
         // ---- Stage 4: the addressed group's entry, `F` and `G` (or the override), into
         // the multipliers' operand registers with each channel's `c` and `d`.
         self.l_e.next = self.k_zero_e.val();
@@ -567,6 +593,7 @@ impl Logic for ShadeUnit {
             self.s0_v.d.next = false;
             self.s1_v.d.next = false;
             self.s2_v.d.next = false;
+            self.s2b_v.d.next = false;
             self.s3_v.d.next = false;
             self.s4_v.d.next = false;
             self.s5_v.d.next = false;

@@ -3734,6 +3734,117 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  [23:0] s2_d$d;
     wire  [23:0] s2_d$q;
     reg  s2_d$clock;
+    reg  [17:0] s2b_e$0$d;
+    wire  [17:0] s2b_e$0$q;
+    reg  s2b_e$0$clock;
+    reg  [17:0] s2b_e$1$d;
+    wire  [17:0] s2b_e$1$q;
+    reg  s2b_e$1$clock;
+    reg  [17:0] s2b_e$2$d;
+    wire  [17:0] s2b_e$2$q;
+    reg  s2b_e$2$clock;
+    reg  [17:0] s2b_e$3$d;
+    wire  [17:0] s2b_e$3$q;
+    reg  s2b_e$3$clock;
+    reg  [17:0] s2b_e$4$d;
+    wire  [17:0] s2b_e$4$q;
+    reg  s2b_e$4$clock;
+    reg  [17:0] s2b_e$5$d;
+    wire  [17:0] s2b_e$5$q;
+    reg  s2b_e$5$clock;
+    reg  [17:0] s2b_e$6$d;
+    wire  [17:0] s2b_e$6$q;
+    reg  s2b_e$6$clock;
+    reg  [17:0] s2b_e$7$d;
+    wire  [17:0] s2b_e$7$q;
+    reg  s2b_e$7$clock;
+    reg  [17:0] s2b_e$8$d;
+    wire  [17:0] s2b_e$8$q;
+    reg  s2b_e$8$clock;
+    reg  [17:0] s2b_e$9$d;
+    wire  [17:0] s2b_e$9$q;
+    reg  s2b_e$9$clock;
+    reg  [17:0] s2b_e$10$d;
+    wire  [17:0] s2b_e$10$q;
+    reg  s2b_e$10$clock;
+    reg  [17:0] s2b_e$11$d;
+    wire  [17:0] s2b_e$11$q;
+    reg  s2b_e$11$clock;
+    reg  [17:0] s2b_e$12$d;
+    wire  [17:0] s2b_e$12$q;
+    reg  s2b_e$12$clock;
+    reg  [17:0] s2b_e$13$d;
+    wire  [17:0] s2b_e$13$q;
+    reg  s2b_e$13$clock;
+    reg  [17:0] s2b_e$14$d;
+    wire  [17:0] s2b_e$14$q;
+    reg  s2b_e$14$clock;
+    reg  [17:0] s2b_e$15$d;
+    wire  [17:0] s2b_e$15$q;
+    reg  s2b_e$15$clock;
+    reg  [17:0] s2b_e$16$d;
+    wire  [17:0] s2b_e$16$q;
+    reg  s2b_e$16$clock;
+    reg  [17:0] s2b_e$17$d;
+    wire  [17:0] s2b_e$17$q;
+    reg  s2b_e$17$clock;
+    reg  [17:0] s2b_e$18$d;
+    wire  [17:0] s2b_e$18$q;
+    reg  s2b_e$18$clock;
+    reg  [17:0] s2b_e$19$d;
+    wire  [17:0] s2b_e$19$q;
+    reg  s2b_e$19$clock;
+    reg  [17:0] s2b_e$20$d;
+    wire  [17:0] s2b_e$20$q;
+    reg  s2b_e$20$clock;
+    reg  [17:0] s2b_e$21$d;
+    wire  [17:0] s2b_e$21$q;
+    reg  s2b_e$21$clock;
+    reg  [17:0] s2b_e$22$d;
+    wire  [17:0] s2b_e$22$q;
+    reg  s2b_e$22$clock;
+    reg  [17:0] s2b_e$23$d;
+    wire  [17:0] s2b_e$23$q;
+    reg  s2b_e$23$clock;
+    reg  [17:0] s2b_e$24$d;
+    wire  [17:0] s2b_e$24$q;
+    reg  s2b_e$24$clock;
+    reg  [17:0] s2b_e$25$d;
+    wire  [17:0] s2b_e$25$q;
+    reg  s2b_e$25$clock;
+    reg  [17:0] s2b_e$26$d;
+    wire  [17:0] s2b_e$26$q;
+    reg  s2b_e$26$clock;
+    reg  [17:0] s2b_e$27$d;
+    wire  [17:0] s2b_e$27$q;
+    reg  s2b_e$27$clock;
+    reg  [17:0] s2b_e$28$d;
+    wire  [17:0] s2b_e$28$q;
+    reg  s2b_e$28$clock;
+    reg  [17:0] s2b_e$29$d;
+    wire  [17:0] s2b_e$29$q;
+    reg  s2b_e$29$clock;
+    reg  [17:0] s2b_e$30$d;
+    wire  [17:0] s2b_e$30$q;
+    reg  s2b_e$30$clock;
+    reg  [17:0] s2b_e$31$d;
+    wire  [17:0] s2b_e$31$q;
+    reg  s2b_e$31$clock;
+    reg  s2b_v$d;
+    wire  s2b_v$q;
+    reg  s2b_v$clock;
+    reg  [98:0] s2b_word$d;
+    wire  [98:0] s2b_word$q;
+    reg  s2b_word$clock;
+    reg  [1:0] s2b_meta$d;
+    wire  [1:0] s2b_meta$q;
+    reg  s2b_meta$clock;
+    reg  [4:0] s2b_hi$d;
+    wire  [4:0] s2b_hi$q;
+    reg  s2b_hi$clock;
+    reg  [23:0] s2b_d$d;
+    wire  [23:0] s2b_d$q;
+    reg  s2b_d$clock;
     reg  s3_v$d;
     wire  s3_v$q;
     reg  s3_v$clock;
@@ -4293,22 +4404,22 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(tw_a$3$q),
         .clock(tw_a$3$clock)
     );
-    pixelproc_top$shade$s3_e tw_d$0(
+    pixelproc_top$shade$s2b_e tw_d$0(
         .d(tw_d$0$d),
         .q(tw_d$0$q),
         .clock(tw_d$0$clock)
     );
-    pixelproc_top$shade$s3_e tw_d$1(
+    pixelproc_top$shade$s2b_e tw_d$1(
         .d(tw_d$1$d),
         .q(tw_d$1$q),
         .clock(tw_d$1$clock)
     );
-    pixelproc_top$shade$s3_e tw_d$2(
+    pixelproc_top$shade$s2b_e tw_d$2(
         .d(tw_d$2$d),
         .q(tw_d$2$q),
         .clock(tw_d$2$clock)
     );
-    pixelproc_top$shade$s3_e tw_d$3(
+    pixelproc_top$shade$s2b_e tw_d$3(
         .d(tw_d$3$d),
         .q(tw_d$3$q),
         .clock(tw_d$3$clock)
@@ -4373,6 +4484,191 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(s2_d$q),
         .clock(s2_d$clock)
     );
+    pixelproc_top$shade$s2b_e s2b_e$0(
+        .d(s2b_e$0$d),
+        .q(s2b_e$0$q),
+        .clock(s2b_e$0$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$1(
+        .d(s2b_e$1$d),
+        .q(s2b_e$1$q),
+        .clock(s2b_e$1$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$2(
+        .d(s2b_e$2$d),
+        .q(s2b_e$2$q),
+        .clock(s2b_e$2$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$3(
+        .d(s2b_e$3$d),
+        .q(s2b_e$3$q),
+        .clock(s2b_e$3$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$4(
+        .d(s2b_e$4$d),
+        .q(s2b_e$4$q),
+        .clock(s2b_e$4$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$5(
+        .d(s2b_e$5$d),
+        .q(s2b_e$5$q),
+        .clock(s2b_e$5$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$6(
+        .d(s2b_e$6$d),
+        .q(s2b_e$6$q),
+        .clock(s2b_e$6$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$7(
+        .d(s2b_e$7$d),
+        .q(s2b_e$7$q),
+        .clock(s2b_e$7$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$8(
+        .d(s2b_e$8$d),
+        .q(s2b_e$8$q),
+        .clock(s2b_e$8$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$9(
+        .d(s2b_e$9$d),
+        .q(s2b_e$9$q),
+        .clock(s2b_e$9$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$10(
+        .d(s2b_e$10$d),
+        .q(s2b_e$10$q),
+        .clock(s2b_e$10$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$11(
+        .d(s2b_e$11$d),
+        .q(s2b_e$11$q),
+        .clock(s2b_e$11$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$12(
+        .d(s2b_e$12$d),
+        .q(s2b_e$12$q),
+        .clock(s2b_e$12$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$13(
+        .d(s2b_e$13$d),
+        .q(s2b_e$13$q),
+        .clock(s2b_e$13$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$14(
+        .d(s2b_e$14$d),
+        .q(s2b_e$14$q),
+        .clock(s2b_e$14$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$15(
+        .d(s2b_e$15$d),
+        .q(s2b_e$15$q),
+        .clock(s2b_e$15$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$16(
+        .d(s2b_e$16$d),
+        .q(s2b_e$16$q),
+        .clock(s2b_e$16$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$17(
+        .d(s2b_e$17$d),
+        .q(s2b_e$17$q),
+        .clock(s2b_e$17$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$18(
+        .d(s2b_e$18$d),
+        .q(s2b_e$18$q),
+        .clock(s2b_e$18$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$19(
+        .d(s2b_e$19$d),
+        .q(s2b_e$19$q),
+        .clock(s2b_e$19$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$20(
+        .d(s2b_e$20$d),
+        .q(s2b_e$20$q),
+        .clock(s2b_e$20$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$21(
+        .d(s2b_e$21$d),
+        .q(s2b_e$21$q),
+        .clock(s2b_e$21$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$22(
+        .d(s2b_e$22$d),
+        .q(s2b_e$22$q),
+        .clock(s2b_e$22$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$23(
+        .d(s2b_e$23$d),
+        .q(s2b_e$23$q),
+        .clock(s2b_e$23$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$24(
+        .d(s2b_e$24$d),
+        .q(s2b_e$24$q),
+        .clock(s2b_e$24$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$25(
+        .d(s2b_e$25$d),
+        .q(s2b_e$25$q),
+        .clock(s2b_e$25$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$26(
+        .d(s2b_e$26$d),
+        .q(s2b_e$26$q),
+        .clock(s2b_e$26$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$27(
+        .d(s2b_e$27$d),
+        .q(s2b_e$27$q),
+        .clock(s2b_e$27$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$28(
+        .d(s2b_e$28$d),
+        .q(s2b_e$28$q),
+        .clock(s2b_e$28$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$29(
+        .d(s2b_e$29$d),
+        .q(s2b_e$29$q),
+        .clock(s2b_e$29$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$30(
+        .d(s2b_e$30$d),
+        .q(s2b_e$30$q),
+        .clock(s2b_e$30$clock)
+    );
+    pixelproc_top$shade$s2b_e s2b_e$31(
+        .d(s2b_e$31$d),
+        .q(s2b_e$31$q),
+        .clock(s2b_e$31$clock)
+    );
+    pixelproc_top$array$e1_span s2b_v(
+        .d(s2b_v$d),
+        .q(s2b_v$q),
+        .clock(s2b_v$clock)
+    );
+    pixelproc_top$array$procs$cap_r s2b_word(
+        .d(s2b_word$d),
+        .q(s2b_word$q),
+        .clock(s2b_word$clock)
+    );
+    pixelproc_top$array$procs$b_attr s2b_meta(
+        .d(s2b_meta$d),
+        .q(s2b_meta$q),
+        .clock(s2b_meta$clock)
+    );
+    pixelproc_top$in_fifo$ra s2b_hi(
+        .d(s2b_hi$d),
+        .q(s2b_hi$q),
+        .clock(s2b_hi$clock)
+    );
+    pixelproc_top$array$e1_bg s2b_d(
+        .d(s2b_d$d),
+        .q(s2b_d$q),
+        .clock(s2b_d$clock)
+    );
     pixelproc_top$array$e1_span s3_v(
         .d(s3_v$d),
         .q(s3_v$q),
@@ -4393,22 +4689,22 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(s3_d$q),
         .clock(s3_d$clock)
     );
-    pixelproc_top$shade$s3_e s3_e$0(
+    pixelproc_top$shade$s2b_e s3_e$0(
         .d(s3_e$0$d),
         .q(s3_e$0$q),
         .clock(s3_e$0$clock)
     );
-    pixelproc_top$shade$s3_e s3_e$1(
+    pixelproc_top$shade$s2b_e s3_e$1(
         .d(s3_e$1$d),
         .q(s3_e$1$q),
         .clock(s3_e$1$clock)
     );
-    pixelproc_top$shade$s3_e s3_e$2(
+    pixelproc_top$shade$s2b_e s3_e$2(
         .d(s3_e$2$d),
         .q(s3_e$2$q),
         .clock(s3_e$2$clock)
     );
-    pixelproc_top$shade$s3_e s3_e$3(
+    pixelproc_top$shade$s2b_e s3_e$3(
         .d(s3_e$3$d),
         .q(s3_e$3$q),
         .clock(s3_e$3$clock)
@@ -4544,6 +4840,11 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         s2_meta$clock = clock;
         s2_hi$clock = clock;
         s2_d$clock = clock;
+        s2b_v$clock = clock;
+        s2b_word$clock = clock;
+        s2b_meta$clock = clock;
+        s2b_hi$clock = clock;
+        s2b_d$clock = clock;
         s3_v$clock = clock;
         s3_word$clock = clock;
         s3_meta$clock = clock;
@@ -4576,6 +4877,11 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         s2_meta$d = s2_meta$q;
         s2_hi$d = s2_hi$q;
         s2_d$d = s2_d$q;
+        s2b_v$d = s2b_v$q;
+        s2b_word$d = s2b_word$q;
+        s2b_meta$d = s2b_meta$q;
+        s2b_hi$d = s2b_hi$q;
+        s2b_d$d = s2b_d$q;
         s3_v$d = s3_v$q;
         s3_word$d = s3_word$q;
         s3_meta$d = s3_meta$q;
@@ -4892,121 +5198,190 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         s2_meta$d = s1_meta$q;
         s2_hi$d = s1_hi$q;
         s2_d$d = l_dd;
+        s2b_e$0$clock = clock;
+        s2b_e$0$d = banks$0$read_data;
+        s2b_e$1$clock = clock;
+        s2b_e$1$d = banks$1$read_data;
+        s2b_e$2$clock = clock;
+        s2b_e$2$d = banks$2$read_data;
+        s2b_e$3$clock = clock;
+        s2b_e$3$d = banks$3$read_data;
+        s2b_e$4$clock = clock;
+        s2b_e$4$d = banks$4$read_data;
+        s2b_e$5$clock = clock;
+        s2b_e$5$d = banks$5$read_data;
+        s2b_e$6$clock = clock;
+        s2b_e$6$d = banks$6$read_data;
+        s2b_e$7$clock = clock;
+        s2b_e$7$d = banks$7$read_data;
+        s2b_e$8$clock = clock;
+        s2b_e$8$d = banks$8$read_data;
+        s2b_e$9$clock = clock;
+        s2b_e$9$d = banks$9$read_data;
+        s2b_e$10$clock = clock;
+        s2b_e$10$d = banks$10$read_data;
+        s2b_e$11$clock = clock;
+        s2b_e$11$d = banks$11$read_data;
+        s2b_e$12$clock = clock;
+        s2b_e$12$d = banks$12$read_data;
+        s2b_e$13$clock = clock;
+        s2b_e$13$d = banks$13$read_data;
+        s2b_e$14$clock = clock;
+        s2b_e$14$d = banks$14$read_data;
+        s2b_e$15$clock = clock;
+        s2b_e$15$d = banks$15$read_data;
+        s2b_e$16$clock = clock;
+        s2b_e$16$d = banks$16$read_data;
+        s2b_e$17$clock = clock;
+        s2b_e$17$d = banks$17$read_data;
+        s2b_e$18$clock = clock;
+        s2b_e$18$d = banks$18$read_data;
+        s2b_e$19$clock = clock;
+        s2b_e$19$d = banks$19$read_data;
+        s2b_e$20$clock = clock;
+        s2b_e$20$d = banks$20$read_data;
+        s2b_e$21$clock = clock;
+        s2b_e$21$d = banks$21$read_data;
+        s2b_e$22$clock = clock;
+        s2b_e$22$d = banks$22$read_data;
+        s2b_e$23$clock = clock;
+        s2b_e$23$d = banks$23$read_data;
+        s2b_e$24$clock = clock;
+        s2b_e$24$d = banks$24$read_data;
+        s2b_e$25$clock = clock;
+        s2b_e$25$d = banks$25$read_data;
+        s2b_e$26$clock = clock;
+        s2b_e$26$d = banks$26$read_data;
+        s2b_e$27$clock = clock;
+        s2b_e$27$d = banks$27$read_data;
+        s2b_e$28$clock = clock;
+        s2b_e$28$d = banks$28$read_data;
+        s2b_e$29$clock = clock;
+        s2b_e$29$d = banks$29$read_data;
+        s2b_e$30$clock = clock;
+        s2b_e$30$d = banks$30$read_data;
+        s2b_e$31$clock = clock;
+        s2b_e$31$d = banks$31$read_data;
+        s2b_v$d = s2_v$q;
+        s2b_word$d = s2_word$q;
+        s2b_meta$d = s2_meta$q;
+        s2b_hi$d = s2_hi$q;
+        s2b_d$d = s2_d$q;
         l_eg = k_zero_e;
         s3_e$0$clock = clock;
         l_eg = k_zero_e;
-        if (s2_hi$q[(32'h0)+:(3)] == 0) begin
-            l_eg = banks$0$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 0) begin
+            l_eg = s2b_e$0$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 1) begin
-            l_eg = banks$1$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 1) begin
+            l_eg = s2b_e$1$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 2) begin
-            l_eg = banks$2$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 2) begin
+            l_eg = s2b_e$2$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 3) begin
-            l_eg = banks$3$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 3) begin
+            l_eg = s2b_e$3$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 4) begin
-            l_eg = banks$4$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 4) begin
+            l_eg = s2b_e$4$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 5) begin
-            l_eg = banks$5$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 5) begin
+            l_eg = s2b_e$5$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 6) begin
-            l_eg = banks$6$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 6) begin
+            l_eg = s2b_e$6$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 7) begin
-            l_eg = banks$7$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 7) begin
+            l_eg = s2b_e$7$q;
         end
         s3_e$0$d = l_eg;
         s3_e$1$clock = clock;
         l_eg = k_zero_e;
-        if (s2_hi$q[(32'h0)+:(3)] == 0) begin
-            l_eg = banks$8$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 0) begin
+            l_eg = s2b_e$8$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 1) begin
-            l_eg = banks$9$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 1) begin
+            l_eg = s2b_e$9$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 2) begin
-            l_eg = banks$10$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 2) begin
+            l_eg = s2b_e$10$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 3) begin
-            l_eg = banks$11$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 3) begin
+            l_eg = s2b_e$11$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 4) begin
-            l_eg = banks$12$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 4) begin
+            l_eg = s2b_e$12$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 5) begin
-            l_eg = banks$13$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 5) begin
+            l_eg = s2b_e$13$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 6) begin
-            l_eg = banks$14$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 6) begin
+            l_eg = s2b_e$14$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 7) begin
-            l_eg = banks$15$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 7) begin
+            l_eg = s2b_e$15$q;
         end
         s3_e$1$d = l_eg;
         s3_e$2$clock = clock;
         l_eg = k_zero_e;
-        if (s2_hi$q[(32'h0)+:(3)] == 0) begin
-            l_eg = banks$16$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 0) begin
+            l_eg = s2b_e$16$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 1) begin
-            l_eg = banks$17$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 1) begin
+            l_eg = s2b_e$17$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 2) begin
-            l_eg = banks$18$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 2) begin
+            l_eg = s2b_e$18$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 3) begin
-            l_eg = banks$19$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 3) begin
+            l_eg = s2b_e$19$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 4) begin
-            l_eg = banks$20$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 4) begin
+            l_eg = s2b_e$20$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 5) begin
-            l_eg = banks$21$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 5) begin
+            l_eg = s2b_e$21$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 6) begin
-            l_eg = banks$22$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 6) begin
+            l_eg = s2b_e$22$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 7) begin
-            l_eg = banks$23$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 7) begin
+            l_eg = s2b_e$23$q;
         end
         s3_e$2$d = l_eg;
         s3_e$3$clock = clock;
         l_eg = k_zero_e;
-        if (s2_hi$q[(32'h0)+:(3)] == 0) begin
-            l_eg = banks$24$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 0) begin
+            l_eg = s2b_e$24$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 1) begin
-            l_eg = banks$25$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 1) begin
+            l_eg = s2b_e$25$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 2) begin
-            l_eg = banks$26$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 2) begin
+            l_eg = s2b_e$26$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 3) begin
-            l_eg = banks$27$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 3) begin
+            l_eg = s2b_e$27$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 4) begin
-            l_eg = banks$28$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 4) begin
+            l_eg = s2b_e$28$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 5) begin
-            l_eg = banks$29$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 5) begin
+            l_eg = s2b_e$29$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 6) begin
-            l_eg = banks$30$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 6) begin
+            l_eg = s2b_e$30$q;
         end
-        if (s2_hi$q[(32'h0)+:(3)] == 7) begin
-            l_eg = banks$31$read_data;
+        if (s2b_hi$q[(32'h0)+:(3)] == 7) begin
+            l_eg = s2b_e$31$q;
         end
         s3_e$3$d = l_eg;
-        s3_grp$d = s2_hi$q[(32'h3)+:(2)];
-        s3_over$d = ~k_on | (s2_word$q[(32'h22)+:(24)] == k_far);
-        s3_v$d = s2_v$q;
-        s3_word$d = s2_word$q;
-        s3_meta$d = s2_meta$q;
-        s3_d$d = s2_d$q;
+        s3_grp$d = s2b_hi$q[(32'h3)+:(2)];
+        s3_over$d = ~k_on | (s2b_word$q[(32'h22)+:(24)] == k_far);
+        s3_v$d = s2b_v$q;
+        s3_word$d = s2b_word$q;
+        s3_meta$d = s2b_meta$q;
+        s3_d$d = s2b_d$q;
         l_e = k_zero_e;
         if (s3_grp$q == 0) begin
             l_e = s3_e$0$q;
@@ -5152,6 +5527,7 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
             s0_v$d = 1'b0;
             s1_v$d = 1'b0;
             s2_v$d = 1'b0;
+            s2b_v$d = 1'b0;
             s3_v$d = 1'b0;
             s4_v$d = 1'b0;
             s5_v$d = 1'b0;
@@ -5180,7 +5556,7 @@ endmodule // pixelproc_top$shade$banks
 
 
 
-module pixelproc_top$shade$s3_e(d,q,clock);
+module pixelproc_top$shade$s2b_e(d,q,clock);
     
     // Module arguments
     input wire  [17:0] d;
@@ -5196,7 +5572,7 @@ module pixelproc_top$shade$s3_e(d,q,clock);
        q <= d;
     end
           
-endmodule // pixelproc_top$shade$s3_e
+endmodule // pixelproc_top$shade$s2b_e
 
 
 module pixelproc_top$shade$s6_drop(d,q,clock);

@@ -257,7 +257,7 @@ mod tests {
 
     /// Hand-counted: one tile-line of 3 pixels with 2 commands. TILE issues at edge 3,
     /// commands at 4 and 5, END at 6 (the job only starts there); pixels read at
-    /// 6 + 5 = 11, 12, 13; the last is taken at 13 + 13 = 26 (3 readout registers, 8 shading
+    /// 6 + 5 = 11, 12, 13; the last is taken at 13 + 14 = 27 (3 readout registers, 9 shading
     /// stages, 2 through the output FIFO).
     #[test]
     fn one_tile_line_by_hand() {
@@ -268,18 +268,18 @@ mod tests {
                 pixels: 3,
             }],
         );
-        assert_eq!(c, 26);
+        assert_eq!(c, 27);
     }
 
     /// Two readout-bound tile-lines of 4 pixels, one beat each: TILE0 at 3, TILE1 at 4
     /// (no job yet), END held until 4 + 5 + 4 = 13; last pixel read at 13 + 4 + 4 = 21,
-    /// out at 21 + 13 = 34.
+    /// out at 21 + 14 = 35.
     #[test]
     fn readout_bound_by_hand() {
         let t = TileLine {
             beats: 1,
             pixels: 4,
         };
-        assert_eq!(core_cycles(0, [t, t]), 34);
+        assert_eq!(core_cycles(0, [t, t]), 35);
     }
 }

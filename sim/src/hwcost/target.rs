@@ -89,12 +89,12 @@ mod tests {
     use super::*;
 
     /// A frame with no triangles: every tile-line holds only its TILE beat, so each is
-    /// readout-bound, `L + 5` clocks, and the frame is `Σ (L + 5) + 16` (`array`'s
-    /// header: 3 clocks to the first issue, 1 beat, and 4 + 13 after END's readout: 3
-    /// readout registers, 8 shading stages, 2 through the output FIFO).
-    /// 256×100: at N = 64, 4 tiles of 64 per row, 100·4·69 + 16 = 27,616 cycles; at
-    /// N = 256, 100·261 + 16 = 26,116; at any N in 128..=255, two tiles per row,
-    /// 100·(256 + 10) + 16 = 26,616.
+    /// readout-bound, `L + 5` clocks, and the frame is `Σ (L + 5) + 17` (`array`'s
+    /// header: 3 clocks to the first issue, 1 beat, and 4 + 14 after END's readout: 3
+    /// readout registers, 9 shading stages, 2 through the output FIFO).
+    /// 256×100: at N = 64, 4 tiles of 64 per row, 100·4·69 + 17 = 27,617 cycles; at
+    /// N = 256, 100·261 + 17 = 26,117; at any N in 128..=255, two tiles per row,
+    /// 100·(256 + 10) + 17 = 26,617.
     #[test]
     fn empty_frame_by_hand() {
         let frame = Frame {
@@ -104,33 +104,33 @@ mod tests {
         };
         let none = AaMethod::None;
         let c64 = method_cost(&none, &frame, &HwConfig::new(64, 1.0).unwrap()).unwrap();
-        assert_eq!(c64.cycles, 27_616);
-        // 60 frames per second at N = 64: 27,616 · 60 = 1,656,960 clocks per second.
-        assert!((clock_for_fps(c64.cycles, 60.0) - 1.656_96).abs() < 1e-12);
+        assert_eq!(c64.cycles, 27_617);
+        // 60 frames per second at N = 64: 27,617 · 60 = 1,657,020 clocks per second.
+        assert!((clock_for_fps(c64.cycles, 60.0) - 1.657_02).abs() < 1e-12);
         // At 1 MHz, 38 fps allows 1e6 / 38 = 26,315.8 cycles: only one tile per row
-        // (26,116) fits; two tiles (26,616) do not, so the answer is 256, not the
+        // (26,117) fits; two tiles (26,617) do not, so the answer is 256, not the
         // 128 = ⌈256 / 2⌉ a pixel count alone would suggest.
         assert_eq!(
             min_width_for_fps(&none, &frame, 1.0, 38.0).unwrap(),
             WidthFor::Width {
                 n: 256,
-                cycles: 26_116
+                cycles: 26_117
             }
         );
-        // 39 fps allows 25,641 cycles, below the 26,116 of the widest array.
+        // 39 fps allows 25,641 cycles, below the 26,117 of the widest array.
         assert_eq!(
             min_width_for_fps(&none, &frame, 1.0, 39.0).unwrap(),
             WidthFor::NotReachable {
-                floor_cycles: 26_116
+                floor_cycles: 26_117
             }
         );
-        // 36.5 fps allows 27,397: four tiles (64..=85: 100·(256 + 20) + 16 = 27,616)
-        // miss, three (86..=127: 100·(256 + 15) + 16 = 27,116) fit: the smallest is 86.
+        // 36.5 fps allows 27,397: four tiles (64..=85: 100·(256 + 20) + 17 = 27,617)
+        // miss, three (86..=127: 100·(256 + 15) + 17 = 27,117) fit: the smallest is 86.
         assert_eq!(
             min_width_for_fps(&none, &frame, 1.0, 36.5).unwrap(),
             WidthFor::Width {
                 n: 86,
-                cycles: 27_116
+                cycles: 27_117
             }
         );
     }
