@@ -63,9 +63,8 @@ use pixelproc_formats::regs::RGB_BITS;
 use pixelproc_formats::SPAN_XL;
 use rust_hdl::prelude::*;
 
-// The core reads a fetched beat's kind from the input FIFO's `next_tag`: its low bits.
-const _: () =
-    assert!(crate::stream_fifo::TAG_BITS == KIND_BITS && crate::layout::BEAT_KIND.lsb == 0);
+// The core reads a fetched beat's frame flag from bit 0 of the input FIFO's `next_tag`.
+const _: () = assert!(crate::stream_fifo::TAG_BITS >= 1 && crate::layout::BEAT_FRAME.lsb == 0);
 
 /// Width of a column number.
 const X_W: usize = SPAN_XL.width;
@@ -145,7 +144,7 @@ pub struct PixelprocCore<const IA: usize, const IA1: usize> {
     l_arr: Signal<Local, Bit>,
     l_issue: Signal<Local, Bit>,
     l_jv: Signal<Local, Bit>,
-    l_nkind: Signal<Local, Bits<KIND_BITS>>,
+    l_nframe: Signal<Local, Bit>,
     l_go: Signal<Local, Bit>,
     l_cp1: Signal<Local, Bits<6>>,
     l_cm1: Signal<Local, Bits<6>>,
@@ -221,7 +220,7 @@ impl<const IA: usize, const IA1: usize> PixelprocCore<IA, IA1> {
             job_v: Default::default(),
             hold: Default::default(),
             l_jv: Default::default(),
-            l_nkind: Default::default(),
+            l_nframe: Default::default(),
             job_wait: Default::default(),
             job_last: Default::default(),
             job_sof: Default::default(),
@@ -337,6 +336,11 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
         self.l_beat.next = self.k_zero_beat.val();
         self.l_beat.next.set_value_tdata(self.s_axis_tdata.val());
         self.l_beat.next.set_value_kind(self.s_axis_tuser.val());
+        // The frame flag, decoded as the beat enters: TILE or END.
+        self.l_beat.next.set_value_frame(
+            (self.s_axis_tuser.val() == self.k_tile.val())
+                | (self.s_axis_tuser.val() == self.k_end.val()),
+        );
         self.in_fifo.in_data.next = self.l_beat.val();
         self.in_fifo.in_valid.next = self.s_axis_tvalid.val();
         self.s_axis_tready.next = self.in_fifo.in_ready.val();
@@ -345,7 +349,7 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
         self.l_data.next = self.in_fifo.out_data.val().get_value_tdata();
         self.l_kind.next = self.in_fifo.out_data.val().get_value_kind();
         self.l_tile.next = self.l_kind.val() == self.k_tile.val();
-        self.l_frame.next = self.l_tile.val() | (self.l_kind.val() == self.k_end.val());
+        self.l_frame.next = self.in_fifo.out_data.val().get_value_frame();
         self.l_table.next = self.l_kind.val() == self.k_table.val();
         self.l_arr.next = (self.l_kind.val() < self.k_eight.val())
             & (self.l_kind.val() != self.k_cl4.val())
@@ -528,18 +532,16 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
             self.base_r.d.next = self.k_zero12.val();
             self.ra.d.next = self.k_zero12.val();
         }
-        // ---- The stall after this edge: `job_v` after it, and the kind of the head beat
-        // after it (the fetched beat on a fetch, else the held one). While the FIFO
-        // presents nothing (`dv = 0`) `hold` is not used, and a fetch, which sets `dv`,
-        // loads it with the beat's own kind.
+        // ---- The stall after this edge: `job_v` after it, and the frame flag of the head
+        // beat after it (the fetched beat's on a fetch, else the held one's). While the
+        // FIFO presents nothing (`dv = 0`) `hold` is not used, and a fetch, which sets
+        // `dv`, loads it from the beat's own flag.
         self.job_v.d.next = self.l_jv.val();
-        self.l_nkind.next = self.l_kind.val();
+        self.l_nframe.next = self.l_frame.val();
         if self.in_fifo.fetching.val() {
-            self.l_nkind.next = self.in_fifo.next_tag.val();
+            self.l_nframe.next = self.in_fifo.next_tag.val().get_bit(0);
         }
-        self.hold.d.next = self.l_jv.val()
-            & ((self.l_nkind.val() == self.k_tile.val())
-                | (self.l_nkind.val() == self.k_end.val()));
+        self.hold.d.next = self.l_jv.val() & self.l_nframe.val();
     }
 }
 

@@ -188,11 +188,14 @@ field_slices! {
     }
 }
 
-/// Width of a command beat as the core's input FIFO stores it: the beat kind (4) in the low
-/// bits, where the FIFO's look-ahead port `next_tag` reads it, then `tdata` (256).
-pub const BEAT_W: usize = KIND_BITS + BEAT_DATA_BITS;
+/// Width of a command beat as the core's input FIFO stores it: a frame flag (1: the kind
+/// is TILE or END, decoded as the beat enters the FIFO) in bit 0, where the FIFO's
+/// look-ahead port `next_tag` reads it, then the beat kind (4), then `tdata` (256).
+pub const BEAT_W: usize = 1 + KIND_BITS + BEAT_DATA_BITS;
+/// Beat field: the frame flag (`kind` is TILE or END).
+pub const BEAT_FRAME: Field = Field::first("frame", 1);
 /// Beat field: the kind (`tuser`).
-pub const BEAT_KIND: Field = Field::first("kind", KIND_BITS);
+pub const BEAT_KIND: Field = BEAT_FRAME.then("kind", KIND_BITS);
 /// Beat field: `tdata`.
 pub const BEAT_DATA: Field = BEAT_KIND.then("tdata", BEAT_DATA_BITS);
 const _: () = assert!(BEAT_DATA.end() == BEAT_W);
@@ -211,13 +214,15 @@ const _: () =
     assert!(TABLE_DROP.lsb == TABLE_FACTOR.end() && TABLE_ENTRY.end() == TABLE_DROP.end());
 
 field_slices! {
-    /// A stored command beat: data and kind.
+    /// A stored command beat: frame flag, kind and data.
     BeatFields for BEAT_W;
     bits {
         get_value_tdata, set_value_tdata, get_my_width_tdata, get_my_offset_tdata: BEAT_DATA;
         get_value_kind, set_value_kind, get_my_width_kind, get_my_offset_kind: BEAT_KIND;
     }
-    flags {}
+    flags {
+        get_value_frame, set_value_frame, get_my_width_frame, get_my_offset_frame: BEAT_FRAME;
+    }
 }
 
 field_slices! {

@@ -80,7 +80,9 @@ use rust_hdl::prelude::*;
 /// address as the FIFO's RAM): a second reader of the FIFO's RAM beside the head register
 /// led Yosys 0.23's `memory_dff` to leave most of the head register's bits without a
 /// driver in generic synthesis (`synth`; `synth_ecp5` was not affected).
-pub const TAG_BITS: usize = 4;
+pub const TAG_BITS: usize = 2;
+// (Two, not one: rust-hdl declares a one-bit vector without a range, and a slice or an
+// index of it is not Verilog.)
 
 /// The FIFO: `W` data bits, `2^A` entries, `A1 = A + 1` (pointer width). Each pointer is
 /// held as an `A`-bit address and a wrap bit, so the RAM addresses need no truncation.
@@ -110,7 +112,7 @@ pub struct StreamFifo<const W: usize, const A: usize, const A1: usize> {
     pub fetching: Signal<Out, Bit>,
     /// Read side: the low [`TAG_BITS`] bits of the entry a fetch loads into the head
     /// register (the RAM's read at the read pointer), for a consumer that decodes the
-    /// entry's kind a clock ahead (the core's command beats keep their kind there).
+    /// entry a clock ahead (the core's command beats keep their frame flag there).
     pub next_tag: Signal<Out, Bits<TAG_BITS>>,
     ram: SlicedLutRam<Bits<W>, A>,
     /// A copy of every entry's low [`TAG_BITS`] bits, written and read with `ram`, for

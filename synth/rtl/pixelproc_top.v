@@ -42,7 +42,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     localparam  k_debug = 1'b0;
     localparam  k_two3 = 3'b10;
     localparam  k_four3 = 3'b100;
-    localparam  k_zero_beat = 260'h0;
+    localparam  k_zero_beat = 261'h0;
     localparam  k_zero_rd = 99'h0;
     localparam  k_zero_user = 51'h0;
     localparam  k_zero_pix = 76'h0;
@@ -51,14 +51,14 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     reg  in_fifo$clock;
     reg  in_fifo$rst;
     reg  in_fifo$in_valid;
-    reg  [259:0] in_fifo$in_data;
+    reg  [260:0] in_fifo$in_data;
     wire  in_fifo$in_ready;
     wire  in_fifo$out_valid;
-    wire  [259:0] in_fifo$out_data;
+    wire  [260:0] in_fifo$out_data;
     reg  in_fifo$out_ready;
     wire  [5:0] in_fifo$level;
     wire  in_fifo$fetching;
-    wire  [3:0] in_fifo$next_tag;
+    wire  [1:0] in_fifo$next_tag;
     reg  array$clock;
     reg  array$rst;
     reg  array$cmd_valid;
@@ -97,7 +97,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     reg  out_fifo$out_ready;
     wire  [4:0] out_fifo$level;
     wire  out_fifo$fetching;
-    wire  [3:0] out_fifo$next_tag;
+    wire  [1:0] out_fifo$next_tag;
     reg  [11:0] base_r$d;
     wire  [11:0] base_r$q;
     reg  base_r$clock;
@@ -148,7 +148,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     reg  err$clock;
     
     // Local signals
-    reg  [259:0] l_beat;
+    reg  [260:0] l_beat;
     reg  [255:0] l_data;
     reg  [3:0] l_kind;
     reg  l_frame;
@@ -157,7 +157,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     reg  l_arr;
     reg  l_issue;
     reg  l_jv;
-    reg  [3:0] l_nkind;
+    reg  l_nframe;
     reg  l_go;
     reg  [5:0] l_cp1;
     reg  [5:0] l_cm1;
@@ -355,16 +355,17 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         shade$rst = rst;
         out_fifo$rst = rst;
         l_beat = k_zero_beat;
-        l_beat[(32'h4)+:(256)] = s_axis_tdata;
-        l_beat[(32'h0)+:(4)] = s_axis_tuser;
+        l_beat[(32'h5)+:(256)] = s_axis_tdata;
+        l_beat[(32'h1)+:(4)] = s_axis_tuser;
+        l_beat[(32'h0)+:(1)] = (s_axis_tuser == k_tile) | (s_axis_tuser == k_end);
         in_fifo$in_data = l_beat;
         in_fifo$in_valid = s_axis_tvalid;
         s_axis_tready = in_fifo$in_ready;
         in_level = in_fifo$level;
-        l_data = in_fifo$out_data[(32'h4)+:(256)];
-        l_kind = in_fifo$out_data[(32'h0)+:(4)];
+        l_data = in_fifo$out_data[(32'h5)+:(256)];
+        l_kind = in_fifo$out_data[(32'h1)+:(4)];
         l_tile = l_kind == k_tile;
-        l_frame = l_tile | (l_kind == k_end);
+        l_frame = in_fifo$out_data[(32'h0)+:(1)];
         l_table = l_kind == k_table;
         l_arr = (l_kind < k_eight) & (l_kind != k_cl4) & (l_kind != k_rst4);
         in_fifo$out_ready = ~hold$q;
@@ -495,11 +496,11 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
             ra$d = k_zero12;
         end
         job_v$d = l_jv;
-        l_nkind = l_kind;
+        l_nframe = l_frame;
         if (in_fifo$fetching) begin
-            l_nkind = in_fifo$next_tag;
+            l_nframe = in_fifo$next_tag[32'h0];
         end
-        hold$d = l_jv & ((l_nkind == k_tile) | (l_nkind == k_end));
+        hold$d = l_jv & l_nframe;
     end
     
 endmodule // pixelproc_top
@@ -2597,14 +2598,14 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
     input wire  clock;
     input wire  rst;
     input wire  in_valid;
-    input wire  [259:0] in_data;
+    input wire  [260:0] in_data;
     output reg  in_ready;
     output reg  out_valid;
-    output reg  [259:0] out_data;
+    output reg  [260:0] out_data;
     input wire  out_ready;
     output reg  [5:0] level;
     output reg  fetching;
-    output reg  [3:0] next_tag;
+    output reg  [1:0] next_tag;
     
     // Constant declarations
     localparam  k_one = 6'b1;
@@ -2619,18 +2620,18 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
     // Stub signals
     reg  ram$clock;
     reg  ram$write_enable;
-    reg  [259:0] ram$write_data;
+    reg  [260:0] ram$write_data;
     reg  [4:0] ram$next_write_address;
     reg  [4:0] ram$next_read_address;
-    wire  [259:0] ram$read_data;
+    wire  [260:0] ram$read_data;
     reg  tag_ram$clock;
     reg  tag_ram$write_enable;
-    reg  [3:0] tag_ram$write_data;
+    reg  [1:0] tag_ram$write_data;
     reg  [4:0] tag_ram$next_write_address;
     reg  [4:0] tag_ram$next_read_address;
-    wire  [3:0] tag_ram$read_data;
-    reg  [259:0] head$d;
-    wire  [259:0] head$q;
+    wire  [1:0] tag_ram$read_data;
+    reg  [260:0] head$d;
+    wire  [260:0] head$q;
     reg  head$clock;
     reg  [4:0] wa$d;
     wire  [4:0] wa$q;
@@ -2811,7 +2812,7 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         ra$d = l_ra_next;
         ram$next_write_address = l_wa_next;
         ram$next_read_address = l_ra_next;
-        tag_ram$write_data = in_data[(32'h0)+:(4)];
+        tag_ram$write_data = in_data[(32'h0)+:(2)];
         tag_ram$write_enable = l_push | k_every_edge;
         tag_ram$next_write_address = l_wa_next;
         tag_ram$next_read_address = l_ra_next;
@@ -2823,13 +2824,13 @@ endmodule // pixelproc_top$in_fifo
 module pixelproc_top$in_fifo$head(d,q,clock);
     
     // Module arguments
-    input wire  [259:0] d;
-    output reg  [259:0] q;
+    input wire  [260:0] d;
+    output reg  [260:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 260'h0;
+       q = 261'h0;
     end
     
     always @(posedge clock) begin
@@ -2863,10 +2864,10 @@ module pixelproc_top$in_fifo$ram(clock,write_enable,write_data,next_write_addres
     // Module arguments
     input wire  clock;
     input wire  write_enable;
-    input wire  [259:0] write_data;
+    input wire  [260:0] write_data;
     input wire  [4:0] next_write_address;
     input wire  [4:0] next_read_address;
-    output reg  [259:0] read_data;
+    output reg  [260:0] read_data;
     
     // Update code (custom)
     // slice 0: bits 31:0, with its own copies of the two addresses
@@ -2884,31 +2885,31 @@ module pixelproc_top$in_fifo$ram(clock,write_enable,write_data,next_write_addres
     (* keep *) reg [4:0] wa_2;
     reg [31:0] mem_2 [0:31];
     wire [31:0] rd_2 = mem_2[ra_2];
-    // slice 3: bits 127:96, with its own copies of the two addresses
+    // slice 3: bits 131:96, with its own copies of the two addresses
     (* keep *) reg [4:0] ra_3;
     (* keep *) reg [4:0] wa_3;
-    reg [31:0] mem_3 [0:31];
-    wire [31:0] rd_3 = mem_3[ra_3];
-    // slice 4: bits 159:128, with its own copies of the two addresses
+    reg [35:0] mem_3 [0:31];
+    wire [35:0] rd_3 = mem_3[ra_3];
+    // slice 4: bits 163:132, with its own copies of the two addresses
     (* keep *) reg [4:0] ra_4;
     (* keep *) reg [4:0] wa_4;
     reg [31:0] mem_4 [0:31];
     wire [31:0] rd_4 = mem_4[ra_4];
-    // slice 5: bits 191:160, with its own copies of the two addresses
+    // slice 5: bits 195:164, with its own copies of the two addresses
     (* keep *) reg [4:0] ra_5;
     (* keep *) reg [4:0] wa_5;
     reg [31:0] mem_5 [0:31];
     wire [31:0] rd_5 = mem_5[ra_5];
-    // slice 6: bits 223:192, with its own copies of the two addresses
+    // slice 6: bits 227:196, with its own copies of the two addresses
     (* keep *) reg [4:0] ra_6;
     (* keep *) reg [4:0] wa_6;
     reg [31:0] mem_6 [0:31];
     wire [31:0] rd_6 = mem_6[ra_6];
-    // slice 7: bits 259:224, with its own copies of the two addresses
+    // slice 7: bits 260:228, with its own copies of the two addresses
     (* keep *) reg [4:0] ra_7;
     (* keep *) reg [4:0] wa_7;
-    reg [35:0] mem_7 [0:31];
-    wire [35:0] rd_7 = mem_7[ra_7];
+    reg [32:0] mem_7 [0:31];
+    wire [32:0] rd_7 = mem_7[ra_7];
     
     initial begin
        ra_0 = 5'd0;
@@ -2969,11 +2970,11 @@ module pixelproc_top$in_fifo$ram(clock,write_enable,write_data,next_write_addres
           mem_0[wa_0] <= write_data[31:0];
           mem_1[wa_1] <= write_data[63:32];
           mem_2[wa_2] <= write_data[95:64];
-          mem_3[wa_3] <= write_data[127:96];
-          mem_4[wa_4] <= write_data[159:128];
-          mem_5[wa_5] <= write_data[191:160];
-          mem_6[wa_6] <= write_data[223:192];
-          mem_7[wa_7] <= write_data[259:224];
+          mem_3[wa_3] <= write_data[131:96];
+          mem_4[wa_4] <= write_data[163:132];
+          mem_5[wa_5] <= write_data[195:164];
+          mem_6[wa_6] <= write_data[227:196];
+          mem_7[wa_7] <= write_data[260:228];
        end
     end
 endmodule // pixelproc_top$in_fifo$ram
@@ -2984,17 +2985,17 @@ module pixelproc_top$in_fifo$tag_ram(clock,write_enable,write_data,next_write_ad
     // Module arguments
     input wire  clock;
     input wire  write_enable;
-    input wire  [3:0] write_data;
+    input wire  [1:0] write_data;
     input wire  [4:0] next_write_address;
     input wire  [4:0] next_read_address;
-    output reg  [3:0] read_data;
+    output reg  [1:0] read_data;
     
     // Update code (custom)
-    // slice 0: bits 3:0, with its own copies of the two addresses
+    // slice 0: bits 1:0, with its own copies of the two addresses
     (* keep *) reg [4:0] ra_0;
     (* keep *) reg [4:0] wa_0;
-    reg [3:0] mem_0 [0:31];
-    wire [3:0] rd_0 = mem_0[ra_0];
+    reg [1:0] mem_0 [0:31];
+    wire [1:0] rd_0 = mem_0[ra_0];
     
     initial begin
        ra_0 = 5'd0;
@@ -3010,7 +3011,7 @@ module pixelproc_top$in_fifo$tag_ram(clock,write_enable,write_data,next_write_ad
     
     always @(posedge clock) begin
        if (write_enable) begin
-          mem_0[wa_0] <= write_data[3:0];
+          mem_0[wa_0] <= write_data[1:0];
        end
     end
 endmodule // pixelproc_top$in_fifo$tag_ram
@@ -3029,7 +3030,7 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
     input wire  out_ready;
     output reg  [4:0] level;
     output reg  fetching;
-    output reg  [3:0] next_tag;
+    output reg  [1:0] next_tag;
     
     // Constant declarations
     localparam  k_one = 5'b1;
@@ -3050,10 +3051,10 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
     wire  [75:0] ram$read_data;
     reg  tag_ram$clock;
     reg  tag_ram$write_enable;
-    reg  [3:0] tag_ram$write_data;
+    reg  [1:0] tag_ram$write_data;
     reg  [3:0] tag_ram$next_write_address;
     reg  [3:0] tag_ram$next_read_address;
-    wire  [3:0] tag_ram$read_data;
+    wire  [1:0] tag_ram$read_data;
     reg  [75:0] head$d;
     wire  [75:0] head$q;
     reg  head$clock;
@@ -3236,7 +3237,7 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         ra$d = l_ra_next;
         ram$next_write_address = l_wa_next;
         ram$next_read_address = l_ra_next;
-        tag_ram$write_data = in_data[(32'h0)+:(4)];
+        tag_ram$write_data = in_data[(32'h0)+:(2)];
         tag_ram$write_enable = l_push | k_every_edge;
         tag_ram$next_write_address = l_wa_next;
         tag_ram$next_read_address = l_ra_next;
@@ -3325,17 +3326,17 @@ module pixelproc_top$out_fifo$tag_ram(clock,write_enable,write_data,next_write_a
     // Module arguments
     input wire  clock;
     input wire  write_enable;
-    input wire  [3:0] write_data;
+    input wire  [1:0] write_data;
     input wire  [3:0] next_write_address;
     input wire  [3:0] next_read_address;
-    output reg  [3:0] read_data;
+    output reg  [1:0] read_data;
     
     // Update code (custom)
-    // slice 0: bits 3:0, with its own copies of the two addresses
+    // slice 0: bits 1:0, with its own copies of the two addresses
     (* keep *) reg [3:0] ra_0;
     (* keep *) reg [3:0] wa_0;
-    reg [3:0] mem_0 [0:15];
-    wire [3:0] rd_0 = mem_0[ra_0];
+    reg [1:0] mem_0 [0:15];
+    wire [1:0] rd_0 = mem_0[ra_0];
     
     initial begin
        ra_0 = 4'd0;
@@ -3351,7 +3352,7 @@ module pixelproc_top$out_fifo$tag_ram(clock,write_enable,write_data,next_write_a
     
     always @(posedge clock) begin
        if (write_enable) begin
-          mem_0[wa_0] <= write_data[3:0];
+          mem_0[wa_0] <= write_data[1:0];
        end
     end
 endmodule // pixelproc_top$out_fifo$tag_ram
