@@ -27,7 +27,12 @@
 //! The head of the input FIFO is *issued* (popped and given to the array) unless it is a
 //! TILE or END beat while a readout job is still waiting or sweeping (`job_v`): such a
 //! beat would overwrite the readout registers being read. That is the only input stall;
-//! the source never pads.
+//! the source never pads. The stall is a register, `hold`, loaded at every edge with
+//! `job_v`'s next value and the frame flag (TILE or END) of the beat at the head after the
+//! edge: a beat's frame flag is decoded as it enters the FIFO (bit 0 of the stored beat),
+//! and the FIFO gives it a clock ahead (`StreamFifo::next_tag`). So the FIFO's fetch, the
+//! clock enable of its head register, reads three flip-flops (`job_v` and the head's
+//! decoded kind in front of it were the worst path at N = 16, 32 and 64 on an ECP5).
 //! - SPAN, CHECK, CLEAR_FLAGS, ACCUMULATE, LATCH_SHADOW, NOP: the array's command port.
 //! - TILE: CLEAR_LINE with the beat's background; the tile base register takes `BASE`.
 //!   If a tile-line was pending in the array, a readout job for it starts (wait counter
@@ -73,7 +78,7 @@ pub const READOUT_WAIT: u32 = 4;
 /// Address bits of the output FIFO (16 pixels).
 pub const OUT_FIFO_ABITS: usize = 4;
 /// Slices of the input FIFO's RAM, each with its own copy of the FIFO's pointers
-/// (`lut_ram::SlicedLutRam`): a 260-bit beat in slices of 32 or 36 bits, so one read
+/// (`lut_ram::SlicedLutRam`): a 261-bit beat in slices of 32 to 36 bits, so one read
 /// pointer copy addresses 16 or 18 LUT RAM primitives instead of 130.
 pub const IN_FIFO_SLICES: usize = 8;
 /// Edges from the array sampling a readout address to the pixel being in the output FIFO.
@@ -355,7 +360,7 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
             & (self.l_kind.val() != self.k_cl4.val())
             & (self.l_kind.val() != self.k_rst4.val());
         // The stall `frame(head) ∧ job_v` is the register `hold` (set below from both
-        // values after the edge), so the FIFO's fetch, the clock enable of its 260-bit head
+        // values after the edge), so the FIFO's fetch, the clock enable of its 261-bit head
         // register, reads three flip-flops. `rst` is left out of the FIFO's `out_ready`:
         // the FIFO's own reset overrides every register a pop or fetch would change (and
         // the head register holds nothing while `dv` is 0); it stays in the issue.

@@ -30,7 +30,7 @@ pub fn slice_bounds(bits: usize, slices: usize) -> Vec<(usize, usize)> {
 /// register is about to load), so each slice's copy equals the caller's pointer.
 ///
 /// A pointer register that addresses every LUT RAM primitive of a wide word fans out to
-/// all of them (260 bits × 32 words: 130 `TRELLIS_DPR16X4`s and their 2:1 multiplexers),
+/// all of them (the core's command beat, 260 bits then, × 32 words: 130 `TRELLIS_DPR16X4`s and their 2:1 multiplexers),
 /// and that net's routing was the core's critical path (`docs/fpga.md`). With a copy per
 /// slice, each copy drives only its slice. The copies carry `(* keep *)` in the Verilog
 /// (on each slice's `always` block: on the registers alone Yosys still merges them), so

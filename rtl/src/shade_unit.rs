@@ -2,7 +2,7 @@
 //! it in the frame buffer"; section 6 for the table indexed by the normal class and the
 //! light mask or counter), on the core's readout path.
 //!
-//! Each pixel read out of the array passes through eight registers. The shading table
+//! Each pixel read out of the array passes through nine registers. The shading table
 //! (2^15 × 18 bits holding `{G, F}`, written through `tw_*`, indexed by
 //! `{NCLASS, MASK[2:0], COUNT[3:0]}`: `pixelproc_formats::core_stream::SHADE_ADDR_FIELDS`)
 //! is [`BANKS`] banks of 2^[`BANK_BITS`] entries ([`crate::bank_ram::BankRam`], one ECP5
@@ -13,7 +13,10 @@
 //! registers it again and reads every bank; stage 2 registers every bank's output (inside
 //! the bank: on an ECP5 the block RAM's own output register), and per
 //! channel `d = max(0, c − s)` (`c` a colour channel, `s` the same channel of shade
-//! register `SH`); stage 3 picks, in each group of 8 banks, the entry of the addressed
+//! register `SH`); stage 2b registers every bank's entry again, in the fabric (from the
+//! block RAMs' output registers, spread along the die's block RAM rows, the route to each
+//! group's select was the core's critical path at N = 8 to 32 on an ECP5); stage 3 picks,
+//! in each group of 8 banks, the entry of the addressed
 //! bank, and decides the override below; stage 4 picks the addressed group's entry,
 //! applies the override and loads `F`, `G` and each channel's `c` and `d` into the
 //! multipliers' operand registers; stage 5 registers the raw products `c·F` and `d·G`
@@ -41,12 +44,12 @@
 //! | port | dir | width | meaning |
 //! |---|---|---|---|
 //! | `clock` | in | 1 | rising edge |
-//! | `rst` | in | 1 | synchronous: no pixel leaves for the next eight edges |
+//! | `rst` | in | 1 | synchronous: no pixel leaves for the next nine edges |
 //! | `in_valid`, `in_word`, `in_meta` | in | 1, 99, 2 | a pixel: readout word, and two flags carried along |
 //! | `tw_en`, `tw_addr`, `tw_data` | in | 1, 15, 18 | table write `{G, F}` (ignored without shading); a write on these before edge `E` is in its bank at edge `E + 1` |
-//! | `out_valid`, `out_word`, `out_meta` | out | 1, 99, 2 | the pixel eight edges later, its RGB shaded |
+//! | `out_valid`, `out_word`, `out_meta` | out | 1, 99, 2 | the pixel nine edges later, its RGB shaded |
 //!
-//! Latency: a pixel on the inputs before edge `E` is on the outputs after edge `E + 7`
+//! Latency: a pixel on the inputs before edge `E` is on the outputs after edge `E + 8`
 //! ([`LATENCY`] edges).
 //!
 //! # Table writes
@@ -151,7 +154,7 @@ fn stage5_rounded(lit: u32, drop: u32) -> u32 {
 pub struct ShadeUnit {
     /// Clock.
     pub clock: Signal<In, Clock>,
-    /// Synchronous reset: empties the eight stages.
+    /// Synchronous reset: empties the nine stages.
     pub rst: Signal<In, Bit>,
     /// A pixel is on `in_word`.
     pub in_valid: Signal<In, Bit>,

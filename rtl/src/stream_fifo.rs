@@ -42,7 +42,7 @@
 //! register's clock enable, reads a flip-flop instead of comparing the pointers.
 //!
 //! The RAM is a [`crate::lut_ram::SlicedLutRam`]: cut by data bits into
-//! [`StreamFifo::with_slices`] slices (one by default; 8 for the core's 260-bit command
+//! [`StreamFifo::with_slices`] slices (one by default; 8 for the core's 261-bit command
 //! FIFO), each with its own registered copy of the read and write addresses, loaded with
 //! the pointers' next values. A copy drives the address pins of its slice only, instead
 //! of one pointer register driving every LUT RAM primitive of the word.
