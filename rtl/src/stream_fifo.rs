@@ -106,7 +106,8 @@ pub struct StreamFifo<const W: usize, const A: usize, const A1: usize> {
     pub out_ready: Signal<In, Bit>,
     /// Entries held.
     pub level: Signal<Out, Bits<A1>>,
-    /// Read side: the head register loads `next_data` at the next edge (a *fetch*: the
+    /// Read side: the head register loads the RAM's entry at the read pointer at the next
+    /// edge (a *fetch*: the
     /// RAM holds an entry and the head register is empty or being popped). A consumer
     /// that keeps its own registers about the head entry loads them on the same edge.
     pub fetching: Signal<Out, Bit>,
@@ -319,7 +320,8 @@ mod tests {
 
     /// Random valid and ready patterns: every beat comes out once, in order, data stable
     /// while stalled, the level matches a queue model, and the non-empty flag equals
-    /// `wr != rd` after every edge.
+    /// `wr != rd` after every edge; on every fetch, `next_tag` is the low bits of the beat
+    /// presented after the edge.
     fn no_beat_lost<const W: usize, const A: usize, const A1: usize>(
         slices: usize,
         seed: u64,
@@ -345,6 +347,7 @@ mod tests {
         let mut model: VecDeque<u64> = VecDeque::new();
         let mut held: Option<u64> = None;
         let (mut empty_clocks, mut full_clocks) = (0, 0);
+        let mut fetches = 0;
         for i in 0..4000 {
             let r = rnd();
             // Phases of mostly filling and mostly draining, so the FIFO runs full and
@@ -399,8 +402,18 @@ mod tests {
                     next_in += 1;
                 }
             }
+            // The look-ahead: on a fetch, `next_tag` is the low bits of the beat the head
+            // register presents after the edge.
+            let look = (!rst && uut.fetching.val()).then(|| uut.next_tag.val().to_u64());
             edge(&mut uut);
+            if let Some(tag) = look {
+                assert!(uut.out_valid.val(), "clock {i}: a fetch presents a beat");
+                let low = uut.out_data.val().to_u64() & ((1 << TAG_BITS) - 1);
+                assert_eq!(low, tag, "clock {i}: next_tag");
+                fetches += 1;
+            }
         }
+        assert!(fetches > 1000, "{fetches} fetches");
         assert!(next_in > 1000, "the pattern moved {next_in} beats");
         assert!(
             full_clocks > 100 && empty_clocks > 100,
