@@ -26,7 +26,11 @@
 //!   holds (a clock enable);
 //! - `rd += fetch`, `dv := fetch ∨ (dv ∧ ¬pop)`, `wr += push`, `mem[wr] := in_data` if
 //!   `push` (or at every edge, pushed or not: see "Writing at every edge");
-//! - `level = wr − rd + dv`, `in_ready = ¬rst ∧ level ≠ 2^A`.
+//! - `level = wr − rd + dv`, `in_ready = ¬rst ∧ level ≠ 2^A`;
+//! - with `rst`, every register but `head` is cleared instead (the FIFO is empty after
+//!   the edge). Inside, the push that advances `wr` and writes the RAM is `in_valid ∧
+//!   level ≠ 2^A`, without `rst`: `rst` overrides the pointer, and a slot written under
+//!   `rst` holds no entry, so on the ports this is the push above.
 //!
 //! `level` is read from a register, `lv`, kept equal to `wr − rd + dv` after every edge:
 //! `+1` on a push without a pop, `−1` on a pop without a push, unchanged otherwise
@@ -235,7 +239,13 @@ impl<const W: usize, const A: usize, const A1: usize> Logic for StreamFifo<W, A,
         self.in_ready.next = !self.full.q.val() & !self.rst.val();
         self.l_pop.next = self.dv.q.val() & self.out_ready.val();
         self.l_fetch.next = self.ne.q.val() & (!self.dv.q.val() | self.l_pop.val());
-        self.l_push.next = self.in_valid.val() & self.in_ready.val();
+        // `rst` is left out of the push: its block at the end sets every register a push
+        // changes, and a RAM write under `rst` lands in a slot that holds no entry. So
+        // `rst` reaches the pointers and flags as their last select only, not through the
+        // push into the write enables and the address copies' increments (the harness's
+        // reset → the push → the write-address copy was the core's worst path at N = 32,
+        // `docs/fpga.md`).
+        self.l_push.next = self.in_valid.val() & !self.full.q.val();
         if self.l_push.val() & !self.l_pop.val() {
             self.full.d.next = self.lv.q.val() == self.k_almost.val();
             self.lv.d.next = self.lv.q.val() + self.k_one.val();

@@ -2756,7 +2756,7 @@ module pixelproc_top$in_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_d
         in_ready = ~full$q & ~rst;
         l_pop = dv$q & out_ready;
         l_fetch = ne$q & (~dv$q | l_pop);
-        l_push = in_valid & in_ready;
+        l_push = in_valid & ~full$q;
         if (l_push & ~l_pop) begin
             full$d = lv$q == k_almost;
             lv$d = lv$q + k_one;
@@ -3181,7 +3181,7 @@ module pixelproc_top$out_fifo(clock,rst,in_valid,in_data,in_ready,out_valid,out_
         in_ready = ~full$q & ~rst;
         l_pop = dv$q & out_ready;
         l_fetch = ne$q & (~dv$q | l_pop);
-        l_push = in_valid & in_ready;
+        l_push = in_valid & ~full$q;
         if (l_push & ~l_pop) begin
             full$d = lv$q == k_almost;
             lv$d = lv$q + k_one;
