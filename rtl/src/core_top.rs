@@ -42,7 +42,8 @@
 //!   registers it: `shade_unit::TW_DELAY`).
 //!
 //! The sweep sends one address per clock while the output FIFO has room for every pixel
-//! in flight (`level + inflight < 16`, kept in one register, `credit`). A pixel whose
+//! in flight (`level + inflight < 16`, kept in one register, `credit`, and read from another,
+//! `no_room`, equal to `credit ≥ 16` after every edge). A pixel whose
 //! address the array samples at edge `E` is in the output FIFO after edge
 //! `E + `[`READ_TO_FIFO`] (array readout: 2 registers; then the core's tracking register
 //! and the shading unit's `SHADE_STAGES` stages).
@@ -139,6 +140,9 @@ pub struct PixelprocCore<const IA: usize, const IA1: usize> {
     t3: DFF<Bits<3>>,
     inflight: DFF<Bits<5>>,
     credit: DFF<Bits<6>>,
+    /// `credit ≥ 16` after every edge (no room for another pixel): the sweep's room check
+    /// from one flip-flop.
+    no_room: DFF<Bit>,
     err: DFF<Bit>,
     l_beat: Signal<Local, Bits<BEAT_W>>,
     l_data: Signal<Local, Bits<SPAN_W>>,
@@ -154,6 +158,7 @@ pub struct PixelprocCore<const IA: usize, const IA1: usize> {
     l_cp1: Signal<Local, Bits<6>>,
     l_cm1: Signal<Local, Bits<6>>,
     l_cm2: Signal<Local, Bits<6>>,
+    l_credit: Signal<Local, Bits<6>>,
     l_pop: Signal<Local, Bit>,
     l_lost: Signal<Local, Bit>,
     l_t1: Signal<Local, Bits<3>>,
@@ -177,7 +182,7 @@ pub struct PixelprocCore<const IA: usize, const IA1: usize> {
     k_nlast: Constant<Bits<X_W>>,
     k_zero5: Constant<Bits<5>>,
     k_one5: Constant<Bits<5>>,
-    k_room: Constant<Bits<6>>,
+    k_no_room: Constant<Bits<6>>,
     k_zero6: Constant<Bits<6>>,
     k_one6: Constant<Bits<6>>,
     k_minus1_6: Constant<Bits<6>>,
@@ -235,6 +240,7 @@ impl<const IA: usize, const IA1: usize> PixelprocCore<IA, IA1> {
             t3: Default::default(),
             inflight: Default::default(),
             credit: Default::default(),
+            no_room: Default::default(),
             err: Default::default(),
             l_beat: Default::default(),
             l_data: Default::default(),
@@ -248,6 +254,7 @@ impl<const IA: usize, const IA1: usize> PixelprocCore<IA, IA1> {
             l_cp1: Default::default(),
             l_cm1: Default::default(),
             l_cm2: Default::default(),
+            l_credit: Default::default(),
             l_pop: Default::default(),
             l_lost: Default::default(),
             l_t1: Default::default(),
@@ -271,7 +278,7 @@ impl<const IA: usize, const IA1: usize> PixelprocCore<IA, IA1> {
             k_nlast: k(width as u64 - 1),
             k_zero5: k(0),
             k_one5: k(1),
-            k_room: k(1 << OUT_FIFO_ABITS),
+            k_no_room: k(0x3f & !((1 << OUT_FIFO_ABITS) - 1)),
             k_zero6: k(0),
             k_one6: k(1),
             k_minus1_6: k(0b11_1111),
@@ -326,7 +333,7 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
     fn update(&mut self) {
         dff_setup!(
             self, clock, base_r, pend_v, pend_last, pend_sof, job_v, hold, job_wait, job_last,
-            job_sof, ra, t1, t2, t3, inflight, credit, err
+            job_sof, ra, t1, t2, t3, inflight, credit, no_room, err
         );
         self.l_jv.next = self.job_v.q.val();
         self.in_fifo.clock.next = self.clock.val();
@@ -413,12 +420,15 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
         if self.job_v.q.val() & (self.job_wait.q.val() != self.k_zero3.val()) {
             self.job_wait.d.next = self.job_wait.q.val() - self.k_one3.val();
         }
-        // The room check reads `credit`, a register equal to `out_fifo.level + inflight`
-        // after every edge (both count the pixels sent and not yet taken by the sink), so
-        // no FIFO pointer arithmetic sits in front of the sweep's enables.
+        // The room check reads `no_room`, a register equal to `credit ≥ 16` after every
+        // edge; `credit` is a register equal to `out_fifo.level + inflight` (both count the
+        // pixels sent and not yet taken by the sink). So neither FIFO pointer arithmetic
+        // nor `credit`'s compare sits in front of the sweep's enables (the compare, a
+        // carry chain in front of `hold`, `ra` and `credit` itself, was among the worst
+        // paths at N = 8, 16 and 32: `docs/fpga.md`).
         self.l_go.next = self.job_v.q.val()
             & (self.job_wait.q.val() == self.k_zero3.val())
-            & (self.credit.q.val() < self.k_room.val());
+            & !self.no_room.q.val();
         self.array.rd_addr.next = self.ra.q.val();
         self.l_t1.next = self.k_zero3.val();
         if self.l_go.val() {
@@ -506,16 +516,17 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
         self.l_cp1.next = self.credit.q.val() + self.k_one6.val();
         self.l_cm1.next = self.credit.q.val() + self.k_minus1_6.val();
         self.l_cm2.next = self.credit.q.val() + self.k_minus2_6.val();
+        self.l_credit.next = self.credit.q.val();
         if self.l_go.val() & !self.l_pop.val() & !self.l_lost.val() {
-            self.credit.d.next = self.l_cp1.val();
+            self.l_credit.next = self.l_cp1.val();
         }
         if (self.l_go.val() & self.l_pop.val() & self.l_lost.val())
             | (!self.l_go.val() & (self.l_pop.val() ^ self.l_lost.val()))
         {
-            self.credit.d.next = self.l_cm1.val();
+            self.l_credit.next = self.l_cm1.val();
         }
         if !self.l_go.val() & self.l_pop.val() & self.l_lost.val() {
-            self.credit.d.next = self.l_cm2.val();
+            self.l_credit.next = self.l_cm2.val();
         }
         // ---- Pixel stream.
         self.out_fifo.out_ready.next = self.m_axis_tready.val();
@@ -532,11 +543,13 @@ impl<const IA: usize, const IA1: usize> Logic for PixelprocCore<IA, IA1> {
             self.t2.d.next = self.k_zero3.val();
             self.t3.d.next = self.k_zero3.val();
             self.inflight.d.next = self.k_zero5.val();
-            self.credit.d.next = self.k_zero6.val();
+            self.l_credit.next = self.k_zero6.val();
             self.err.d.next = false;
             self.base_r.d.next = self.k_zero12.val();
             self.ra.d.next = self.k_zero12.val();
         }
+        self.credit.d.next = self.l_credit.val();
+        self.no_room.d.next = (self.l_credit.val() & self.k_no_room.val()) != self.k_zero6.val();
         // ---- The stall after this edge: `job_v` after it, and the frame flag of the head
         // beat after it (the fetched beat's on a fetch, else the held one's). While the
         // FIFO presents nothing (`dv = 0`) `hold` is not used, and a fetch, which sets

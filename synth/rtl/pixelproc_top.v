@@ -34,7 +34,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     localparam  k_nlast = 12'h7;
     localparam  k_zero5 = 5'b0;
     localparam  k_one5 = 5'b1;
-    localparam  k_room = 6'b10000;
+    localparam  k_no_room = 6'b110000;
     localparam  k_zero6 = 6'b0;
     localparam  k_one6 = 6'b1;
     localparam  k_minus1_6 = 6'b111111;
@@ -143,6 +143,9 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     reg  [5:0] credit$d;
     wire  [5:0] credit$q;
     reg  credit$clock;
+    reg  no_room$d;
+    wire  no_room$q;
+    reg  no_room$clock;
     reg  err$d;
     wire  err$q;
     reg  err$clock;
@@ -162,6 +165,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
     reg  [5:0] l_cp1;
     reg  [5:0] l_cm1;
     reg  [5:0] l_cm2;
+    reg  [5:0] l_credit;
     reg  l_pop;
     reg  l_lost;
     reg  [2:0] l_t1;
@@ -305,6 +309,11 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         .q(credit$q),
         .clock(credit$clock)
     );
+    pixelproc_top$array$e1_span no_room(
+        .d(no_room$d),
+        .q(no_room$q),
+        .clock(no_room$clock)
+    );
     pixelproc_top$array$e1_span err(
         .d(err$d),
         .q(err$q),
@@ -328,6 +337,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         t3$clock = clock;
         inflight$clock = clock;
         credit$clock = clock;
+        no_room$clock = clock;
         err$clock = clock;
         base_r$d = base_r$q;
         pend_v$d = pend_v$q;
@@ -344,6 +354,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         t3$d = t3$q;
         inflight$d = inflight$q;
         credit$d = credit$q;
+        no_room$d = no_room$q;
         err$d = err$q;
         l_jv = job_v$q;
         in_fifo$clock = clock;
@@ -405,7 +416,7 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         if (job_v$q & (job_wait$q != k_zero3)) begin
             job_wait$d = job_wait$q - k_one3;
         end
-        l_go = job_v$q & (job_wait$q == k_zero3) & (credit$q < k_room);
+        l_go = job_v$q & (job_wait$q == k_zero3) & ~no_room$q;
         array$rd_addr = ra$q;
         l_t1 = k_zero3;
         if (l_go) begin
@@ -467,14 +478,15 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
         l_cp1 = credit$q + k_one6;
         l_cm1 = credit$q + k_minus1_6;
         l_cm2 = credit$q + k_minus2_6;
+        l_credit = credit$q;
         if (l_go & ~l_pop & ~l_lost) begin
-            credit$d = l_cp1;
+            l_credit = l_cp1;
         end
         if ((l_go & l_pop & l_lost) | (~l_go & (l_pop ^ l_lost))) begin
-            credit$d = l_cm1;
+            l_credit = l_cm1;
         end
         if (~l_go & l_pop & l_lost) begin
-            credit$d = l_cm2;
+            l_credit = l_cm2;
         end
         out_fifo$out_ready = m_axis_tready;
         m_axis_tvalid = out_fifo$out_valid;
@@ -490,11 +502,13 @@ module pixelproc_top(clock,rst,s_axis_tvalid,s_axis_tready,s_axis_tdata,s_axis_t
             t2$d = k_zero3;
             t3$d = k_zero3;
             inflight$d = k_zero5;
-            credit$d = k_zero6;
+            l_credit = k_zero6;
             err$d = 1'b0;
             base_r$d = k_zero12;
             ra$d = k_zero12;
         end
+        credit$d = l_credit;
+        no_room$d = (l_credit & k_no_room) != k_zero6;
         job_v$d = l_jv;
         l_nframe = l_frame;
         if (in_fifo$fetching) begin
