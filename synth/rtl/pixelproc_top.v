@@ -3749,6 +3749,9 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  [23:0] s2_d$d;
     wire  [23:0] s2_d$q;
     reg  s2_d$clock;
+    reg  s2_far$d;
+    wire  s2_far$q;
+    reg  s2_far$clock;
     reg  [17:0] s2b_e$0$d;
     wire  [17:0] s2b_e$0$q;
     reg  s2b_e$0$clock;
@@ -3860,6 +3863,9 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
     reg  [23:0] s2b_d$d;
     wire  [23:0] s2b_d$q;
     reg  s2b_d$clock;
+    reg  s2b_far$d;
+    wire  s2b_far$q;
+    reg  s2b_far$clock;
     reg  s3_v$d;
     wire  s3_v$q;
     reg  s3_v$clock;
@@ -4499,6 +4505,11 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(s2_d$q),
         .clock(s2_d$clock)
     );
+    pixelproc_top$array$e1_span s2_far(
+        .d(s2_far$d),
+        .q(s2_far$q),
+        .clock(s2_far$clock)
+    );
     pixelproc_top$shade$s2b_e s2b_e$0(
         .d(s2b_e$0$d),
         .q(s2b_e$0$q),
@@ -4684,6 +4695,11 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         .q(s2b_d$q),
         .clock(s2b_d$clock)
     );
+    pixelproc_top$array$e1_span s2b_far(
+        .d(s2b_far$d),
+        .q(s2b_far$q),
+        .clock(s2b_far$clock)
+    );
     pixelproc_top$array$e1_span s3_v(
         .d(s3_v$d),
         .q(s3_v$q),
@@ -4855,11 +4871,13 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         s2_meta$clock = clock;
         s2_hi$clock = clock;
         s2_d$clock = clock;
+        s2_far$clock = clock;
         s2b_v$clock = clock;
         s2b_word$clock = clock;
         s2b_meta$clock = clock;
         s2b_hi$clock = clock;
         s2b_d$clock = clock;
+        s2b_far$clock = clock;
         s3_v$clock = clock;
         s3_word$clock = clock;
         s3_meta$clock = clock;
@@ -4892,11 +4910,13 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         s2_meta$d = s2_meta$q;
         s2_hi$d = s2_hi$q;
         s2_d$d = s2_d$q;
+        s2_far$d = s2_far$q;
         s2b_v$d = s2b_v$q;
         s2b_word$d = s2b_word$q;
         s2b_meta$d = s2b_meta$q;
         s2b_hi$d = s2b_hi$q;
         s2b_d$d = s2b_d$q;
+        s2b_far$d = s2b_far$q;
         s3_v$d = s3_v$q;
         s3_word$d = s3_word$q;
         s3_meta$d = s3_meta$q;
@@ -5213,6 +5233,7 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         s2_meta$d = s1_meta$q;
         s2_hi$d = s1_hi$q;
         s2_d$d = l_dd;
+        s2_far$d = s1_word$q[(32'h22)+:(24)] == k_far;
         s2b_e$0$clock = clock;
         s2b_e$0$d = banks$0$read_data;
         s2b_e$1$clock = clock;
@@ -5282,6 +5303,7 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         s2b_meta$d = s2_meta$q;
         s2b_hi$d = s2_hi$q;
         s2b_d$d = s2_d$q;
+        s2b_far$d = s2_far$q;
         l_eg = k_zero_e;
         s3_e$0$clock = clock;
         l_eg = k_zero_e;
@@ -5392,7 +5414,7 @@ module pixelproc_top$shade(clock,rst,in_valid,in_word,in_meta,tw_en,tw_addr,tw_d
         end
         s3_e$3$d = l_eg;
         s3_grp$d = s2b_hi$q[(32'h3)+:(2)];
-        s3_over$d = ~k_on | (s2b_word$q[(32'h22)+:(24)] == k_far);
+        s3_over$d = ~k_on | s2b_far$q;
         s3_v$d = s2b_v$q;
         s3_word$d = s2b_word$q;
         s3_meta$d = s2b_meta$q;

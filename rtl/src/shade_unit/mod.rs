@@ -13,7 +13,8 @@
 //! registers it again and reads every bank; stage 2 registers every bank's output (inside
 //! the bank: on an ECP5 the block RAM's own output register), and per
 //! channel `d = max(0, c − s)` (`c` a colour channel, `s` the same channel of shade
-//! register `SH`); stage 2b registers every bank's entry again, in the fabric (from the
+//! register `SH`), and whether the pixel is background (`ZB = Z_FAR`, a flag carried to
+//! stage 3); stage 2b registers every bank's entry again, in the fabric (from the
 //! block RAMs' output registers, spread along the die's block RAM rows, the route to each
 //! group's select was the core's critical path at N = 8 to 32 on an ECP5); stage 3 picks,
 //! in each group of 8 banks, the entry of the addressed
@@ -155,6 +156,9 @@ pub struct ShadeUnit {
     s2_meta: DFF<Bits<META_W>>,
     s2_hi: DFF<Bits<HI_W>>,
     s2_d: DFF<Bits<24>>,
+    /// The pixel is background (`ZB = Z_FAR`), decided in stage 2 and carried to stage
+    /// 3's override.
+    s2_far: DFF<Bit>,
     /// Stage 2b: every bank's entry again, in a fabric register beside its block RAM,
     /// and the pixel with it.
     s2b_e: Vec<DFF<Bits<ENTRY_W>>>,
@@ -163,6 +167,7 @@ pub struct ShadeUnit {
     s2b_meta: DFF<Bits<META_W>>,
     s2b_hi: DFF<Bits<HI_W>>,
     s2b_d: DFF<Bits<24>>,
+    s2b_far: DFF<Bit>,
     s3_v: DFF<Bit>,
     s3_word: DFF<Bits<READOUT_W>>,
     s3_meta: DFF<Bits<META_W>>,
@@ -274,12 +279,14 @@ impl ShadeUnit {
             s2_meta: Default::default(),
             s2_hi: Default::default(),
             s2_d: Default::default(),
+            s2_far: Default::default(),
             s2b_e: (0..banks).map(|_| Default::default()).collect(),
             s2b_v: Default::default(),
             s2b_word: Default::default(),
             s2b_meta: Default::default(),
             s2b_hi: Default::default(),
             s2b_d: Default::default(),
+            s2b_far: Default::default(),
             s3_v: Default::default(),
             s3_word: Default::default(),
             s3_meta: Default::default(),
@@ -346,9 +353,9 @@ impl Logic for ShadeUnit {
     fn update(&mut self) {
         dff_setup!(
             self, clock, s0_v, s0_word, s0_meta, s1_v, s1_word, s1_meta, s1_hi, s2_v, s2_word,
-            s2_meta, s2_hi, s2_d, s2b_v, s2b_word, s2b_meta, s2b_hi, s2b_d, s3_v, s3_word, s3_meta,
-            s3_d, s3_grp, s3_over, s4_v, s4_word, s4_meta, s5_v, s5_word, s5_meta, s6_v, s6_word,
-            s6_meta, s6_lit, s6_drop, s7_v, s7_word, s7_meta
+            s2_meta, s2_hi, s2_d, s2_far, s2b_v, s2b_word, s2b_meta, s2b_hi, s2b_d, s2b_far, s3_v,
+            s3_word, s3_meta, s3_d, s3_grp, s3_over, s4_v, s4_word, s4_meta, s5_v, s5_word,
+            s5_meta, s6_v, s6_word, s6_meta, s6_lit, s6_drop, s7_v, s7_word, s7_meta
         );
         // ---- Stage 0: register the pixel as it arrives (the core's readout word comes
         // from the array's group registers, spread over the die with the processors: this
@@ -420,6 +427,11 @@ impl Logic for ShadeUnit {
         self.s2_meta.d.next = self.s1_meta.q.val();
         self.s2_hi.d.next = self.s1_hi.q.val();
         self.s2_d.d.next = self.l_dd.val();
+        // The background test for stage 3's override, two stages early: the word does
+        // not change on its way, and the 24-bit compare in front of `s3_over`, from the
+        // wide stage 2b register, was among the core's worst paths at N = 8, 16 and 32
+        // on an ECP5 (`docs/fpga.md`).
+        self.s2_far.d.next = self.s1_word.q.val().get_value_zb() == self.k_far.val();
         // ---- Stage 2b: every bank's entry into a fabric register (the route from a block
         // RAM's output register to its group's 8-way select was the core's critical path
         // at N = 16 and 32 on an ECP5, `docs/fpga.md`), the pixel alongside.
@@ -432,6 +444,7 @@ impl Logic for ShadeUnit {
         self.s2b_meta.d.next = self.s2_meta.q.val();
         self.s2b_hi.d.next = self.s2_hi.q.val();
         self.s2b_d.d.next = self.s2_d.q.val();
+        self.s2b_far.d.next = self.s2_far.q.val();
         // ---- Stage 3: within each group of 8 banks the addressed bank's entry (a 32-way
         // multiplexer in one clock, from block RAMs spread over the die, was the core's
         // critical path), the group bits, and whether the override (background, or no
@@ -449,8 +462,7 @@ impl Logic for ShadeUnit {
             self.s3_e[g].d.next = self.l_eg.val();
         }
         self.s3_grp.d.next = self.s2b_hi.q.val().get_bits::<GROUP_W>(3);
-        self.s3_over.d.next =
-            !self.k_on.val() | (self.s2b_word.q.val().get_value_zb() == self.k_far.val());
+        self.s3_over.d.next = !self.k_on.val() | self.s2b_far.q.val();
         self.s3_v.d.next = self.s2b_v.q.val();
         self.s3_word.d.next = self.s2b_word.q.val();
         self.s3_meta.d.next = self.s2b_meta.q.val();
